@@ -1,0 +1,62 @@
+"""The project's exception types.
+
+Every public constructor validates its input and raises one of these with the name of the bad
+parameter, the value it got and the rule it broke, so a user can fix the call without reading
+the source.
+"""
+
+__all__ = ["ABMError", "ConfigError", "MapError", "check_choice", "check_range"]
+
+
+class ABMError(Exception):
+    """Base class of every error this project raises on purpose."""
+
+
+class ConfigError(ABMError, ValueError):
+    """A parameter is outside the range or set of values it accepts."""
+
+
+class MapError(ABMError, ValueError):
+    """A map (cell list, bitmap file or array) cannot be turned into an arena."""
+
+
+def check_range(
+    name: str,
+    value: float,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    integer: bool = False,
+) -> None:
+    """Raise ConfigError unless ``low <= value <= high`` (``low < value`` when ``low_open``).
+
+    Args:
+        name: the parameter's name as the user typed it.
+        value: the value received.
+        low: smallest accepted value, or None for no lower bound.
+        high: largest accepted value, or None for no upper bound.
+        low_open: exclude ``low`` itself (for "must be positive").
+        integer: the value must also be an integer.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        kind = "an integer" if integer else "a number"
+        raise ConfigError(f"{name} must be {kind}, got {value!r}")
+    if integer and int(value) != value:
+        raise ConfigError(f"{name} must be an integer, got {value!r}")
+    if value != value:  # NaN
+        raise ConfigError(f"{name} must be a number, got NaN")
+    too_low = low is not None and (value <= low if low_open else value < low)
+    too_high = high is not None and value > high
+    if too_low or too_high:
+        lo = "-inf" if low is None else f"{low:g}"
+        hi = "inf" if high is None else f"{high:g}"
+        bracket = "(" if low_open else "["
+        raise ConfigError(f"{name} must be in {bracket}{lo}, {hi}], got {value!r}")
+
+
+def check_choice(name: str, value: object, choices: tuple) -> None:
+    """Raise ConfigError unless ``value`` is one of ``choices``."""
+    if value not in choices:
+        options = ", ".join(repr(c) for c in choices)
+        raise ConfigError(f"{name} must be one of {options}, got {value!r}")

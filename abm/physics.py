@@ -1,0 +1,304 @@
+"""The single vectorised motion process: every flying robot advanced per tick with numpy.
+
+One SimPy process owns all continuous motion. Each tick of ``dt`` seconds it asks the model's
+controller for every flyer's desired velocity (and which flyers have finished their flight),
+applies the flight dynamics of Stirling et al. (2010, App. B) to all flyers at once, resolves
+wall and robot-robot contacts, writes the positions into the Mesa space, and turns threshold
+crossings (a flight finished) back into SimPy events. While nothing flies it sleeps, so
+simulated time jumps straight to the next event.
+
+Dynamics per flyer (point mass m): F = F_c + F_d, with the flight controller's force
+F_c = m (v_desired - v) / tau (magnitude capped at ``max_force``) and quadratic drag
+F_d = -1/2 rho |v|^2 A C_d v_hat; the body is jostled by Gaussian noise of std ``body_noise``
+per tick (the paper's 2.5 cm) and the speed is capped at ``max_speed``.
+
+Walls: a robot's body is an axis-aligned square of half-width ``body_radius``; moves are applied
+one axis at a time and each axis move is shorter than a grid pixel, so a body can never pass
+through a wall: it is stopped flush against it. A new contact counts one wall collision.
+Robots whose centres come closer than two body radii collide elastically; each new contact
+counts two collisions (the paper counts a robot-robot collision as 2).
+"""
+
+from collections.abc import Callable
+from typing import Protocol
+
+import numpy as np
+import simpy
+from scipy.spatial import cKDTree
+
+from abm.arena import Arena
+from abm.errors import ConfigError, check_range
+
+__all__ = ["Physics", "Controller", "FlightParams"]
+
+
+class Controller(Protocol):
+    """What the physics asks of a model every tick."""
+
+    def control(self, physics: "Physics") -> tuple[np.ndarray, np.ndarray]:
+        """Return desired velocities ``(n, 2)`` (m/s) and a boolean mask of finished flyers."""
+        ...
+
+
+class FlightParams:
+    """Flight-dynamics constants (SI units) with the values we use for the papers' robots.
+
+    Args:
+        mass: m (kg).
+        max_speed: speed cap (m/s).
+        max_force: cap on the control force (N).
+        tau: flight-controller time constant (s).
+        rho: air density (kg/m^3).
+        area: frontal reference area A (m^2).
+        drag_coefficient: C_d.
+        body_noise: std of the Gaussian body displacement per tick (m).
+        body_radius: half-width of the body for contacts (m).
+    """
+
+    def __init__(
+        self,
+        mass: float = 0.5,
+        max_speed: float = 1.0,
+        max_force: float = 2.0,
+        tau: float = 0.5,
+        rho: float = 1.2,
+        area: float = 0.03,
+        drag_coefficient: float = 1.0,
+        body_noise: float = 0.025,
+        body_radius: float = 0.2,
+    ) -> None:
+        for name in ("mass", "max_speed", "max_force", "tau", "body_radius"):
+            check_range(name, locals()[name], 0.0, low_open=True)
+        for name in ("rho", "area", "drag_coefficient", "body_noise"):
+            check_range(name, locals()[name], 0.0)
+        self.mass = mass
+        self.max_speed = max_speed
+        self.max_force = max_force
+        self.tau = tau
+        self.rho = rho
+        self.area = area
+        self.drag_coefficient = drag_coefficient
+        self.body_noise = body_noise
+        self.body_radius = body_radius
+
+
+class Physics:
+    """Advances all flying robots together.
+
+    Args:
+        env: the clock.
+        arena: walls.
+        rng: the model's generator (body noise).
+        controller: the model's vectorised flight controller.
+        positions_out: called with (space indices, positions) after each tick so the Mesa
+            space mirrors the flyers.
+        params: flight dynamics.
+        dt: tick length (s); 0.1 s is the papers' 10 Hz control rate.
+        on_collision: called as ``on_collision(kind, robot_a, robot_b)`` for each new contact.
+    """
+
+    def __init__(
+        self,
+        env: simpy.Environment,
+        arena: Arena,
+        rng: np.random.Generator,
+        controller: Controller | None = None,
+        positions_out: Callable[[np.ndarray, np.ndarray], None] | None = None,
+        params: FlightParams | None = None,
+        dt: float = 0.1,
+        on_collision: Callable[[str, int, int | None], None] | None = None,
+    ) -> None:
+        check_range("dt", dt, 0.0, low_open=True)
+        self.params = params or FlightParams()
+        step = self.params.max_speed * dt + 4 * self.params.body_noise
+        if step >= arena.resolution - 2 * self.params.body_radius:
+            raise ConfigError(
+                f"dt={dt} s is too long for max_speed={self.params.max_speed} m/s on a "
+                f"{arena.resolution} m grid: a tick may move {step:.3f} m, must stay below "
+                f"{arena.resolution - 2 * self.params.body_radius:.3f} m"
+            )
+        if 2 * self.params.body_radius >= arena.resolution:
+            raise ConfigError(
+                f"body_radius={self.params.body_radius} m does not fit a {arena.resolution} m grid"
+            )
+        self.env = env
+        self.arena = arena
+        self.rng = rng
+        self.controller = controller
+        self.positions_out = positions_out
+        self.dt = float(dt)
+        self.on_collision = on_collision
+        self.ids = np.empty(0, dtype=np.int64)
+        self.space_index = np.empty(0, dtype=np.int64)
+        self.pos = np.empty((0, 2))
+        self.vel = np.empty((0, 2))
+        self._arrivals: list[simpy.Event] = []
+        self._wall_contact = np.empty(0, dtype=bool)
+        self._pairs_in_contact: set[tuple[int, int]] = set()
+        self.wall_collisions = 0
+        self.robot_collisions = 0
+        self.ticks = 0
+        self.flyer_steps = 0
+        self.trace: list[tuple[float, np.ndarray, np.ndarray]] | None = None
+        #: Per-flyer arrays a controller keeps between ticks (filters, memories); rows follow
+        #: the flyers as they join and leave. Register with :meth:`add_flyer_state`.
+        self.flyer_state: dict[str, np.ndarray] = {}
+        self._wake: simpy.Event = env.event()
+        self.process = env.process(self._run())
+
+    # ------------------------------------------------------------------ flyers
+    def add_flyer_state(self, name: str, width: int) -> np.ndarray:
+        """Register a per-flyer float array of ``width`` columns (zeros for a new flyer)."""
+        self.flyer_state[name] = np.zeros((self.n_flying, width))
+        return self.flyer_state[name]
+
+    @property
+    def n_flying(self) -> int:
+        """Number of robots currently flying."""
+        return len(self.ids)
+
+    def fly(self, robot_id: int, space_index: int, position: np.ndarray) -> simpy.Event:
+        """Start moving a robot; the returned event fires when the controller says it is done."""
+        if robot_id in self.ids:
+            raise ValueError(f"robot {robot_id} is already flying")
+        arrived = self.env.event()
+        self.ids = np.append(self.ids, robot_id)
+        self.space_index = np.append(self.space_index, space_index)
+        self.pos = np.vstack([self.pos, np.asarray(position, dtype=float)[None, :]])
+        self.vel = np.vstack([self.vel, np.zeros((1, 2))])
+        self._wall_contact = np.append(self._wall_contact, False)
+        for name, array in self.flyer_state.items():
+            self.flyer_state[name] = np.vstack([array, np.zeros((1, array.shape[1]))])
+        self._arrivals.append(arrived)
+        if not self._wake.triggered:
+            self._wake.succeed()
+        return arrived
+
+    def stop(self, robot_id: int) -> np.ndarray:
+        """Take a robot out of the air (landed, attached, failed); returns its last position."""
+        (where,) = np.nonzero(self.ids == robot_id)
+        if len(where) == 0:
+            raise ValueError(f"robot {robot_id} is not flying")
+        return self._remove(np.array([where[0]]))[0]
+
+    def _remove(self, rows: np.ndarray) -> np.ndarray:
+        keep = np.ones(len(self.ids), dtype=bool)
+        keep[rows] = False
+        last = self.pos[rows].copy()
+        gone = set(self.ids[rows].tolist())
+        self._pairs_in_contact = {p for p in self._pairs_in_contact if not (gone & set(p))}
+        self.ids = self.ids[keep]
+        self.space_index = self.space_index[keep]
+        self.pos = self.pos[keep]
+        self.vel = self.vel[keep]
+        self._wall_contact = self._wall_contact[keep]
+        for name, array in self.flyer_state.items():
+            self.flyer_state[name] = array[keep]
+        self._arrivals = [a for a, k in zip(self._arrivals, keep, strict=True) if k]
+        return last
+
+    # ------------------------------------------------------------------ the process
+    def _run(self):
+        while True:
+            if self.n_flying == 0:
+                self._wake = self.env.event()
+                yield self._wake
+            self.tick()
+            yield self.env.timeout(self.dt)
+
+    def tick(self) -> None:
+        """Advance every flyer by one ``dt``."""
+        self.ticks += 1
+        self.flyer_steps += self.n_flying
+        desired, done = self.controller.control(self)
+        p = self.params
+        m = p.mass
+        force = m * (desired - self.vel) / p.tau
+        norm = np.hypot(force[:, 0], force[:, 1])
+        force *= np.minimum(1.0, p.max_force / np.maximum(norm, 1e-12))[:, None]
+        speed = np.hypot(self.vel[:, 0], self.vel[:, 1])
+        force -= (0.5 * p.rho * p.area * p.drag_coefficient * speed)[:, None] * self.vel
+        self.vel += force * (self.dt / m)
+        speed = np.hypot(self.vel[:, 0], self.vel[:, 1])
+        self.vel *= np.minimum(1.0, p.max_speed / np.maximum(speed, 1e-12))[:, None]
+        step = self.vel * self.dt
+        if p.body_noise > 0:
+            step += self.rng.normal(0.0, p.body_noise, size=step.shape)
+        self._move(step)
+        self._robot_contacts()
+        if self.trace is not None:
+            self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
+        if self.positions_out is not None:
+            self.positions_out(self.space_index, self.pos)
+        if done.any():
+            rows = np.nonzero(done)[0]
+            finished = [self._arrivals[i] for i in rows]
+            self._remove(rows)
+            for event in finished:
+                event.succeed()
+
+    def _move(self, step: np.ndarray) -> None:
+        """Apply ``step`` axis by axis, stopping bodies flush against walls."""
+        r = self.params.body_radius
+        res = self.arena.resolution
+        contact = np.zeros(len(self.ids), dtype=bool)
+        for axis in (0, 1):
+            other = 1 - axis
+            d = step[:, axis]
+            new = self.pos[:, axis] + d
+            sign = np.where(d >= 0, 1.0, -1.0)
+            lead_cell = np.floor((new + sign * r) / res).astype(np.int64)
+            lo = np.floor((self.pos[:, other] - r) / res).astype(np.int64)
+            hi = np.floor((self.pos[:, other] + r) / res).astype(np.int64)
+            if axis == 0:
+                blocked = ~self.arena.free_at(lead_cell, lo) | ~self.arena.free_at(lead_cell, hi)
+            else:
+                blocked = ~self.arena.free_at(lo, lead_cell) | ~self.arena.free_at(hi, lead_cell)
+            blocked &= d != 0
+            if blocked.any():
+                flush = np.where(sign > 0, lead_cell * res - r, (lead_cell + 1) * res + r)
+                new = np.where(blocked, flush - sign * 1e-9, new)
+                self.vel[blocked, axis] = 0.0
+                contact |= blocked
+            self.pos[:, axis] = new
+        new_contacts = contact & ~self._wall_contact
+        self._wall_contact = contact
+        if new_contacts.any():
+            self.wall_collisions += int(new_contacts.sum())
+            if self.on_collision is not None:
+                for rid in self.ids[new_contacts]:
+                    self.on_collision("wall", int(rid), None)
+
+    def _robot_contacts(self) -> None:
+        """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.)."""
+        n = len(self.ids)
+        if n < 2:
+            self._pairs_in_contact = set()
+            return
+        reach = 2 * self.params.body_radius
+        if n <= 64:
+            diff = self.pos[:, None, :] - self.pos[None, :, :]
+            close = np.hypot(diff[..., 0], diff[..., 1]) < reach
+            i, j = np.nonzero(np.triu(close, k=1))
+        else:
+            pairs = cKDTree(self.pos).query_pairs(reach, output_type="ndarray")
+            i, j = pairs[:, 0], pairs[:, 1]
+        if len(i) == 0:
+            self._pairs_in_contact = set()
+            return
+        normal = self.pos[i] - self.pos[j]
+        dist = np.maximum(np.hypot(normal[:, 0], normal[:, 1]), 1e-9)
+        normal /= dist[:, None]
+        closing = np.einsum("ij,ij->i", self.vel[i] - self.vel[j], normal)
+        approaching = closing < 0
+        impulse = (closing * approaching)[:, None] * normal
+        np.add.at(self.vel, i, -impulse)
+        np.add.at(self.vel, j, impulse)
+        ids_i, ids_j = self.ids[i], self.ids[j]
+        now = {(min(a, b), max(a, b)) for a, b in zip(ids_i.tolist(), ids_j.tolist(), strict=True)}
+        new = now - self._pairs_in_contact
+        self._pairs_in_contact = now
+        self.robot_collisions += 2 * len(new)
+        if self.on_collision is not None:
+            for a, b in sorted(new):
+                self.on_collision("robot", a, b)

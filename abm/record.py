@@ -1,0 +1,50 @@
+"""The recorder: an event log and state-count time series, as tidy pandas DataFrames."""
+
+from collections.abc import Iterable
+
+import pandas as pd
+import simpy
+
+__all__ = ["Recorder"]
+
+
+class Recorder:
+    """Collects what happens during a run.
+
+    ``log`` appends one event (time, kind, robot, extra fields); ``count`` keeps the number of
+    robots in each state and appends a row to the state series whenever a count changes.
+
+    Args:
+        env: the clock.
+        states: the robot states counted (columns of :meth:`state_counts`).
+    """
+
+    def __init__(self, env: simpy.Environment, states: Iterable[str]) -> None:
+        self.env = env
+        self.states = tuple(states)
+        self.counts = dict.fromkeys(self.states, 0)
+        self._events: list[dict] = []
+        self._series: list[tuple] = []
+
+    def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
+        """Append an event at ``env.now``."""
+        self._events.append({"time": self.env.now, "event": kind, "robot": robot, **fields})
+
+    def move(self, old: str | None, new: str) -> None:
+        """One robot changed state from ``old`` (None when it appears) to ``new``."""
+        if old is not None:
+            self.counts[old] -= 1
+        self.counts[new] += 1
+        row = (self.env.now, *(self.counts[s] for s in self.states))
+        if self._series and self._series[-1][0] == self.env.now:
+            self._series[-1] = row
+        else:
+            self._series.append(row)
+
+    def events(self) -> pd.DataFrame:
+        """The event log, one row per event, in time order."""
+        return pd.DataFrame(self._events)
+
+    def state_counts(self) -> pd.DataFrame:
+        """Robots per state after every change: a ``time`` column and one column per state."""
+        return pd.DataFrame(self._series, columns=["time", *self.states])

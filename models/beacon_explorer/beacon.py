@@ -1,0 +1,290 @@
+"""The beacon controller of Stirling et al. (2010), Sect. 3.3.1 and Fig. 2.
+
+Each beacon, whenever something it can sense changes (a neighbour attaches or detaches, a hop
+count or a neighbour's desired direction changes), runs the flowchart:
+
+1. Sensing: label N, E, S, W as beacon / obstacle / empty; in corridors remember a direction as
+   searched when the neighbour there has a higher forwards hop count and signals a desired
+   direction pointing back; searched and obstacle directions are blocked.
+2. Behaviour: corridor beacons enter the redeployment phase when every higher-forwards neighbour
+   is blocked (and no unblocked empty direction is left); open-space beacons when their reverse
+   hop count is 0.
+3. Desired direction: deployment - the first unblocked empty direction clockwise from North,
+   else the unblocked neighbour with the highest hop count (forwards in corridors, reverse in open
+   space); redeployment - the neighbour with the lowest forwards hop count.
+4. A redeploying beacon whose neighbours all have lower or equal forwards hop count may detach
+   (the robot's behaviour then waits one inter-launch period with no explorer nearby).
+
+Evaluations are messages: a beacon re-evaluates one control period after being woken.
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from abm.arena import CARDINALS, Arena
+from abm.comms import CommNetwork, GradientFlood
+from abm.sensors import distance_sensors, relative_positions
+from models.beacon_explorer.params import BeaconExplorerParams
+
+__all__ = ["Beacon", "BeaconNetwork", "NORTH", "EAST", "SOUTH", "WEST", "NO_DIRECTION"]
+
+NORTH, EAST, SOUTH, WEST = 0, 1, 2, 3
+NO_DIRECTION = -1
+DIRECTIONS = (NORTH, EAST, SOUTH, WEST)  # clockwise from North
+
+
+def opposite(direction: int) -> int:
+    """The direction pointing the other way."""
+    return (direction + 2) % 4
+
+
+@dataclass
+class Beacon:
+    """What one beacon knows: its sensing at attach time, its memory and its signal."""
+
+    robot: int
+    position: np.ndarray
+    walls: tuple[bool, bool, bool, bool]
+    corridor: bool
+    is_base: bool = False
+    searched: set[int] = field(default_factory=set)
+    neighbour_dirs: dict[int, int] = field(default_factory=dict)
+    desired: int = NO_DIRECTION
+    redeploying: bool = False
+    frontier: bool = False
+    may_detach: bool = False
+
+
+class BeaconNetwork:
+    """All beacons' controllers, their hop-count gradients and the signals explorers read.
+
+    Args:
+        env: the clock.
+        arena: walls (for the beacons' distance sensors).
+        comms: the comm network beacons are nodes of.
+        rng: the model's generator (sensor noise).
+        params: the algorithm's constants.
+        control_period: delay between a wake-up and the controller's reaction (s).
+        on_may_detach: called with a robot id whenever its beacon becomes free to detach.
+    """
+
+    def __init__(
+        self,
+        env,
+        arena: Arena,
+        comms: CommNetwork,
+        rng: np.random.Generator,
+        params: BeaconExplorerParams,
+        control_period: float,
+        on_may_detach: Callable[[int], None],
+    ) -> None:
+        self.env = env
+        self.arena = arena
+        self.comms = comms
+        self.rng = rng
+        self.params = params
+        self.control_period = control_period
+        self.on_may_detach = on_may_detach
+        self.beacons: dict[int, Beacon] = {}
+        self.base: int | None = None
+        self.forwards = GradientFlood(comms, "forwards", params.forwards_start, +1)
+        self.reverse = GradientFlood(comms, "reverse", params.reverse_start, -1, floor=0)
+        self.forwards.on_change(self._hop_changed)
+        self.reverse.on_change(self._hop_changed)
+        comms.on_link_change(self._link_changed)
+        self._pending: set[int] = set()
+        self.version = 0  # bumped whenever a signal explorers read changes
+
+    # ------------------------------------------------------------------ membership
+    def attach(self, robot: int, position: np.ndarray, is_base: bool = False) -> Beacon:
+        """A robot attached at ``position``: sense, join the network, start signalling."""
+        position = np.asarray(position, dtype=float)
+        walls, corridor = self._sense_walls(position)
+        beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
+        self.beacons[robot] = beacon
+        if is_base:
+            self.base = robot
+            self.forwards.set_sources([robot])
+        self.comms.add(robot, position)
+        self._topology_changed()
+        self.wake(robot)
+        self.version += 1
+        return beacon
+
+    def detach(self, robot: int) -> None:
+        """A beacon let go of the ceiling: it leaves the network."""
+        beacon = self.beacons.pop(robot)
+        for other in self.beacons.values():
+            for d, n in other.neighbour_dirs.items():
+                if n == robot:
+                    other.searched.add(d)
+        if beacon.frontier:
+            self.reverse.set_sources(self.reverse.sources - {robot})
+        self.comms.remove(robot)
+        self.forwards.forget(robot)
+        self.reverse.forget(robot)
+        self._topology_changed()
+        self.version += 1
+
+    def _topology_changed(self) -> None:
+        self.forwards.restart()
+        self.reverse.restart()
+
+    # ------------------------------------------------------------------ sensing
+    def _sense_walls(self, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
+        """Obstacle labels N/E/S/W and the corridor/open-space classification.
+
+        Corridor beacon (paper): two opposing walls closer than ``corridor_width``. A corridor
+        junction senses only one wall, so with four sensors alone it would pass for open space
+        and lose the junction memory the depth-first search relies on; we therefore also call a
+        beacon open-space only if some quadrant is open: two adjacent free cardinal directions
+        and a free diagonal between them (space wider than a corridor). See README.
+        """
+        p = self.params
+        reading = distance_sensors(self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise)[0]
+        walls = tuple(bool(r < p.obstacle_threshold) for r in reading)
+        opposing = bool(
+            (reading[NORTH] < p.corridor_width and reading[SOUTH] < p.corridor_width)
+            or (reading[EAST] < p.corridor_width and reading[WEST] < p.corridor_width)
+        )
+        diagonals = CARDINALS + np.roll(CARDINALS, -1, axis=0)  # NE, SE, SW, NW
+        diag = self.arena.raycast(np.repeat(position[None], 4, axis=0), diagonals, p.sensor_range)
+        diag = diag + self.rng.normal(0.0, p.sensor_noise, 4) * (diag < p.sensor_range)
+        open_quadrant = any(
+            not walls[d] and not walls[(d + 1) % 4] and diag[d] > p.open_diagonal for d in DIRECTIONS
+        )
+        return walls, opposing or not open_quadrant
+
+    def _neighbour_directions(self, robot: int) -> dict[int, int]:
+        """Direction -> nearest neighbour beacon there, from noisy relative positioning."""
+        me = self.beacons[robot]
+        found: dict[int, tuple[float, int]] = {}
+        others = [n for n in self.comms.neighbours(robot) if n in self.beacons]
+        if not others:
+            return {}
+        rel = np.array([self.beacons[n].position - me.position for n in others])
+        measured = relative_positions(rel, self.rng)
+        direction = np.argmax(measured @ CARDINALS.T, axis=1)
+        dist = np.hypot(measured[:, 0], measured[:, 1])
+        for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
+            if d not in found or r < found[d][0]:
+                found[d] = (r, n)
+        return {d: n for d, (_r, n) in found.items()}
+
+    # ------------------------------------------------------------------ the flowchart
+    def wake(self, robot: int) -> None:
+        """Ask a beacon to run its controller at the next control step."""
+        if robot in self._pending or robot not in self.beacons:
+            return
+        self._pending.add(robot)
+        event = self.env.timeout(self.control_period)
+        event.callbacks.append(lambda _ev: self._evaluate(robot))
+
+    def _evaluate(self, robot: int) -> None:
+        self._pending.discard(robot)
+        beacon = self.beacons.get(robot)
+        if beacon is None:
+            return
+        beacon.neighbour_dirs = self._neighbour_directions(robot)
+        nb = beacon.neighbour_dirs
+        # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
+        if not all(
+            g.settled(n) for g in (self.forwards, self.reverse) for n in (robot, *nb.values())
+        ):
+            self.wake_later(robot)
+            return
+        fwd = self.forwards.value
+        rev = self.reverse.value
+        me_f = fwd(robot)
+
+        # Sensing: corridor beacons remember searched directions (Fig. 3).
+        if beacon.corridor:
+            for d, n in nb.items():
+                if fwd(n) > me_f and self.beacons[n].desired == opposite(d):
+                    beacon.searched.add(d)
+
+        def blocked(d: int) -> bool:
+            return beacon.corridor and (beacon.walls[d] or d in beacon.searched)
+
+        # Empty: no beacon, no wall, not searched (open-space beacons remember too; see README).
+        empty = [
+            d for d in DIRECTIONS if d not in nb and not beacon.walls[d] and d not in beacon.searched
+        ]
+        # Behaviour: deployment or redeployment phase.
+        if beacon.corridor:
+            redeploying = not empty and all(blocked(d) for d, n in nb.items() if fwd(n) > me_f)
+        else:
+            redeploying = not empty and rev(robot) == 0
+        # Desired direction.
+        if not redeploying and empty:
+            desired = empty[0]
+        else:
+            desired = NO_DIRECTION
+            if not redeploying:
+                gradient = fwd if beacon.corridor else rev
+                candidates = [(gradient(n), -d, d) for d, n in nb.items() if not blocked(d)]
+                if candidates:
+                    desired = max(candidates)[2]
+            if desired == NO_DIRECTION and nb:
+                desired = min((fwd(n), d) for d, n in nb.items())[1]
+        may_detach = (
+            redeploying
+            and not beacon.is_base
+            and me_f > 0
+            and all(fwd(n) <= me_f for n in nb.values())
+        )
+        self._publish(beacon, desired, redeploying, bool(empty), may_detach)
+
+    def _publish(self, beacon: Beacon, desired: int, redeploying: bool, frontier: bool, may_detach: bool) -> None:
+        robot = beacon.robot
+        changed = desired != beacon.desired
+        beacon.desired = desired
+        beacon.redeploying = redeploying
+        if frontier != beacon.frontier:
+            beacon.frontier = frontier
+            sources = self.reverse.sources | {robot} if frontier else self.reverse.sources - {robot}
+            self.reverse.set_sources(sources)
+            self.version += 1
+        if changed:
+            self.version += 1
+            for n in self.comms.neighbours(robot):
+                self.wake_later(n)
+        if may_detach and not beacon.may_detach:
+            beacon.may_detach = True
+            self.on_may_detach(robot)
+        beacon.may_detach = may_detach
+
+    def wake_later(self, robot: int) -> None:
+        """Wake a beacon once a message has reached it."""
+        event = self.env.timeout(self.comms.latency)
+        event.callbacks.append(lambda _ev: self.wake(robot))
+
+    def _hop_changed(self, node: int, _old: int, _new: int) -> None:
+        self.wake(node)
+        for n in self.comms.neighbours(node):
+            self.wake(n)
+
+    def _link_changed(self, _kind: str, a: int, b: int) -> None:
+        self.wake(a)
+        self.wake(b)
+
+    # ------------------------------------------------------------------ what explorers read
+    def frontier_beacons(self) -> list[int]:
+        """Beacons next to unblocked empty space."""
+        return [r for r, b in self.beacons.items() if b.frontier]
+
+    def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
+        ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
+        beacons = list(self.beacons.values())
+        pos = np.array([b.position for b in beacons]).reshape(-1, 2)
+        desired = np.array([b.desired for b in beacons], dtype=np.int64)
+        vectors = np.where(
+            (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
+        )
+        to_empty = np.array(
+            [b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons], dtype=bool
+        )
+        return ids, pos, vectors, to_empty

@@ -1,0 +1,77 @@
+"""Default parameters of the beacon/explorer model, with the paper's values.
+
+Source: Stirling, Roberts, Zufferey, Floreano (2010), "Energy-efficient indoor search by
+swarms of simulated flying robots without global information", Swarm Intelligence 4:117-143.
+Values not given in the paper are marked "ours".
+"""
+
+from dataclasses import dataclass
+
+__all__ = ["BeaconExplorerParams", "SWARM_SIZE", "DEFAULTS"]
+
+#: Robots available per world and complexity (Sect. 3.5): 20 in corridor and mixed worlds;
+#: 15 / 18 / 20 in open rooms with low / medium / high obstacle density.
+SWARM_SIZE = {
+    ("corridor", "low"): 20,
+    ("corridor", "medium"): 20,
+    ("corridor", "high"): 20,
+    ("mixed", "low"): 20,
+    ("mixed", "medium"): 20,
+    ("mixed", "high"): 20,
+    ("open", "low"): 15,
+    ("open", "medium"): 18,
+    ("open", "high"): 20,
+}
+
+
+@dataclass(frozen=True)
+class BeaconExplorerParams:
+    """Constants of the algorithm and the robots (SI units).
+
+    Attributes:
+        interspace: I_r, beacon spacing (m), Sect. 3.3.
+        sensor_range: S_r, distance-sensor range and coverage radius (m), Sect. 3.1.
+        sensor_noise: std of the distance sensors (m), App. B.
+        comm_range: C_r (m), Sect. 3.1.
+        corridor_width: two opposing walls closer than this make a corridor beacon (m).
+        obstacle_threshold: a direction whose wall reading is below this is an obstacle (m; ours:
+            I_r plus clearance, so an explorer is never sent to a spot hugging a wall).
+        open_diagonal: a diagonal ray reading at least this (nothing sensed), between two free
+            cardinal directions, means open space (m; ours, see README).
+        attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
+            ``filter_time`` (m; ours).
+        attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
+        filter_time: time constant of the explorer's filter of its noisy T (s; ours).
+        avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
+        slow_radius: inside this |T| the flight controller slows proportionally (m; ours).
+        climb_time: take-off and ascent to flight altitude (s; ours).
+        attach_time: ascent to the ceiling and attachment (s; ours).
+        forwards_start: hop count at the base (1), Sect. 3.3.
+        reverse_start: hop count at frontier beacons (127), Sect. 3.3.
+        coverage_pixel: raster pixel of the coverage map (m; ours).
+        complete_fraction: coverage fraction counted as a complete search (ours).
+        monitor_period: how often the end-of-search conditions are checked (s; ours).
+    """
+
+    interspace: float = 3.0
+    sensor_range: float = 3.5
+    sensor_noise: float = 0.05
+    comm_range: float = 4.0
+    corridor_width: float = 3.0
+    obstacle_threshold: float = 3.4
+    open_diagonal: float = 3.4
+    attach_eps: float = 0.15
+    attach_speed: float = 0.2
+    filter_time: float = 0.3
+    avoid_gain: float = 0.5
+    slow_radius: float = 1.0
+    climb_time: float = 2.0
+    attach_time: float = 1.0
+    forwards_start: int = 1
+    reverse_start: int = 127
+    coverage_pixel: float = 0.25
+    complete_fraction: float = 0.999
+    monitor_period: float = 1.0
+
+
+DEFAULTS = BeaconExplorerParams()
