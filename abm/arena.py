@@ -26,6 +26,7 @@ class Arena:
         free: boolean array ``[rows, cols]``, True where a robot may be; row 0 is the south edge.
         resolution: side of one grid pixel (m).
         name: a label for reports.
+
     """
 
     def __init__(self, free: np.ndarray, resolution: float = 1.0, name: str = "arena") -> None:
@@ -48,7 +49,9 @@ class Arena:
         self._padded = np.pad(self.free, 1, constant_values=False)
         self._runs = _free_runs(self.free)
         # Summed-area table of wall cells: walls inside any cell rectangle in O(1).
-        self._walls_sat = np.pad((~self.free).astype(np.int64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
+        self._walls_sat = np.pad(
+            (~self.free).astype(np.int64).cumsum(0).cumsum(1), ((1, 0), (1, 0))
+        )
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -75,13 +78,16 @@ class Arena:
         return cls(free, resolution=cell_size, name=name)
 
     @classmethod
-    def from_bitmap(cls, path: str | Path, resolution: float = 1.0, name: str | None = None) -> "Arena":
+    def from_bitmap(
+        cls, path: str | Path, resolution: float = 1.0, name: str | None = None
+    ) -> "Arena":
         """Load a bitmap map: PNG/PGM/BMP (dark pixels = wall) or NPY (True/nonzero = free).
 
         Args:
             path: the file.
             resolution: metres per pixel (the papers use 1 m).
             name: label; defaults to the file's stem.
+
         """
         path = Path(path)
         if not path.is_file():
@@ -91,7 +97,9 @@ class Arena:
             try:
                 image = np.load(path, allow_pickle=False)
             except Exception as exc:  # numpy raises several types for a bad file
-                raise MapError(f"map file {str(path)!r} is not a readable .npy array: {exc}") from exc
+                raise MapError(
+                    f"map file {str(path)!r} is not a readable .npy array: {exc}"
+                ) from exc
             if image.ndim != 2:
                 raise MapError(f"map file {str(path)!r} must hold a 2-D array, got {image.shape}")
             free_top_down = image.astype(bool)
@@ -146,6 +154,7 @@ class Arena:
             origins: ``(n, 2)`` start points (m).
             directions: ``(n, 2)`` directions (normalised here).
             max_range: the sensor's range (m).
+
         """
         origins = np.atleast_2d(np.asarray(origins, dtype=float))
         directions = np.atleast_2d(np.asarray(directions, dtype=float))
@@ -198,7 +207,9 @@ class Arena:
         ix = np.minimum(np.maximum(ix, 0), self.cols - 1)
         iy = np.minimum(np.maximum(iy, 0), self.rows - 1)
         x, y = points[:, 0], points[:, 1]
-        edge = np.stack([(iy + 1) * res - y, (ix + 1) * res - x, y - iy * res, x - ix * res], axis=1)
+        edge = np.stack(
+            [(iy + 1) * res - y, (ix + 1) * res - x, y - iy * res, x - ix * res], axis=1
+        )
         dist = edge + self._runs[:, iy, ix].T * res
         dist[~inside] = 0.0
         return np.minimum(dist, max_range)
@@ -232,7 +243,9 @@ class Arena:
         moving = ~out & ~clear
         if moving.any():
             length = np.hypot(*(end[moving] - start[moving]).T)
-            reach = self.raycast(start[moving], end[moving] - start[moving], float(length.max()) + self.resolution)
+            reach = self.raycast(
+                start[moving], end[moving] - start[moving], float(length.max()) + self.resolution
+            )
             out[moving] = reach < length
         return out
 

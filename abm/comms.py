@@ -32,6 +32,7 @@ class CommNetwork:
         comm_range: C_r (m).
         latency: delay of one message (s).
         loss: probability that one transmission attempt is lost.
+
     """
 
     def __init__(
@@ -72,7 +73,9 @@ class CommNetwork:
             candidates = [o for o, ok in zip(others, near, strict=True) if ok]
             if candidates:
                 cand_pts = pts[near]
-                visible = self.arena.line_of_sight(np.broadcast_to(position, cand_pts.shape), cand_pts)
+                visible = self.arena.line_of_sight(
+                    np.broadcast_to(position, cand_pts.shape), cand_pts
+                )
                 linked = [o for o, ok in zip(candidates, visible, strict=True) if ok]
         for other in linked:
             self.graph.add_edge(node, other)
@@ -151,6 +154,7 @@ class GradientFlood:
         floor: lowest value; also the value of an unreached node.
         ttl: soft-state lifetime (s); by default the time a wave needs to cross every node of
             the network once (longer with message loss).
+
     """
 
     def __init__(

@@ -21,6 +21,7 @@ class CoverageRaster:
         radius: sensing radius (m), S_r.
         pixel: raster pixel side (m); the arena's resolution is split into whole pixels.
         line_of_sight: walls block the view.
+
     """
 
     def __init__(

@@ -53,11 +53,21 @@ def draw_swarm(model, ax=None, title: str | None = None):
     if hasattr(model, "arrows"):
         points, vectors = model.arrows()
         if len(points):
-            ax.quiver(*points.T, *vectors.T, angles="xy", scale_units="xy", scale=1.6,
-                      color="#0072B2", width=0.004, zorder=3)
+            ax.quiver(
+                *points.T,
+                *vectors.T,
+                angles="xy",
+                scale_units="xy",
+                scale=1.6,
+                color="#0072B2",
+                width=0.004,
+                zorder=3,
+            )
     handles.append(Patch(color="#9be3a4", label="covered area"))
     handles.append(Patch(color="#333333", label="wall"))
-    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False)
+    ax.legend(
+        handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=9, frameon=False
+    )
     ax.set_xlim(0, arena.width)
     ax.set_ylim(0, arena.height)
     ax.set_aspect("equal")

@@ -52,6 +52,7 @@ class EnergyLedger:
     Args:
         env: the SimPy environment (the clock).
         powers: the power of each mode.
+
     """
 
     def __init__(self, env: simpy.Environment, powers: PowerModes) -> None:
@@ -119,7 +120,9 @@ class EnergyLedger:
         """Time (s) spent in ``mode`` so far, by one robot or summed over the swarm."""
         _, duration = self._settled()
         return sum(
-            d for (rid, m), d in duration.items() if m == mode and (robot_id is None or rid == robot_id)
+            d
+            for (rid, m), d in duration.items()
+            if m == mode and (robot_id is None or rid == robot_id)
         )
 
     def frame(self) -> pd.DataFrame:
@@ -142,6 +145,7 @@ class Battery:
         ledger: the ledger whose mode changes drive the batteries.
         capacity: charge of a full battery (J).
         on_empty: called as ``on_empty(robot_id)`` when a battery runs flat.
+
     """
 
     def __init__(

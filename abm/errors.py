@@ -38,6 +38,7 @@ def check_range(
         high: largest accepted value, or None for no upper bound.
         low_open: exclude ``low`` itself (for "must be positive").
         integer: the value must also be an integer.
+
     """
     if isinstance(value, bool) or not isinstance(value, int | float):
         kind = "an integer" if integer else "a number"

@@ -43,6 +43,7 @@ class SwarmModel(mesa.Model):
         flight: flight dynamics.
         dt: physics tick (s).
         controller: the vectorised flight controller (may be set later as ``physics.controller``).
+
     """
 
     STATES: tuple[str, ...] = ()

@@ -53,6 +53,7 @@ class FlightParams:
         drag_coefficient: C_d.
         body_noise: std of the Gaussian body displacement per tick (m).
         body_radius: half-width of the body for contacts (m).
+
     """
 
     def __init__(
@@ -95,6 +96,7 @@ class Physics:
         params: flight dynamics.
         dt: tick length (s); 0.1 s is the papers' 10 Hz control rate.
         on_collision: called as ``on_collision(kind, robot_a, robot_b)`` for each new contact.
+
     """
 
     def __init__(

@@ -17,6 +17,7 @@ class Recorder:
     Args:
         env: the clock.
         states: the robot states counted (columns of :meth:`state_counts`).
+
     """
 
     def __init__(self, env: simpy.Environment, states: Iterable[str]) -> None:

@@ -26,6 +26,7 @@ class Robot(ContinuousSpaceAgent):
         position: where the robot starts (m).
         state: its first state (one of ``model.STATES``).
         mode: its first power mode.
+
     """
 
     def __init__(self, model: "SwarmModel", position: np.ndarray, state: str, mode: str) -> None:

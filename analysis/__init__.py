@@ -1,0 +1,1 @@
+"""Everything after (or around) a run: sweeps, statistics, macroscopic models, figures, reports."""

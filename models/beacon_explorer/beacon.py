@@ -68,6 +68,7 @@ class BeaconNetwork:
         params: the algorithm's constants.
         control_period: delay between a wake-up and the controller's reaction (s).
         on_may_detach: called with a robot id whenever its beacon becomes free to detach.
+
     """
 
     def __init__(
@@ -143,7 +144,9 @@ class BeaconNetwork:
         and a free diagonal between them (space wider than a corridor). See README.
         """
         p = self.params
-        reading = distance_sensors(self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise)[0]
+        reading = distance_sensors(
+            self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise
+        )[0]
         walls = tuple(bool(r < p.obstacle_threshold) for r in reading)
         opposing = bool(
             (reading[NORTH] < p.corridor_width and reading[SOUTH] < p.corridor_width)
@@ -153,7 +156,8 @@ class BeaconNetwork:
         diag = self.arena.raycast(np.repeat(position[None], 4, axis=0), diagonals, p.sensor_range)
         diag = diag + self.rng.normal(0.0, p.sensor_noise, 4) * (diag < p.sensor_range)
         open_quadrant = any(
-            not walls[d] and not walls[(d + 1) % 4] and diag[d] > p.open_diagonal for d in DIRECTIONS
+            not walls[d] and not walls[(d + 1) % 4] and diag[d] > p.open_diagonal
+            for d in DIRECTIONS
         )
         return walls, opposing or not open_quadrant
 
@@ -210,7 +214,9 @@ class BeaconNetwork:
 
         # Empty: no beacon, no wall, not searched (open-space beacons remember too; see README).
         empty = [
-            d for d in DIRECTIONS if d not in nb and not beacon.walls[d] and d not in beacon.searched
+            d
+            for d in DIRECTIONS
+            if d not in nb and not beacon.walls[d] and d not in beacon.searched
         ]
         # Behaviour: deployment or redeployment phase.
         if beacon.corridor:
@@ -237,7 +243,9 @@ class BeaconNetwork:
         )
         self._publish(beacon, desired, redeploying, bool(empty), may_detach)
 
-    def _publish(self, beacon: Beacon, desired: int, redeploying: bool, frontier: bool, may_detach: bool) -> None:
+    def _publish(
+        self, beacon: Beacon, desired: int, redeploying: bool, frontier: bool, may_detach: bool
+    ) -> None:
         robot = beacon.robot
         changed = desired != beacon.desired
         beacon.desired = desired

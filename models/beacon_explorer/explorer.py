@@ -27,6 +27,7 @@ class ExplorerController:
         rng: the model's generator (sensor noise).
         params: the algorithm's constants.
         max_speed: cruising speed handed to the flight controller (m/s).
+
     """
 
     def __init__(
@@ -89,11 +90,13 @@ class ExplorerController:
         D = desired_vec[k]  # noqa: N806
         L = N + D  # noqa: N806
         reading = distance_sensors(self.arena, x, self.rng, p.sensor_range, p.sensor_noise)
-        push = p.avoid_gain * np.maximum(0.0, 1.0 / np.maximum(reading, 0.05) - 1.0 / p.sensor_range)
+        push = p.avoid_gain * np.maximum(
+            0.0, 1.0 / np.maximum(reading, 0.05) - 1.0 / p.sensor_range
+        )
         C = -(push @ CARDINALS)  # noqa: N806
         # Each explorer low-pass filters its noisy T (a real sensor stack smooths at 10 Hz).
         T = physics.flyer_state["T"]  # noqa: N806
-        T += self._gain * (L + C - T)
+        T += self._gain * (L + C - T)  # noqa: N806
         size = np.hypot(T[:, 0], T[:, 1])
         desired = T * (self.max_speed / np.maximum(size, p.slow_radius))[:, None]
         desired[lost] = 0.0  # out of touch with every beacon: hover and wait

@@ -32,7 +32,8 @@ class BeaconExplorerModel(SwarmModel):
         world: "corridor", "open" or "mixed" (generated from the seed), a bitmap map file
             (PNG/PGM/NPY, 1 px = ``map_resolution`` m), or a ready :class:`abm.worlds.World`.
         complexity: corridor branching level, or obstacle density in open rooms: "low",
-            "medium" or "high".
+            "medium" or "high"; default "high" ("medium", the only level the paper uses, for
+            mixed worlds).
         n_robots: explorers waiting on the ground; default: the paper's swarm size for the world.
         launch_period: inter-launch period t (s); explorer i takes off at i * t.
         seed: seed of the model's random generator (world, noise, everything).
@@ -43,6 +44,7 @@ class BeaconExplorerModel(SwarmModel):
         map_resolution: metres per pixel of a bitmap ``world``.
         start: base position (m) for a bitmap world; default: the centre of the first free cell.
         params: the algorithm's constants (see :class:`BeaconExplorerParams`).
+
     """
 
     STATES = ("ground", "explorer", "beacon")
@@ -50,7 +52,7 @@ class BeaconExplorerModel(SwarmModel):
     def __init__(
         self,
         world: str | Path | World = "corridor",
-        complexity: str = "high",
+        complexity: str | None = None,
         n_robots: int | None = None,
         launch_period: float = 6.0,
         seed: int | None = None,
@@ -62,6 +64,8 @@ class BeaconExplorerModel(SwarmModel):
         start: tuple[float, float] | None = None,
         params: BeaconExplorerParams = DEFAULTS,
     ) -> None:
+        if complexity is None:
+            complexity = "medium" if world == "mixed" else "high"
         check_choice("complexity", complexity, COMPLEXITIES)
         check_range("launch_period", launch_period, 0.0, low_open=True)
         check_range("max_speed", max_speed, 0.0, 5.0, low_open=True)
@@ -88,7 +92,9 @@ class BeaconExplorerModel(SwarmModel):
         self.launch_period = float(launch_period)
         self.hover_beacons = bool(hover_beacons)
         kind = self.world.kind
-        self.n_robots = int(n_robots) if n_robots is not None else SWARM_SIZE.get((kind, complexity), 20)
+        self.n_robots = (
+            int(n_robots) if n_robots is not None else SWARM_SIZE.get((kind, complexity), 20)
+        )
         self.coverage = CoverageRaster(self.arena, params.sensor_range, params.coverage_pixel)
         self.beacons = BeaconNetwork(
             self.env, self.arena, self.comms, self.rng, params, self.physics.dt, self._may_detach
@@ -109,7 +115,12 @@ class BeaconExplorerModel(SwarmModel):
             return world
         if isinstance(world, str) and world in WORLD_KINDS:
             return make_world(world, complexity, rng)
-        if isinstance(world, str | Path) and Path(world).suffix.lower() in {".png", ".pgm", ".bmp", ".npy"}:
+        if isinstance(world, str | Path) and Path(world).suffix.lower() in {
+            ".png",
+            ".pgm",
+            ".bmp",
+            ".npy",
+        }:
             arena = Arena.from_bitmap(world, resolution=resolution)
             if start is None:
                 start = arena.free_cell_centres()[0]
@@ -120,7 +131,8 @@ class BeaconExplorerModel(SwarmModel):
             return World(arena, start, "bitmap", complexity, np.stack([ix, iy], axis=1), None)
         kinds = ", ".join(repr(k) for k in WORLD_KINDS)
         raise ConfigError(
-            f"world must be one of {kinds}, a map file (.png, .pgm, .bmp, .npy) or a World, got {world!r}"
+            f"world must be one of {kinds}, a map file (.png, .pgm, .bmp, .npy) or a World, "
+            f"got {world!r}"
         )
 
     def _build_swarm(self) -> None:

@@ -51,6 +51,7 @@ class BeaconExplorerParams:
         coverage_pixel: raster pixel of the coverage map (m; ours).
         complete_fraction: coverage fraction counted as a complete search (ours).
         monitor_period: how often the end-of-search conditions are checked (s; ours).
+
     """
 
     interspace: float = 3.0

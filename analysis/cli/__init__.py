@@ -1,0 +1,75 @@
+"""The ``abm`` command line: one sub-command (verb) per module of this package.
+
+Each verb module defines ``VERB`` (its name), ``HELP`` (one line), ``EXAMPLE`` (one command
+line), ``add_arguments(parser)`` and ``main(args) -> int``. Errors the project raises on
+purpose are printed as one clear line (no traceback) unless ``--debug`` is given.
+"""
+
+import argparse
+import importlib
+import sys
+
+from abm.errors import ABMError
+
+__all__ = ["main", "build_parser", "VERB_MODULES"]
+
+#: Verb modules, in the order ``abm --help`` lists them.
+VERB_MODULES = ("run", "sweep", "report", "fit", "render", "viz")
+
+
+def _load_verbs() -> list:
+    verbs = []
+    for name in VERB_MODULES:
+        try:
+            verbs.append(importlib.import_module(f"analysis.cli.{name}"))
+        except ModuleNotFoundError as exc:
+            if exc.name != f"analysis.cli.{name}":
+                raise
+    return verbs
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every available verb."""
+    verbs = _load_verbs()
+    epilog = "examples:\n" + "\n".join(f"  {v.EXAMPLE:<70} # {v.HELP}" for v in verbs)
+    parser = argparse.ArgumentParser(
+        prog="abm",
+        description="Discrete-event agent-based modelling of robot swarms.",
+        epilog=epilog,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--debug", action="store_true", help="show full tracebacks on errors")
+    sub = parser.add_subparsers(dest="verb", metavar="VERB")
+    for verb in verbs:
+        p = sub.add_parser(
+            verb.VERB,
+            help=verb.HELP,
+            description=f"{verb.HELP}\n\nexample:\n  {verb.EXAMPLE}",
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        verb.add_arguments(p)
+        p.set_defaults(handler=verb.main)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``abm`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.verb is None:
+        parser.print_help()
+        return 0
+    try:
+        return int(args.handler(args) or 0)
+    except (ABMError, FileNotFoundError, KeyboardInterrupt) as exc:
+        if args.debug:
+            raise
+        if isinstance(exc, KeyboardInterrupt):
+            print("abm: interrupted", file=sys.stderr)
+            return 130
+        print(f"abm {args.verb}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
