@@ -62,6 +62,7 @@ class SwarmModel(mesa.Model):
         flight: FlightParams | None = None,
         dt: float = 0.1,
         controller: Controller | None = None,
+        trace_interval: float | None = 1.0,
     ) -> None:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
             raise ConfigError(f"seed must be an integer or None, got {seed!r}")
@@ -99,6 +100,9 @@ class SwarmModel(mesa.Model):
         limit = self.env.timeout(self.time_limit)
         limit.callbacks.append(lambda _ev: self.finish("time limit"))
         self.datacollector = mesa.DataCollector(model_reporters=self.reporters())
+        if trace_interval is not None:
+            check_range("trace_interval", trace_interval, 0.0, low_open=True)
+            self.env.process(self._trace(trace_interval))
 
     # ------------------------------------------------------------------ time
     @property
@@ -162,7 +166,22 @@ class SwarmModel(mesa.Model):
         """A flat dict of the run's metrics (subclasses define it)."""
         raise NotImplementedError
 
+    def positions(self) -> pd.DataFrame:
+        """Sampled robot positions (time, robot, x, y, state), every ``trace_interval`` s."""
+        return self.recorder.positions()
+
     # ------------------------------------------------------------------ plumbing
+    def _trace(self, interval: float):
+        while True:
+            agents = self.space.active_agents
+            if agents:
+                self.recorder.snapshot(
+                    np.array([a.unique_id for a in agents]),
+                    self.space.agent_positions.copy(),
+                    [a.state for a in agents],
+                )
+            yield self.env.timeout(interval)
+
     def _write_positions(self, rows: np.ndarray, positions: np.ndarray) -> None:
         self.space.agent_positions[rows] = positions
 

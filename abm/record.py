@@ -2,6 +2,7 @@
 
 from collections.abc import Iterable
 
+import numpy as np
 import pandas as pd
 import simpy
 
@@ -26,6 +27,7 @@ class Recorder:
         self.counts = dict.fromkeys(self.states, 0)
         self._events: list[dict] = []
         self._series: list[tuple] = []
+        self._positions: list[pd.DataFrame] = []
 
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
         """Append an event at ``env.now``."""
@@ -41,6 +43,26 @@ class Recorder:
             self._series[-1] = row
         else:
             self._series.append(row)
+
+    def snapshot(self, robots: np.ndarray, positions: np.ndarray, states: list[str]) -> None:
+        """Record where every robot is and what it is at ``env.now``."""
+        self._positions.append(
+            pd.DataFrame(
+                {
+                    "time": self.env.now,
+                    "robot": robots,
+                    "x": positions[:, 0],
+                    "y": positions[:, 1],
+                    "state": states,
+                }
+            )
+        )
+
+    def positions(self) -> pd.DataFrame:
+        """Sampled positions: one row per robot and sample (time, robot, x, y, state)."""
+        if not self._positions:
+            return pd.DataFrame(columns=["time", "robot", "x", "y", "state"])
+        return pd.concat(self._positions, ignore_index=True)
 
     def events(self) -> pd.DataFrame:
         """The event log, one row per event, in time order."""
