@@ -43,6 +43,7 @@ class BeaconExplorerModel(SwarmModel):
         max_speed: explorer cruising speed (m/s).
         map_resolution: metres per pixel of a bitmap ``world``.
         start: base position (m) for a bitmap world; default: the centre of the first free cell.
+        trace_interval: how often robot positions are sampled for rendering (s); None: never.
         params: the algorithm's constants (see :class:`BeaconExplorerParams`).
 
     """
@@ -62,6 +63,7 @@ class BeaconExplorerModel(SwarmModel):
         max_speed: float = 1.0,
         map_resolution: float = 1.0,
         start: tuple[float, float] | None = None,
+        trace_interval: float | None = 1.0,
         params: BeaconExplorerParams = DEFAULTS,
     ) -> None:
         if complexity is None:
@@ -86,6 +88,7 @@ class BeaconExplorerModel(SwarmModel):
             time_limit=time_limit,
             comm_range=params.comm_range,
             flight=FlightParams(max_speed=max_speed),
+            trace_interval=trace_interval,
         )
         self.params = params
         self.complexity = complexity

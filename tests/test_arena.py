@@ -1,0 +1,87 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from abm.arena import CARDINALS, Arena
+from abm.errors import ConfigError, MapError
+
+
+def random_arena(seed: int, shape=(12, 15), resolution=1.0, density=0.3) -> Arena:
+    rng = np.random.default_rng(seed)
+    free = rng.random(shape) > density
+    free[0, 0] = True
+    return Arena(free, resolution)
+
+
+def test_from_cells_places_free_cells_with_a_wall_ring():
+    arena = Arena.from_cells([(0, 0), (1, 0), (1, 1)], cell_size=3.0)
+    assert arena.free.shape == (4, 4)
+    assert arena.free.sum() == 3
+    assert not arena.free[0].any() and not arena.free[:, 0].any()
+    assert arena.free_area == pytest.approx(27.0)
+
+
+def test_cardinal_distances_in_a_corridor_cell():
+    arena = Arena.from_cells([(0, 0), (1, 0), (2, 0)], cell_size=3.0)
+    d = arena.cardinal_distances([[7.5, 4.5]], max_range=20.0)[0]
+    np.testing.assert_allclose(d, [1.5, 4.5, 1.5, 4.5])
+    assert arena.cardinal_distances([[7.5, 4.5]], max_range=3.5)[0].max() == 3.5
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from([0.5, 1.0, 3.0]))
+def test_cardinal_table_agrees_with_raycast(seed, resolution):
+    arena = random_arena(seed, resolution=resolution)
+    rng = np.random.default_rng(seed)
+    pts = rng.random((200, 2)) * [arena.width, arena.height]
+    table = arena.cardinal_distances(pts, 5.0)
+    rays = arena.raycast(np.repeat(pts, 4, 0), np.tile(CARDINALS, (200, 1)), 5.0).reshape(-1, 4)
+    np.testing.assert_allclose(table, rays, atol=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000))
+def test_segment_crossing_matches_dense_sampling(seed):
+    arena = random_arena(seed)
+    rng = np.random.default_rng(seed)
+    a = rng.random((300, 2)) * [arena.width, arena.height]
+    b = a + rng.normal(0, 2.5, a.shape)
+    fast = arena.segment_crosses_wall(a, b)
+    t = np.linspace(0, 1, 4001)[None, :, None]
+    pts = a[:, None] * (1 - t) + b[:, None] * t
+    dense = ~arena.is_free(pts.reshape(-1, 2)).reshape(len(a), -1).all(axis=1)
+    assert (fast == dense).all()
+
+
+def test_points_outside_the_grid_are_walls():
+    arena = random_arena(1)
+    assert not arena.is_free(np.array([[-0.5, 1.0], [1.0, -3.0], [1e6, 1.0]])).any()
+
+
+def test_bitmap_png_round_trip(tmp_path):
+    from PIL import Image
+
+    image = np.zeros((5, 8), dtype=np.uint8)
+    image[1:4, 1:7] = 255  # top row of the image = north
+    image[1, 1] = 0
+    Image.fromarray(image).save(tmp_path / "map.png")
+    arena = Arena.from_bitmap(tmp_path / "map.png", resolution=2.0)
+    assert arena.free.shape == (5, 8)
+    assert arena.resolution == 2.0
+    assert not arena.is_free([[3.0, 7.0]])[0]  # image pixel (1, 1) is the north-west corner
+    assert arena.is_free([[5.0, 7.0]])[0]
+
+
+def test_bad_maps_raise_map_errors(tmp_path):
+    with pytest.raises(MapError, match="no free cell"):
+        Arena(np.zeros((3, 3), dtype=bool))
+    with pytest.raises(MapError, match="does not exist"):
+        Arena.from_bitmap(tmp_path / "missing.png")
+    (tmp_path / "broken.png").write_bytes(b"not a png at all")
+    with pytest.raises(MapError, match="not a readable image"):
+        Arena.from_bitmap(tmp_path / "broken.png")
+    with pytest.raises(MapError, match="boolean"):
+        Arena(np.ones((3, 3)))
+    with pytest.raises(ConfigError, match="resolution"):
+        Arena(np.ones((3, 3), dtype=bool), resolution=-1.0)

@@ -1,0 +1,177 @@
+from itertools import pairwise
+
+import networkx as nx
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from abm.energy import STIRLING_POWER
+from abm.errors import ConfigError, MapError
+from models.beacon_explorer import BeaconExplorerModel
+
+
+@pytest.fixture(scope="module")
+def corridor_run():
+    model = BeaconExplorerModel(world="corridor", complexity="high", seed=5)
+    model.physics.trace = []
+    model.run()
+    return model
+
+
+def test_run_ends_and_summary_has_the_agreed_keys(corridor_run):
+    s = corridor_run.summary()
+    for key in (
+        "coverage_time",
+        "coverage_area",
+        "complete",
+        "collisions",
+        "flight_time",
+        "energy_flight",
+        "energy_beacon",
+        "energy_ground",
+        "energy_total",
+        "n_beacons_final",
+    ):
+        assert key in s
+    assert not corridor_run.running
+    assert corridor_run.end_reason is not None
+    assert 0 < s["coverage_area"] <= 100
+    assert s["energy_total"] == pytest.approx(
+        s["energy_flight"] + s["energy_beacon"] + s["energy_ground"]
+    )
+    assert corridor_run.time == corridor_run.env.now == s["coverage_time"]
+
+
+def test_robot_counts_are_conserved(corridor_run):
+    counts = corridor_run.state_counts()
+    assert list(counts.columns) == ["time", "ground", "explorer", "beacon"]
+    total = counts[["ground", "explorer", "beacon"]].sum(axis=1)
+    assert (total == corridor_run.n_robots + 1).all()  # + the base beacon
+    assert counts.time.is_monotonic_increasing
+
+
+def test_no_robot_ever_crosses_a_wall(corridor_run):
+    trace = corridor_run.physics.trace
+    assert len(trace) > 100
+    arena = corridor_run.arena
+    for (_t0, ids0, p0), (_t1, ids1, p1) in pairwise(trace):
+        same = np.intersect1d(ids0, ids1)
+        rows0 = {r: i for i, r in enumerate(ids0)}
+        rows1 = {r: i for i, r in enumerate(ids1)}
+        a = np.array([p0[rows0[r]] for r in same]).reshape(-1, 2)
+        b = np.array([p1[rows1[r]] for r in same]).reshape(-1, 2)
+        assert not arena.segment_crosses_wall(a, b).any()
+        assert arena.is_free(p1).all()
+
+
+def test_energy_ledger_equals_integral_of_each_robots_power(corridor_run):
+    ledger = corridor_run.ledger
+    end = corridor_run.env.now
+    total = 0.0
+    for robot in corridor_run.robots:
+        segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
+        expected = sum(
+            STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments)
+        )
+        assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12)
+        total += expected
+    assert corridor_run.summary()["energy_total"] == pytest.approx(total, rel=1e-12)
+
+
+def run_until_quiescent(model, until):
+    model.run(until=until)
+    beacons = model.beacons
+    while not (beacons.forwards.quiescent and beacons.reverse.quiescent) and model.running:
+        model.run(until=model.env.now + 0.05)
+    model.run(until=model.env.now + max(beacons.forwards.ttl, beacons.reverse.ttl) + 0.2)
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.integers(0, 1000), st.sampled_from(["corridor", "open", "mixed"]), st.floats(20, 150))
+def test_hop_counts_equal_bfs_distances_on_the_beacon_graph(seed, world, when):
+    model = BeaconExplorerModel(world=world, seed=seed, trace_interval=None)
+    run_until_quiescent(model, when)
+    beacons = model.beacons
+    assume(model.running)  # a finished run stops the clock before soft states expire
+    graph = model.comms.graph
+    assert set(graph) == set(beacons.beacons)
+    dist = nx.single_source_shortest_path_length(graph, model.base.unique_id)
+    sources = [b for b in beacons.reverse.sources if b in graph]
+    rdist = nx.multi_source_dijkstra_path_length(graph, sources) if sources else {}
+    for node in graph:
+        assert beacons.forwards.value(node) == 1 + dist[node]
+        assert beacons.reverse.value(node) == (max(0, 127 - rdist[node]) if node in rdist else 0)
+
+
+def test_same_seed_same_event_log_and_different_seed_differs():
+    def log(seed):
+        m = BeaconExplorerModel(world="corridor", seed=seed, trace_interval=None, time_limit=150)
+        m.run()
+        return m.events()
+
+    a, b, c = log(11), log(11), log(12)
+    pd.testing.assert_frame_equal(a, b)
+    assert not a.equals(c)
+
+
+def test_longer_period_launches_later_and_robots_launch_in_id_order():
+    m = BeaconExplorerModel(world="open", seed=3, launch_period=12.0, trace_interval=None)
+    m.run()
+    launches = m.events().query("event == 'launch'")
+    assert list(launches.time[:3]) == [12.0, 24.0, 36.0]
+    assert launches.robot.is_monotonic_increasing
+
+
+def test_hover_beacons_cost_more_energy():
+    kwargs = {"world": "open", "seed": 2, "launch_period": 4.0, "trace_interval": None}
+    attached = BeaconExplorerModel(**kwargs).run().summary()
+    hovering = BeaconExplorerModel(hover_beacons=True, **kwargs).run().summary()
+    assert hovering["energy_beacon"] > 10 * attached["energy_beacon"]
+
+
+def test_mesa_step_advances_one_slice_of_simulated_time():
+    m = BeaconExplorerModel(world="open", seed=1, trace_interval=None)
+    for _ in range(5):
+        m.step()
+    assert m.time == m.env.now == 5.0
+    assert m.steps == 5
+    assert len(m.datacollector.get_model_vars_dataframe()) == 5
+
+
+def test_bitmap_world_runs(tmp_path):
+    from PIL import Image
+
+    image = np.zeros((12, 30), dtype=np.uint8)
+    image[5:8, 1:29] = 255  # a 3 m wide, 28 m long corridor
+    Image.fromarray(image).save(tmp_path / "corridor.png")
+    m = BeaconExplorerModel(world=str(tmp_path / "corridor.png"), start=(2.5, 5.5), seed=1)
+    m.run()
+    assert m.summary()["coverage_area"] > 50
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"world": "cave"}, "world must be one of"),
+        ({"launch_period": -6.0}, r"launch_period must be in \(0"),
+        ({"n_robots": 0}, r"n_robots must be in \[1"),
+        ({"complexity": "extreme"}, "complexity must be one of"),
+        ({"world": "mixed", "complexity": "high"}, "complexity"),
+        ({"seed": "abc"}, "seed must be an integer"),
+        ({"max_speed": 0}, "max_speed"),
+    ],
+)
+def test_bad_parameters_raise_config_errors(kwargs, match):
+    with pytest.raises(ConfigError, match=match):
+        BeaconExplorerModel(**kwargs)
+
+
+def test_malformed_map_file_raises_map_error(tmp_path):
+    bad = tmp_path / "map.png"
+    bad.write_text("this is not an image")
+    with pytest.raises(MapError, match="not a readable image"):
+        BeaconExplorerModel(world=str(bad))
+    with pytest.raises(MapError, match="does not exist"):
+        BeaconExplorerModel(world=str(tmp_path / "nowhere.png"))

@@ -1,0 +1,78 @@
+import networkx as nx
+import numpy as np
+import simpy
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from abm.arena import Arena
+from abm.comms import CommNetwork, GradientFlood
+
+
+def settle(env: simpy.Environment, *floods: GradientFlood) -> None:
+    """Run until no message is in flight and every soft state has had time to expire."""
+    env.run(until=env.now + max(f.ttl for f in floods) + 1.0)
+    assert all(f.quiescent for f in floods)
+
+
+def build(points, walls=None, loss=0.0, seed=0):
+    free = np.ones((20, 20), dtype=bool) if walls is None else walls
+    env = simpy.Environment()
+    net = CommNetwork(env, Arena(free, 1.0), np.random.default_rng(seed), 4.0, 0.1, loss)
+    forwards = GradientFlood(net, "forwards", 1, +1)
+    reverse = GradientFlood(net, "reverse", 127, -1, floor=0)
+    for i, p in enumerate(points):
+        net.add(i, p)
+        forwards.restart()
+        reverse.restart()
+    return env, net, forwards, reverse
+
+
+points_strategy = st.lists(
+    st.tuples(st.floats(0.5, 19.5), st.floats(0.5, 19.5)), min_size=2, max_size=25
+)
+
+
+@settings(max_examples=40, deadline=None)
+@given(points_strategy, st.data(), st.floats(0.0, 0.5))
+def test_hop_counts_equal_bfs_distances_after_quiescence(points, data, loss):
+    env, net, forwards, reverse = build(points, loss=loss)
+    forwards.set_sources([0])
+    n = len(points)
+    sources = data.draw(st.sets(st.integers(0, n - 1), max_size=3))
+    reverse.set_sources(sources)
+    # remove a few nodes (links break mid-flight), then let everything settle
+    for gone in data.draw(st.sets(st.integers(1, n - 1), max_size=n // 3)):
+        env.run(until=env.now + 0.15)
+        net.remove(gone)
+        forwards.forget(gone)
+        reverse.forget(gone)
+        forwards.restart()
+        reverse.restart()
+    settle(env, forwards, reverse)
+    g = net.graph
+    dist = nx.single_source_shortest_path_length(g, 0) if 0 in g else {}
+    live_sources = [s for s in reverse.sources if s in g]
+    rdist = nx.multi_source_dijkstra_path_length(g, live_sources) if live_sources else {}
+    for node in g:
+        assert forwards.value(node) == (1 + dist[node] if node in dist else 0)
+        expected = max(0, 127 - rdist[node]) if node in rdist else 0
+        assert reverse.value(node) == expected
+
+
+def test_links_need_range_and_line_of_sight():
+    walls = np.ones((10, 10), dtype=bool)
+    walls[:, 5] = False  # a wall column at x in [5, 6)
+    env, net, *_ = build([(4.5, 5.0), (6.5, 5.0), (1.0, 5.0), (4.5, 8.5)], walls=walls)
+    g = net.graph
+    assert not g.has_edge(0, 1)  # 2 m apart but the wall is between
+    assert g.has_edge(0, 2)  # 3.5 m, clear
+    assert g.has_edge(0, 3)  # 3.5 m, clear
+    assert not g.has_edge(2, 3)  # 4.9 m > C_r
+
+
+def test_messages_arrive_after_the_latency_as_events():
+    env, net, *_ = build([(1.0, 1.0), (3.0, 1.0)])
+    log = []
+    net.send(0, 1, "hello", lambda s, d, p: log.append((s, d, p, env.now)))
+    env.run()
+    assert log == [(0, 1, "hello", 0.1)]

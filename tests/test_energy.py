@@ -1,0 +1,60 @@
+from itertools import pairwise
+
+import pytest
+import simpy
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from abm.energy import STIRLING_POWER, Battery, EnergyLedger, PowerModes
+from abm.errors import ConfigError
+
+MODES = ["ground", "flight", "beacon", "hover"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.integers(0, 3), st.sampled_from(MODES), st.floats(0.0, 50.0)), max_size=40
+    )
+)
+def test_ledger_equals_integral_of_power_over_mode_timeline(changes):
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes())
+    for robot in range(4):
+        ledger.set_mode(robot, "ground")
+    for robot, mode, wait in changes:
+        if env.now + wait > env.now:
+            env.run(until=env.now + wait)
+        ledger.set_mode(robot, mode)
+    env.run(until=env.now + 7.0)
+    end = env.now
+    # integrate each robot's piecewise-constant power from the recorded timeline
+    for robot in range(4):
+        segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
+        expected = sum(
+            STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments)
+        )
+        assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12, abs=1e-9)
+    assert ledger.energy() == pytest.approx(sum(ledger.frame().energy))
+
+
+def test_battery_runs_flat_exactly_when_its_charge_is_used():
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes())
+    flat = []
+    Battery(ledger, capacity=1200.0, on_empty=lambda r: flat.append((r, env.now)))
+    ledger.set_mode(7, "ground")  # 0.5 W
+    env.run(until=100.0)  # 50 J used
+    ledger.set_mode(7, "flight")  # 120 W: 1150 J left -> flat after 9.5833 s
+    env.run(until=200.0)
+    assert flat == [(7, pytest.approx(100.0 + 1150.0 / 120.0))]
+    assert ledger.energy(7) == pytest.approx(1200.0 + 120.0 * (200.0 - flat[0][1]))
+
+
+def test_bad_power_and_unknown_mode_are_rejected():
+    with pytest.raises(ConfigError, match="power"):
+        PowerModes({"flight": -1.0})
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes())
+    with pytest.raises(ConfigError, match="unknown power mode 'warp'"):
+        ledger.set_mode(1, "warp")
