@@ -26,3 +26,15 @@ __all__ = [
     "open_world",
     "room_layouts",
 ]
+
+# Bitmap maps (Arnaldo et al. 2018): loading, map entropy, built-in maps.
+from abm.worlds.bitmap import (  # noqa: E402
+    MAPS,
+    MapInfo,
+    builtin_map,
+    load_map,
+    map_entropy,
+    write_builtin_maps,
+)
+
+__all__ += ["MAPS", "MapInfo", "builtin_map", "load_map", "map_entropy", "write_builtin_maps"]

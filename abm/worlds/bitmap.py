@@ -1,0 +1,278 @@
+"""Bitmap maps: loading (PNG/PGM/BMP/NPY), the paper's map entropy, and built-in maps.
+
+Arnaldo et al. (2018) run their swarm on bitmap maps at 1 m per pixel, black = not navigable,
+and measure a map's complexity by the entropy of its binary image,
+``H = -sum_k P_k log2 P_k`` over the two grey levels (wall, free). The built-in maps are
+reconstructions of the paper's Table 1 maps (drawn from its description: the images are not
+published) plus a few more of other entropy and size, generated in code so they are exact and
+reproducible; :func:`write_builtin_maps` writes them as PNGs (the copies shipped in
+``abm/worlds/maps/``).
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from abm.arena import Arena
+from abm.errors import ConfigError, MapError
+
+__all__ = [
+    "MAPS",
+    "MapInfo",
+    "builtin_map",
+    "load_map",
+    "map_entropy",
+    "write_builtin_maps",
+    "MAPS_DIR",
+]
+
+#: Folder of the shipped PNG copies of the built-in maps.
+MAPS_DIR = Path(__file__).parent / "maps"
+
+MAP_SUFFIXES = (".png", ".pgm", ".bmp", ".npy")
+
+
+def map_entropy(free: np.ndarray | Arena) -> float:
+    """Entropy (bits) of a binary map image: ``-sum_k P_k log2 P_k`` over wall and free pixels.
+
+    Args:
+        free: a boolean array (True = free) or an :class:`Arena`.
+
+    Returns:
+        H in [0, 1]; 0 for an image of one colour. A 100 x 100 hall with a one-pixel perimeter
+        wall gives 0.2405 (the paper's map 1).
+
+    """
+    if isinstance(free, Arena):
+        free = free.free
+    free = np.asarray(free)
+    if free.dtype != bool:
+        raise MapError(f"free must be a boolean array (True = free), got dtype {free.dtype}")
+    if free.size == 0:
+        raise MapError("free is empty: a map needs at least one pixel")
+    p = np.array([free.mean(), 1.0 - free.mean()])
+    p = p[p > 0]
+    return float(-(p * np.log2(p)).sum() + 0.0)
+
+
+# ---------------------------------------------------------------------- built-in maps
+def _hall(rows: int, cols: int) -> np.ndarray:
+    free = np.zeros((rows, cols), dtype=bool)
+    free[1:-1, 1:-1] = True
+    return free
+
+
+def _walls(free: np.ndarray, segments, doors=()) -> np.ndarray:
+    """Draw 1-pixel walls ``(x0, y0, x1, y1)`` (inclusive, axis-aligned), then cut doors."""
+    for x0, y0, x1, y1 in segments:
+        free[min(y0, y1) : max(y0, y1) + 1, min(x0, x1) : max(x0, x1) + 1] = False
+    for x0, y0, x1, y1 in doors:
+        free[min(y0, y1) : max(y0, y1) + 1, min(x0, x1) : max(x0, x1) + 1] = True
+    return free
+
+
+def _divided() -> np.ndarray:
+    # Paper map 3: a 100 x 100 hall halved by one wall with one door. A 5 m door makes the
+    # entropy 0.2817, the paper's value.
+    return _walls(_hall(100, 100), [(50, 1, 50, 98)], [(50, 45, 50, 49)])
+
+
+def _complex() -> np.ndarray:
+    # Paper map 4: a 100 x 100 hall with walls and corridors; 588 wall pixels inside the
+    # perimeter give the paper's entropy 0.4639.
+    free = _hall(100, 100)
+    segments = [
+        (20, 1, 20, 98),  # west corridor (x 1-19) holding the launch point
+        (21, 50, 98, 50),  # north / south halves
+        (40, 51, 40, 98),
+        (70, 51, 70, 98),
+        (21, 25, 80, 25),
+        (60, 1, 60, 24),
+        (80, 26, 80, 40),
+        (45, 75, 65, 75),
+        (75, 70, 98, 70),
+        (30, 8, 45, 8),
+        (85, 8, 85, 20),
+        (30, 40, 75, 40),
+        (45, 60, 65, 60),
+        (85, 75, 85, 98),
+        (5, 20, 15, 20),
+        (90, 26, 90, 45),
+        (25, 60, 35, 60),
+        (55, 85, 65, 85),
+        (10, 40, 19, 40),
+        (65, 8, 80, 8),
+        (45, 12, 45, 22),
+        (75, 30, 75, 45),
+    ]
+    doors = [
+        (20, 85, 20, 90),
+        (20, 30, 20, 35),
+        (55, 50, 60, 50),
+        (85, 50, 90, 50),
+        (40, 70, 40, 75),
+        (70, 88, 70, 93),
+        (30, 25, 35, 25),
+        (60, 10, 60, 15),
+        (50, 40, 54, 40),
+    ]
+    return _walls(free, segments, doors)
+
+
+def _rooms4() -> np.ndarray:
+    # Four 50 x 50 rooms joined by four doors.
+    return _walls(
+        _hall(100, 100),
+        [(50, 1, 50, 98), (1, 50, 98, 50)],
+        [(50, 70, 50, 77), (50, 20, 50, 27), (20, 50, 27, 50), (70, 50, 77, 50)],
+    )
+
+
+def _serpentine() -> np.ndarray:
+    # A 100 x 100 hall folded into five 19 m wide corridors (a long narrow path).
+    segs, doors = [], []
+    for k, y in enumerate((20, 40, 60, 80)):
+        segs.append((1, y, 98, y))
+        doors.append((90, y, 98, y) if k % 2 == 0 else (1, y, 9, y))
+    return _walls(_hall(100, 100), segs, doors)
+
+
+def _pillars() -> np.ndarray:
+    # A 100 x 100 hall with a regular grid of 4 x 4 m pillars (unstructured-looking clutter).
+    free = _hall(100, 100)
+    for cx in range(18, 95, 16):
+        for cy in range(10, 95, 16):
+            free[cy : cy + 4, cx : cx + 4] = False
+    return free
+
+
+def _lshape() -> np.ndarray:
+    # An L-shaped 100 x 100 hall: the south-east 60 x 60 quadrant is solid.
+    free = _hall(100, 100)
+    free[:60, 40:] = False
+    return free
+
+
+def _wide() -> np.ndarray:
+    # A 100 x 150 hall with two partial walls (a larger, mildly structured space).
+    return _walls(_hall(100, 150), [(50, 1, 50, 60), (100, 40, 100, 98)])
+
+
+@dataclass(frozen=True)
+class MapInfo:
+    """A built-in map.
+
+    Attributes:
+        name: registry key (also the PNG file's stem).
+        title: one-line description.
+        build: returns the boolean free grid (row 0 = south, 1 px = 1 m).
+        start: default launch point p0 (m).
+        paper_id: the map's Id in Arnaldo et al. (2018) Table 1, or None.
+        paper_entropy: the entropy the paper gives for it, or None.
+
+    """
+
+    name: str
+    title: str
+    build: Callable[[], np.ndarray]
+    start: tuple[float, float] = (5.0, 80.0)
+    paper_id: int | None = None
+    paper_entropy: float | None = None
+
+
+MAPS: dict[str, MapInfo] = {
+    m.name: m
+    for m in (
+        MapInfo(
+            "hall100",
+            "empty 100 x 100 m hall (paper map 1)",
+            lambda: _hall(100, 100),
+            paper_id=1,
+            paper_entropy=0.2405,
+        ),
+        MapInfo(
+            "hall100x200",
+            "empty 100 x 200 m hall (paper map 2)",
+            lambda: _hall(100, 200),
+            paper_id=2,
+            paper_entropy=0.0027,
+        ),
+        MapInfo(
+            "divided",
+            "100 x 100 m hall halved by a wall with one door (paper map 3)",
+            _divided,
+            paper_id=3,
+            paper_entropy=0.2817,
+        ),
+        MapInfo(
+            "complex",
+            "100 x 100 m hall with walls and corridors (paper map 4)",
+            _complex,
+            paper_id=4,
+            paper_entropy=0.4639,
+        ),
+        MapInfo("rooms4", "four 50 x 50 m rooms joined by doors", _rooms4),
+        MapInfo("serpentine", "100 x 100 m hall folded into five corridors", _serpentine),
+        MapInfo("pillars", "100 x 100 m hall with a grid of 4 x 4 m pillars", _pillars),
+        MapInfo("lshape", "L-shaped hall in a 100 x 100 m square", _lshape),
+        MapInfo("wide", "100 x 150 m hall with two partial walls", _wide),
+    )
+}
+
+
+def builtin_map(name: str) -> Arena:
+    """The built-in map ``name`` as an arena (1 m per pixel)."""
+    if name not in MAPS:
+        raise ConfigError(
+            f"map must be one of {', '.join(MAPS)}, a map file or an Arena, got {name!r}"
+        )
+    return Arena(MAPS[name].build(), resolution=1.0, name=name)
+
+
+def load_map(
+    map: str | Path | Arena | np.ndarray,
+    resolution: float = 1.0,  # noqa: A002
+) -> Arena:
+    """Turn a built-in map name, a bitmap file, a boolean array or an arena into an arena.
+
+    Args:
+        map: a name from :data:`MAPS`, a PNG/PGM/BMP/NPY path (black = not navigable), a boolean
+            array (True = free, row 0 = south) or an :class:`Arena`.
+        resolution: metres per pixel of a file or array (default 1 m, the paper's).
+
+    Raises:
+        MapError: unreadable file, no free cell.
+        ConfigError: an unknown name.
+
+    """
+    if isinstance(map, Arena):
+        return map
+    if isinstance(map, np.ndarray):
+        return Arena(map, resolution=resolution, name="array")
+    if isinstance(map, str) and map in MAPS:
+        if resolution != 1.0:
+            raise ConfigError(f"resolution of a built-in map is 1 m, got {resolution!r}")
+        return builtin_map(map)
+    if isinstance(map, str | Path) and Path(map).suffix.lower() in MAP_SUFFIXES:
+        return Arena.from_bitmap(map, resolution=resolution)
+    raise ConfigError(
+        f"map must be one of {', '.join(MAPS)}, a map file ({', '.join(MAP_SUFFIXES)}), a "
+        f"boolean array or an Arena, got {map!r}"
+    )
+
+
+def write_builtin_maps(folder: str | Path = MAPS_DIR) -> list[Path]:
+    """Write every built-in map as a black/white PNG (top row = north); returns the paths."""
+    from PIL import Image
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for info in MAPS.values():
+        image = (info.build()[::-1] * 255).astype(np.uint8)
+        path = folder / f"{info.name}.png"
+        Image.fromarray(image, mode="L").save(path, optimize=True)
+        paths.append(path)
+    return paths

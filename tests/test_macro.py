@@ -1,0 +1,117 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from abm.errors import ConfigError
+from analysis.macro import (
+    fit_lambdas,
+    fit_recurrence,
+    mean_counts,
+    predict_from_lambdas,
+    recurrence,
+    rmsd,
+)
+from models.stigmergy.params import PAPER_LAMBDAS, PAPER_TABLE1
+
+
+def test_recurrence_conserves_robots():
+    r = recurrence(0.1, 0.999, 0.01, steps=2000)
+    assert r.loc[0, "wander"] == 0 and r.loc[0, "beacon"] == 1
+    assert np.allclose(r["wander"] + r["beacon"], 1 + 0.01 * r["step"])
+    assert r["time"].iloc[-1] == 1000.0
+
+
+def test_paper_lambdas_reproduce_table1_map1_large_radii():
+    # With l1, l2 < 0 (signs restored) the published lambdas give Table 1's predictions.
+    for radius in (30, 40):
+        row = PAPER_TABLE1[(1, radius)]
+        end = predict_from_lambdas(PAPER_LAMBDAS, radius, 0.2405, 1e4, int(row[4] / 0.5))
+        assert end["wander"].iloc[-1] == pytest.approx(row[2], abs=0.5)
+        assert end["beacon"].iloc[-1] == pytest.approx(row[3], abs=0.5)
+
+
+def _synthetic(a0, alpha6, seeds=3, steps=3000, noise=0.3):
+    rng = np.random.default_rng(0)
+    base = recurrence(a0, alpha6, 0.01, steps)
+    frames = []
+    for s in range(seeds):
+        frames.append(
+            pd.DataFrame(
+                {
+                    "time": base["time"],
+                    "wander": base["wander"] + rng.normal(0, noise, len(base)),
+                    "beacon": base["beacon"] + rng.normal(0, noise, len(base)),
+                    "seed": s,
+                }
+            )
+        )
+    return pd.concat(frames, ignore_index=True)
+
+
+def test_fit_recovers_parameters():
+    fit = fit_recurrence(_synthetic(0.05, 0.998), alpha5=0.01)
+    assert fit.params["a0"] == pytest.approx(0.05, rel=0.1)
+    assert fit.params["alpha6"] == pytest.approx(0.998, abs=2e-4)
+    assert fit.stderr["a0"] > 0
+    assert fit.rmsd_w < 0.3 and fit.rmsd_b < 0.3
+    assert list(fit.predicted.columns) == ["time", "wander", "beacon"]
+
+
+def test_fit_generic_columns_and_alpha5_estimate():
+    counts = _synthetic(0.05, 0.998, noise=0.0).rename(
+        columns={"wander": "explorer", "beacon": "beacon"}
+    )
+    fit = fit_recurrence(counts, wander="explorer", beacon="beacon")
+    assert fit.params["alpha5"] == pytest.approx(0.01, rel=1e-6)
+
+
+def test_mean_counts_steps_and_runs_ending():
+    counts = pd.DataFrame(
+        {
+            "time": [0, 1.0, 3.0, 0, 2.0],
+            "wander": [0, 1, 2, 0, 5],
+            "beacon": [1, 1, 1, 1, 1],
+            "seed": [1, 1, 1, 2, 2],
+        }
+    )
+    m = mean_counts(counts, step=1.0, min_share=0.5)
+    assert m["time"].tolist() == [0, 1, 2, 3]
+    assert m["wander"].tolist() == [0, 0.5, 3.0, 2.0]
+    assert m["runs"].tolist() == [2, 2, 2, 1]
+
+
+def test_fit_lambdas_recovers_known():
+    lam = dict(l0=1.0, l1=-3e-5, l2=-2e-6, l3=0.09, l4=0.02, l5=5e-6)
+    rows = []
+    for ent, size in ((0.24, 1e4), (0.19, 2e4), (0.28, 1e4), (0.46, 1e4)):
+        for r in (10, 20, 30, 40):
+            rows.append(
+                {
+                    "radius": r,
+                    "entropy": ent,
+                    "envsize": size,
+                    "alpha6": lam["l0"] + lam["l1"] * r + lam["l2"] * r * r,
+                    "a0": lam["l3"] - lam["l4"] * ent + lam["l5"] * size,
+                }
+            )
+    got, se = fit_lambdas(pd.DataFrame(rows))
+    for k, v in lam.items():
+        assert got[k] == pytest.approx(v, rel=1e-4, abs=1e-12)
+
+
+def test_bad_input():
+    with pytest.raises(ConfigError, match="'beacon'"):
+        fit_recurrence(pd.DataFrame({"time": [0, 1], "wander": [0, 1]}))
+    with pytest.raises(ConfigError, match="3 distinct radii"):
+        fit_lambdas(
+            pd.DataFrame(
+                {
+                    "radius": [10, 20],
+                    "alpha6": [1, 1],
+                    "a0": [0.1, 0.1],
+                    "entropy": [0.2, 0.2],
+                    "envsize": [1e4, 1e4],
+                }
+            )
+        )
+    assert rmsd([1, 2], [1, 4]) == pytest.approx(np.sqrt(2))

@@ -1,0 +1,94 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from abm.errors import ConfigError, MapError
+from models.stigmergy import StigmergyModel
+
+
+def _small(**kw):
+    free = np.zeros((40, 60), dtype=bool)
+    free[1:-1, 1:-1] = True
+    kw.setdefault("time_limit", 600.0)
+    return StigmergyModel(free, kw.pop("radius", 10.0), seed=kw.pop("seed", 4), start=(5, 20), **kw)
+
+
+@pytest.fixture(scope="module")
+def run():
+    return _small().run()
+
+
+def test_state_counts_columns_and_conservation(run):
+    counts = run.state_counts()
+    assert list(counts.columns) == ["time", "wander", "beacon"]
+    added = 1 + np.floor(counts["time"] / 50.0 + 1e-9)
+    assert np.array_equal(counts["wander"] + counts["beacon"], added)
+    assert counts["beacon"].is_monotonic_increasing
+
+
+def test_landings_respect_link_threshold(run):
+    b = run.beacon_positions
+    assert len(b) >= 3
+    d = np.hypot(*(b[:, None] - b[None]).transpose(2, 0, 1))
+    d[np.diag_indices_from(d)] = np.inf
+    # landing is checked each 0.5 s step; the robot moves at most one tick after the check
+    assert d.min() >= run.link_threshold - run.max_speed * run.physics.dt - 0.2
+
+
+def test_same_seed_same_run():
+    a = _small(time_limit=300.0).run()
+    b = _small(time_limit=300.0).run()
+    pd.testing.assert_frame_equal(a.events(), b.events())
+    assert np.array_equal(a.beacon_positions, b.beacon_positions)
+    c = _small(time_limit=300.0, seed=5).run()
+    assert not np.array_equal(a.beacon_positions, c.beacon_positions)
+
+
+def test_run_ends_at_coverage_target():
+    m = _small(radius=15.0, time_limit=15000.0, coverage_target=0.6).run()
+    assert m.end_reason == "coverage"
+    assert m.ca >= 0.6
+    s = m.summary()
+    assert {"wander", "beacon", "ca", "cb", "time"} <= set(s)
+    assert 0 <= s["cb"] <= 100
+
+
+def test_pheromone_decays_in_model(run):
+    f = run.pheromone
+    before = f.total()
+    f.advance(f.time + 1000.0)
+    assert f.total() == pytest.approx(before * np.exp(-1e-4 * 1000.0))
+
+
+def test_mesa_step_and_builtin_map():
+    m = StigmergyModel("divided", 30.0, seed=1, time_limit=200.0)
+    for _ in range(10):
+        m.step()
+    assert m.time == pytest.approx(5.0)
+    assert m.datacollector.get_model_vars_dataframe().shape[0] == 10
+
+
+def test_bad_input(tmp_path):
+    with pytest.raises(ConfigError, match="inside a wall"):
+        StigmergyModel("divided", 20.0, start=(50.5, 10.5))
+    with pytest.raises(ConfigError, match="pheromone_radius"):
+        StigmergyModel("hall100", -1.0)
+    with pytest.raises(ConfigError, match="launch_rate"):
+        StigmergyModel("hall100", 10.0, launch_rate=0.0)
+    with pytest.raises(ConfigError, match="map must be one of"):
+        StigmergyModel("nowhere", 10.0)
+    bad = tmp_path / "x.png"
+    bad.write_bytes(b"\x00\x01")
+    with pytest.raises(MapError, match="not a readable image"):
+        StigmergyModel(bad, 10.0)
+    with pytest.raises(MapError, match="no free cell"):
+        StigmergyModel(np.zeros((10, 10), dtype=bool), 10.0)
+
+
+@pytest.mark.slow
+def test_table1_trend_on_map1():
+    """Paper map 1: more beacons and a longer deployment for a smaller radius."""
+    r20 = StigmergyModel("hall100", 20.0, seed=11).run().summary()
+    r30 = StigmergyModel("hall100", 30.0, seed=11).run().summary()
+    assert r20["end_reason"] == r30["end_reason"] == "coverage"
+    assert r20["beacon"] > 1.3 * r30["beacon"]
