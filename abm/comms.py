@@ -165,6 +165,7 @@ class GradientFlood:
         step: int,
         floor: int = 0,
         ttl: float | None = None,
+        links: Callable[[Node], Iterable[Node]] | None = None,
     ) -> None:
         if step not in (1, -1):
             raise ValueError(f"step must be +1 or -1, got {step}")
@@ -174,6 +175,7 @@ class GradientFlood:
         self.step = int(step)
         self.floor = int(floor)
         self._ttl = ttl
+        self.links = links or network.neighbours
         self.values: dict[Node, int] = {}
         self._epoch_of: dict[Node, int] = {}
         self.sources: frozenset[Node] = frozenset()
@@ -242,7 +244,7 @@ class GradientFlood:
         onward = value + self.step
         if onward < self.floor:
             return
-        for other in self.network.neighbours(node):
+        for other in self.links(node):
             self.in_flight += 1
             self.network.send(node, other, (epoch, onward), self._deliver, self._dropped)
 

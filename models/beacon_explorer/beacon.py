@@ -6,9 +6,9 @@ count or a neighbour's desired direction changes), runs the flowchart:
 1. Sensing: label N, E, S, W as beacon / obstacle / empty; in corridors remember a direction as
    searched when the neighbour there has a higher forwards hop count and signals a desired
    direction pointing back; searched and obstacle directions are blocked.
-2. Behaviour: corridor beacons enter the redeployment phase when every higher-forwards neighbour
-   is blocked (and no unblocked empty direction is left); open-space beacons when their reverse
-   hop count is 0.
+2. Behaviour: corridor beacons enter the redeployment phase in a dead end (enclosed, every
+   neighbour lower) or when every higher-forwards neighbour is blocked, i.e. when each direction
+   is blocked or holds a lower neighbour; open-space beacons when their reverse hop count is 0.
 3. Desired direction: deployment - the first unblocked empty direction clockwise from North,
    else the unblocked neighbour with the highest hop count (forwards in corridors, reverse in open
    space); redeployment - the neighbour with the lowest forwards hop count.
@@ -21,6 +21,7 @@ Evaluations are messages: a beacon re-evaluates one control period after being w
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import networkx as nx
 import numpy as np
 
 from abm.arena import CARDINALS, Arena
@@ -90,8 +91,13 @@ class BeaconNetwork:
         self.on_may_detach = on_may_detach
         self.beacons: dict[int, Beacon] = {}
         self.base: int | None = None
-        self.forwards = GradientFlood(comms, "forwards", params.forwards_start, +1)
-        self.reverse = GradientFlood(comms, "reverse", params.reverse_start, -1, floor=0)
+        self.lattice = nx.Graph()
+        self.forwards = GradientFlood(
+            comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
+        )
+        self.reverse = GradientFlood(
+            comms, "reverse", params.reverse_start, -1, floor=0, links=self.lattice_neighbours
+        )
         self.forwards.on_change(self._hop_changed)
         self.reverse.on_change(self._hop_changed)
         comms.on_link_change(self._link_changed)
@@ -130,8 +136,40 @@ class BeaconNetwork:
         self.version += 1
 
     def _topology_changed(self) -> None:
+        self._rebuild_lattice()
         self.forwards.restart()
         self.reverse.restart()
+
+    def _rebuild_lattice(self) -> None:
+        """Lattice links: mutual nearest linked neighbours in opposite compass directions.
+
+        Hop counts travel through the relative-positioning sensor to these <= 4 neighbours
+        (Sect. 3.3, App. A), so neighbours differ by exactly one hop. A drifted lattice can
+        bring a diagonal beacon within C_r; flooding over it would give equal hop counts to
+        neighbours, which the controller's rules never expect.
+        """
+        picks: dict[int, dict[int, int]] = {}
+        for robot, beacon in self.beacons.items():
+            nearest: dict[int, tuple[float, int]] = {}
+            for other in self.comms.neighbours(robot):
+                rel = self.beacons[other].position - beacon.position
+                d = int(np.argmax(CARDINALS @ rel))
+                r = float(np.hypot(*rel))
+                if d not in nearest or r < nearest[d][0]:
+                    nearest[d] = (r, other)
+            picks[robot] = {d: other for d, (_r, other) in nearest.items()}
+        self.lattice = nx.Graph()
+        self.lattice.add_nodes_from(self.beacons)
+        self.lattice.add_edges_from(
+            (robot, other)
+            for robot, chosen in picks.items()
+            for d, other in chosen.items()
+            if picks[other].get(opposite(d)) == robot  # mutual: a lattice edge both ends see
+        )
+
+    def lattice_neighbours(self, robot: int) -> list[int]:
+        """The beacons a beacon exchanges hop counts with."""
+        return list(self.lattice.neighbors(robot)) if robot in self.lattice else []
 
     # ------------------------------------------------------------------ sensing
     def _sense_walls(self, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
@@ -165,7 +203,7 @@ class BeaconNetwork:
         """Direction -> nearest neighbour beacon there, from noisy relative positioning."""
         me = self.beacons[robot]
         found: dict[int, tuple[float, int]] = {}
-        others = [n for n in self.comms.neighbours(robot) if n in self.beacons]
+        others = self.lattice_neighbours(robot)
         if not others:
             return {}
         rel = np.array([self.beacons[n].position - me.position for n in others])
@@ -210,7 +248,10 @@ class BeaconNetwork:
                     beacon.searched.add(d)
 
         def blocked(d: int) -> bool:
-            return beacon.corridor and (beacon.walls[d] or d in beacon.searched)
+            # Labels are exclusive (Fig. 3): a direction holding a beacon is "beacon", never
+            # "obstacle", even when the distance sensor also sees a wall beside it.
+            obstacle = beacon.walls[d] and d not in nb
+            return beacon.corridor and (obstacle or d in beacon.searched)
 
         # Empty: no beacon, no wall, not searched (open-space beacons remember too; see README).
         empty = [
@@ -220,7 +261,12 @@ class BeaconNetwork:
         ]
         # Behaviour: deployment or redeployment phase.
         if beacon.corridor:
-            redeploying = not empty and all(blocked(d) for d, n in nb.items() if fwd(n) > me_f)
+            # Dead end (enclosed, all neighbours lower) or every way onward searched: each
+            # direction is blocked or holds a lower neighbour. A neighbour with an equal hop
+            # count (a diagonal link across a junction) is a way onward, not a dead end.
+            redeploying = not empty and all(
+                blocked(d) or (d in nb and fwd(nb[d]) < me_f) for d in DIRECTIONS
+            )
         else:
             redeploying = not empty and rev(robot) == 0
         # Desired direction.
@@ -257,7 +303,7 @@ class BeaconNetwork:
             self.version += 1
         if changed:
             self.version += 1
-            for n in self.comms.neighbours(robot):
+            for n in self.lattice_neighbours(robot):
                 self.wake_later(n)
         if may_detach and not beacon.may_detach:
             beacon.may_detach = True
@@ -271,7 +317,7 @@ class BeaconNetwork:
 
     def _hop_changed(self, node: int, _old: int, _new: int) -> None:
         self.wake(node)
-        for n in self.comms.neighbours(node):
+        for n in self.lattice_neighbours(node):
             self.wake(n)
 
     def _link_changed(self, _kind: str, a: int, b: int) -> None:

@@ -107,7 +107,6 @@ class BeaconExplorerModel(SwarmModel):
         )
         self.robots: dict[int, Robot] = {}
         self._detach_wanted: dict[int, object] = {}
-        self.coverage_complete_time: float | None = None
         self._build_swarm()
         self.env.process(self._monitor())
 
@@ -213,27 +212,27 @@ class BeaconExplorerModel(SwarmModel):
         return bool((d < self.params.interspace).any())
 
     def _monitor(self):
-        """Check once per period whether the search is over."""
-        stalled_since = None
+        """Check once per period whether the search is over.
+
+        Complete: the free area is covered. Searched: no beacon signals an empty direction and
+        every beacon is redeploying (the swarm believes the reachable environment is searched;
+        the paper's robots would now return to the base). Stuck: every robot is a beacon and none
+        may redeploy.
+        """
         while True:
             yield self.env.timeout(self.params.monitor_period)
             if self.coverage.fraction >= self.params.complete_fraction:
-                self.coverage_complete_time = self.env.now
                 self.finish("complete")
                 return
+            beacons = self.beacons.beacons.values()
+            if not any(b.frontier for b in beacons) and all(b.redeploying for b in beacons):
+                self.finish("searched: no frontier left and every beacon redeploys")
+                return
             counts = self.recorder.counts
-            pending = any(b.may_detach for b in self.beacons.beacons.values())
+            pending = any(b.may_detach for b in beacons)
             if counts["ground"] == 0 and counts["explorer"] == 0 and not pending:
                 self.finish("stuck: every robot is a beacon and none can redeploy")
                 return
-            frontier = bool(self.beacons.frontier_beacons())
-            if not frontier and not pending and counts["ground"] == 0:
-                stalled_since = self.env.now if stalled_since is None else stalled_since
-                if self.env.now - stalled_since >= 10 * self.params.monitor_period:
-                    self.finish("no progress: no beacon can redeploy and no explorer can be placed")
-                    return
-            else:
-                stalled_since = None
 
     # ------------------------------------------------------------------ results
     def summary(self) -> dict:
@@ -252,7 +251,7 @@ class BeaconExplorerModel(SwarmModel):
             "seed": self.seed,
             "coverage_time": float(self.env.now),
             "coverage_area": 100.0 * self.coverage.fraction,
-            "complete": self.end_reason == "complete",
+            "complete": self.coverage.fraction >= self.params.complete_fraction,
             "end_reason": self.end_reason or "running",
             "collisions": self.physics.wall_collisions + self.physics.robot_collisions,
             "wall_collisions": self.physics.wall_collisions,

@@ -35,7 +35,8 @@ class BeaconExplorerParams:
         comm_range: C_r (m), Sect. 3.1.
         corridor_width: two opposing walls closer than this make a corridor beacon (m).
         obstacle_threshold: a direction whose wall reading is below this is an obstacle (m; ours:
-            I_r plus clearance, so an explorer is never sent to a spot hugging a wall).
+            I_r, so a lattice that drifted up to a metre still reads the wall beyond the next
+            cell as empty; wall avoidance then stops the explorer short of that wall).
         open_diagonal: a diagonal ray reading at least this (nothing sensed), between two free
             cardinal directions, means open space (m; ours, see README).
         attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
@@ -59,7 +60,7 @@ class BeaconExplorerParams:
     sensor_noise: float = 0.05
     comm_range: float = 4.0
     corridor_width: float = 3.0
-    obstacle_threshold: float = 3.4
+    obstacle_threshold: float = 3.0
     open_diagonal: float = 3.4
     attach_eps: float = 0.15
     attach_speed: float = 0.2
