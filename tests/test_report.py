@@ -1,0 +1,104 @@
+"""Reproduction report: published numbers beside ours, figures, the CLI verb."""
+
+import json
+
+import numpy as np
+import pandas as pd
+
+from analysis.cli import main
+from analysis.report import NOT_IN_SWEEP, PUBLISHED, compare_published, write_report
+
+
+def corridor_results(n: int = 4) -> pd.DataFrame:
+    """Fake corridor runs: 24 s halves flight time and collisions, doubles coverage time."""
+    rng = np.random.default_rng(1)
+    rows = []
+    for level, area in (("low", 80.0), ("medium", 90.0), ("high", 94.0)):
+        for t in (6.0, 12.0, 24.0):
+            for i in range(n):
+                flight = 2000.0 * 6.0 / t + rng.normal(0, 10)
+                rows.append(
+                    {
+                        "run_id": f"{level}-{t:g}-{i}",
+                        "seed": i,
+                        "world": "corridor",
+                        "complexity": level,
+                        "launch_period": t,
+                        "hover_beacons": False,
+                        "coverage_time": 20.0 * t + rng.normal(0, 1),
+                        "coverage_area": area + rng.normal(0, 1),
+                        "complete": bool(i % 2),
+                        "collisions": 60.0 / t,
+                        "flight_time": flight,
+                        "energy_flight": 120.0 * flight,
+                        "energy_beacon": 5.0 * 20 * t,
+                        "energy_ground": 0.5 * 20 * t,
+                        "energy_total": 120.0 * flight + 110.0 * t,
+                        "branches": {"low": 3, "medium": 6, "high": 9}[level],
+                        "status": "ok",
+                    }
+                )
+    return pd.DataFrame(rows)
+
+
+def write_sweep(folder, df: pd.DataFrame) -> None:
+    (folder / "runs").mkdir(parents=True)
+    for run_id, row in df.groupby("run_id"):
+        row.to_parquet(folder / "runs" / f"{run_id}.parquet", index=False)
+    manifest = {"name": "fake", "model": "beacon-explorer", "seed": 1, "replications": 4,
+                "grid": {"complexity": ["low", "medium", "high"]}}  # fmt: skip
+    (folder / "sweep.json").write_text(json.dumps(manifest))
+
+
+def test_every_published_number_has_a_row():
+    table = compare_published(corridor_results())
+    assert len(table) == len(PUBLISHED)
+    published = set(table["published"])
+    for value in ("79.4", "90.1", "94", "38.5", "64.2", "74.3", "-41.5", "-93.9", "+90.5",
+                  "-30.8", "99.7", "-29.9", "-16.4", "+149.7", "0.32 -> 0.02", "-15.0",
+                  "+44.9", "-34.0", "-86.4", "+70.5", "-25.3", "0.974", "3.6"):  # fmt: skip
+        assert value in published, value
+
+
+def test_ours_beside_published_for_the_same_condition():
+    table = compare_published(corridor_results()).set_index("quantity", append=True)
+    rows = table.reset_index(level=1)
+    flight = rows[rows["quantity"].str.startswith("total swarm flight time: change 24")]
+    corridor = flight[flight["section"] == "corridor"].iloc[0]
+    assert float(corridor["ours"]) == pytest_approx(-75.0, 2.0)
+    assert corridor["direction agrees"] == "yes"
+    coverage = rows[rows["quantity"].str.startswith("coverage time: change 24")].iloc[0]
+    assert float(coverage["ours"]) > 0 and coverage["direction agrees"] == "yes"
+    area = rows[rows["quantity"].str.startswith("coverage area (%), mean over periods")]
+    assert list(area["direction agrees"]) == ["(reference)", "yes", "yes"]
+    r = rows[rows["quantity"].str.startswith("Pearson")].iloc[0]
+    assert r["ours"].startswith("1.000") or float(r["ours"].split()[0]) > 0.99
+    assert (rows[rows["section"].isin(["open space", "mixed", "hover vs attach"])]["ours"]
+            == NOT_IN_SWEEP).all()  # fmt: skip
+
+
+def pytest_approx(value, tol):
+    import pytest
+
+    return pytest.approx(value, abs=tol)
+
+
+def test_report_is_self_contained_html(tmp_path):
+    folder = tmp_path / "fake"
+    write_sweep(folder, corridor_results())
+    path = write_report(folder)
+    text = path.read_text()
+    assert path == folder / "report.html"
+    assert text.count("data:image/png;base64,") == 2  # period panels + energy components
+    assert "Two-way ANOVA" in text and NOT_IN_SWEEP in text and "0.974" in text
+    assert 'src="http' not in text and "<script" not in text
+    assert (folder / "figures" / "periods.png").is_file()
+
+
+def test_cli_report_prints_where_it_wrote(tmp_path, capsys):
+    folder = tmp_path / "fake"
+    write_sweep(folder, corridor_results(n=2))
+    assert main(["report", str(folder)]) == 0
+    assert f"wrote {folder / 'report.html'}" in capsys.readouterr().out
+    assert main(["report", str(tmp_path / "nothing")]) == 2
+    assert "not a sweep folder" in capsys.readouterr().err
