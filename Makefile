@@ -4,7 +4,9 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test lint format bench clean venv
+VIZ_STAMP := $(VENV)/.viz-installed
+
+.PHONY: demo test lint format bench clean venv viz viz-setup
 
 venv: $(STAMP)
 
@@ -15,10 +17,22 @@ $(STAMP): pyproject.toml scripts/find_python.sh
 	$(PY) -m pip install --quiet -e ".[dev]"
 	@touch $(STAMP)
 
+# The live browser view: Solara with its front-end assets fetched from npm (offline-safe).
+viz-setup: $(VIZ_STAMP)
+
+$(VIZ_STAMP): $(STAMP) scripts/solara_assets.sh
+	$(PY) -m pip install --quiet -e ".[dev,viz]"
+	sh scripts/solara_assets.sh $(PY) || echo "note: Solara's browser assets could not be fetched; the browser test will skip"
+	@command -v chromium >/dev/null || echo "note: the browser test needs Debian's chromium (apt-get install -y chromium); it skips without it"
+	@touch $(VIZ_STAMP)
+
+viz: $(VIZ_STAMP)
+	$(VENV)/bin/abm viz beacon-explorer
+
 demo: $(STAMP)
 	$(PY) examples/beacon_explorer_demo.py
 
-test: $(STAMP)
+test: $(VIZ_STAMP)
 	$(PY) -m pytest
 
 lint: $(STAMP)

@@ -79,8 +79,10 @@ class MesaWalker(mesa.Agent):
 
     def step(self):
         x, y = self.pos
-        new = (min(max(x + 0.1 * self.velocity[0], 0.5), 99.5),
-               min(max(y + 0.1 * self.velocity[1], 0.5), 99.5))
+        new = (
+            min(max(x + 0.1 * self.velocity[0], 0.5), 99.5),
+            min(max(y + 0.1 * self.velocity[1], 0.5), 99.5),
+        )
         self.model.space.move_agent(self, new)
         self.model.space.get_neighbors(new, radius=0.4, include_center=False)
 
@@ -114,14 +116,17 @@ def main() -> None:
     args = parser.parse_args()
     factors = real_time_factor(args.seeds)
     print(f"1. real-time factor, 20-robot high-complexity corridor, {args.seeds} seeds:")
-    print(f"   median {statistics.median(factors):.0f}x  (runs: {', '.join(f'{f:.0f}' for f in factors)})")
+    runs = ", ".join(f"{f:.0f}" for f in factors)
+    print(f"   median {statistics.median(factors):.0f}x  (runs: {runs})")
     print("2. flying-robot steps per second (open 100 m arena with walls):")
     for n in (100, 1000):
         ticks = args.ticks if n == 100 else max(20, args.ticks // 4)
         ours = statistics.median(ours_steps_per_second(n, ticks) for _ in range(3))
         theirs = statistics.median(mesa_steps_per_second(n, ticks) for _ in range(3))
-        print(f"   {n:>5} robots: ours {ours:>10,.0f}/s   Mesa per-agent {theirs:>10,.0f}/s   "
-              f"ratio {ours / theirs:5.1f}x")
+        print(
+            f"   {n:>5} robots: ours {ours:>10,.0f}/s   Mesa per-agent {theirs:>10,.0f}/s   "
+            f"ratio {ours / theirs:5.1f}x"
+        )
 
 
 if __name__ == "__main__":

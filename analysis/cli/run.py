@@ -1,9 +1,7 @@
-"""``abm run``: one run of a model; prints the summary and writes a PNG and Parquet files."""
+"""``abm run``: one run of a model; prints its summary, writes a PNG and what render needs."""
 
 import argparse
 from pathlib import Path
-
-import pandas as pd
 
 VERB = "run"
 HELP = "run one simulation, print its summary, save a snapshot PNG and its event log"
@@ -44,12 +42,11 @@ def main(args: argparse.Namespace) -> int:
     print(format_summary(summary))
     args.out.mkdir(parents=True, exist_ok=True)
     png = save_swarm_png(model, args.out / "final.png", title=_title(summary))
-    events = args.out / "events.parquet"
-    model.events().to_parquet(events)
-    counts = args.out / "state_counts.parquet"
-    model.state_counts().to_parquet(counts)
-    pd.DataFrame([summary]).to_parquet(args.out / "summary.parquet")
-    print(f"\nwrote {png}\nwrote {events}\nwrote {counts}\nwrote {args.out / 'summary.parquet'}")
+    from analysis.runio import save_run
+
+    print(f"\nwrote {png}")
+    for path in save_run(model, args.out):
+        print(f"wrote {path}")
     return 0
 
 

@@ -1,0 +1,106 @@
+"""``abm viz``: serve a model's SolaraViz page (arena, robots, links, coverage, live plots)."""
+
+import argparse
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from abm.errors import ABMError
+from analysis.viz_registry import ENV_VAR, REGISTRY, entry
+
+VERB = "viz"
+HELP = "open a model in the browser: arena, robots, comm links, coverage, sliders, live plots"
+EXAMPLE = "abm viz beacon-explorer --port 8765"
+
+#: Seconds to wait for the server to answer before giving up.
+START_TIMEOUT = 60.0
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``abm viz``."""
+    parser.add_argument(
+        "model", nargs="?", default="beacon-explorer", choices=sorted(REGISTRY), help="the model"
+    )
+    parser.add_argument("--port", type=int, default=8765, help="TCP port (default 8765)")
+    parser.add_argument(
+        "--host", default="localhost", help="interface to listen on (default localhost)"
+    )
+
+
+def check_viz_installed() -> None:
+    """Raise ABMError with the fix unless Solara and its offline browser files are there."""
+    try:
+        import solara.server.settings as settings
+    except ImportError as exc:
+        raise ABMError(
+            "the viz extra is not installed: run `.venv/bin/pip install -e '.[viz]'` "
+            "and `sh scripts/solara_assets.sh`"
+        ) from exc
+    cache = Path(settings.assets.proxy_cache_dir)
+    if not any(cache.glob("@widgetti/solara-vuetify-app@*")):
+        print(
+            f"abm viz: warning: Solara's browser files are not in {cache}; without internet the "
+            "page stays blank. Fill the cache with `sh scripts/solara_assets.sh`.",
+            file=sys.stderr,
+        )
+
+
+def server_command(model: str, host: str, port: int) -> tuple[list[str], dict]:
+    """The command line and environment that serve ``model``'s page."""
+    entry(model)
+    command = [
+        sys.executable, "-m", "solara", "run", "analysis.viz_registry",
+        "--host", host, "--port", str(port),
+        "--no-open", "--production", "--no-check-version", "--log-level", "warning",
+    ]  # fmt: skip
+    env = {**os.environ, ENV_VAR: model, "SOLARA_TELEMETRY_MIXPANEL_ENABLE": "False"}
+    return command, env
+
+
+def wait_for_port(host: str, port: int, process: subprocess.Popen, timeout: float) -> None:
+    """Wait until ``host:port`` accepts connections; raise ABMError if the server died."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            raise ABMError(f"the Solara server exited with code {process.returncode}")
+        try:
+            with socket.create_connection((host, port), timeout=0.5):
+                return
+        except OSError:
+            time.sleep(0.2)
+    raise ABMError(f"the Solara server did not answer on {host}:{port} within {timeout:g} s")
+
+
+def _port_in_use(host: str, port: int) -> bool:
+    with socket.socket() as sock:
+        sock.settimeout(0.5)
+        return sock.connect_ex((host, port)) == 0
+
+
+def main(args: argparse.Namespace) -> int:
+    """Start the server, print the address, serve until Ctrl+C."""
+    check_viz_installed()
+    if not 0 < args.port < 65536:
+        raise ABMError(f"--port must be in [1, 65535], got {args.port}")
+    if _port_in_use(args.host, args.port):
+        raise ABMError(f"port {args.port} is already in use; choose another with --port")
+    command, env = server_command(args.model, args.host, args.port)
+    process = subprocess.Popen(command, env=env)
+    # A plain `kill` (SIGTERM) must stop the server too, not orphan it.
+    signal.signal(signal.SIGTERM, lambda _signum, _frame: sys.exit(128 + signal.SIGTERM))
+    try:
+        wait_for_port(args.host, args.port, process, START_TIMEOUT)
+        print(f"serving the {args.model} page at http://{args.host}:{args.port}/", flush=True)
+        print("open it in a browser; press Ctrl+C to stop", flush=True)
+        return process.wait()
+    finally:
+        if process.poll() is None:
+            process.terminate()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()

@@ -1,0 +1,133 @@
+"""The `abm` command line: help, every verb once with tiny inputs, one-line errors, --debug."""
+
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from analysis.cli import _load_verbs, main
+from analysis.runio import RUN_FILES, save_run
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _wrote(out: str) -> list[Path]:
+    """The paths a command says it wrote (lines ``wrote PATH``)."""
+    return [Path(line[6:].strip()) for line in out.splitlines() if line.startswith("wrote ")]
+
+
+def test_help_lists_every_verb_with_an_example(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["--help"])
+    assert exit_.value.code == 0
+    out = capsys.readouterr().out
+    verbs = _load_verbs()
+    assert {"run", "render", "viz"} <= {v.VERB for v in verbs}
+    for verb in verbs:
+        assert verb.EXAMPLE.startswith(f"abm {verb.VERB}")
+        assert verb.EXAMPLE in out
+        with pytest.raises(SystemExit):
+            main([verb.VERB, "--help"])
+        assert verb.EXAMPLE in capsys.readouterr().out
+
+
+def test_no_verb_prints_help(capsys):
+    assert main([]) == 0
+    assert "examples:" in capsys.readouterr().out
+
+
+def test_run_saves_what_render_needs(tmp_path, capsys):
+    out = tmp_path / "run"
+    rc = main(["run", "--n-robots", "3", "--time-limit", "30", "--seed", "2", "--out", str(out)])
+    assert rc == 0
+    written = _wrote(capsys.readouterr().out)
+    assert written and all(path.exists() for path in written)
+    missing = [name for name in RUN_FILES if not (out / name).is_file()]
+    assert not missing, f"abm run must call analysis.runio.save_run; missing {missing}"
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    from models.beacon_explorer import BeaconExplorerModel
+
+    folder = tmp_path_factory.mktemp("saved")
+    save_run(BeaconExplorerModel(n_robots=3, time_limit=25.0, seed=5).run(), folder)
+    return folder
+
+
+def test_render_writes_snapshots_and_a_gif(run_dir, tmp_path, capsys):
+    out = tmp_path / "render"
+    rc = main(["render", str(run_dir), "--times", "0", "10", "--frames", "3", "--out", str(out)])
+    assert rc == 0
+    written = _wrote(capsys.readouterr().out)
+    assert [p.name for p in written] == ["snapshot_00000s.png", "snapshot_00010s.png", "run.gif"]
+    assert all(p.is_file() and p.stat().st_size > 1000 for p in written)
+
+
+def test_render_defaults_to_four_snapshots(run_dir, capsys):
+    assert main(["render", str(run_dir), "--no-gif"]) == 0
+    written = _wrote(capsys.readouterr().out)
+    assert len(written) == 4
+    assert all(p.parent == run_dir / "render" for p in written)
+
+
+def test_errors_are_one_line_without_traceback(tmp_path, capsys):
+    assert main(["render", str(tmp_path / "missing")]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith("abm render: error: run folder")
+    assert "Traceback" not in captured.err
+
+
+def test_debug_shows_the_traceback(tmp_path):
+    command = [
+        sys.executable, "-c", "import sys; from analysis.cli import main; sys.exit(main())",
+        "--debug", "render", str(tmp_path / "missing"),
+    ]  # fmt: skip
+    result = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert result.returncode != 0
+    assert "Traceback (most recent call last)" in result.stderr
+    assert "RunFolderError" in result.stderr
+
+
+def test_viz_refuses_a_busy_port_in_one_line(capsys):
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        sock.listen(1)
+        port = sock.getsockname()[1]
+        rc = main(["viz", "beacon-explorer", "--host", "127.0.0.1", "--port", str(port)])
+    assert rc == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("abm viz: error:")
+
+
+def test_viz_lists_its_models(capsys):
+    with pytest.raises(SystemExit):
+        main(["viz", "no-such-model"])
+    assert "beacon-explorer" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- verbs written by others
+def test_sweep_then_report(tmp_path, capsys):
+    pytest.importorskip("analysis.cli.sweep")
+    out = tmp_path / "sweep"
+    smoke = ROOT / "experiments" / "smoke.toml"
+    args = ["sweep", str(smoke), "--executor", "serial", "--replications", "1", "--out", str(out)]
+    assert main(args) == 0
+    assert all(p.exists() for p in _wrote(capsys.readouterr().out))
+    pytest.importorskip("analysis.cli.report")
+    assert main(["report", str(out)]) == 0
+    written = _wrote(capsys.readouterr().out)
+    assert written and all(p.exists() for p in written)
+
+
+def test_fit(tmp_path, capsys):
+    pytest.importorskip("analysis.cli.fit")
+    out = tmp_path / "fit"
+    args = ["fit", "--maps", "hall100", "--radii", "20", "--runs", "1", "--time-limit", "200"]
+    assert main([*args, "--workers", "1", "--out", str(out)]) == 0
+    written = _wrote(capsys.readouterr().out)
+    assert written and all(p.exists() for p in written)

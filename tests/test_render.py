@@ -1,0 +1,126 @@
+"""Saving a run and drawing it again from its files (analysis.runio, analysis.render)."""
+
+import json
+import shutil
+
+import imageio.v3 as iio
+import numpy as np
+import pandas as pd
+import pytest
+
+from abm.draw import STATE_COLOURS
+from abm.errors import ConfigError
+from abm.viz.scene import WALL_COLOUR
+from analysis.render import RunReplay, render_animation, render_snapshots, snapshot_times
+from analysis.runio import RUN_FILES, RunFolderError, load_run, save_run
+from models.beacon_explorer import BeaconExplorerModel
+
+
+@pytest.fixture(scope="module")
+def model():
+    return BeaconExplorerModel(n_robots=4, launch_period=4.0, time_limit=45.0, seed=3).run()
+
+
+@pytest.fixture(scope="module")
+def run_dir(model, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("run")
+    written = save_run(model, folder)
+    assert sorted(p.name for p in written) == sorted(RUN_FILES)
+    return folder
+
+
+def _pixels_near(image, colour, tol=12):
+    rgb = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)])
+    return int((np.abs(image[..., :3].astype(int) - rgb).max(axis=-1) <= tol).sum())
+
+
+def test_save_and_load_round_trip(model, run_dir):
+    run = load_run(run_dir)
+    assert np.array_equal(run.arena.free, model.arena.free)
+    assert run.arena.resolution == model.arena.resolution
+    assert run.states == model.STATES
+    assert run.end_time == pytest.approx(model.time)
+    pd.testing.assert_frame_equal(run.positions, model.positions())
+    assert run.summary["coverage_area"] == pytest.approx(model.summary()["coverage_area"])
+    meta = json.loads((run_dir / "run.json").read_text())
+    assert meta["model"] == "models.beacon_explorer.model:BeaconExplorerModel"
+    assert meta["parameters"]["launch_period"] == 4.0
+    assert meta["parameters"]["n_robots"] == 4
+    assert meta["comm_range"] == 4.0
+
+
+def test_replay_rebuilds_the_model_coverage_and_links(model, run_dir):
+    run = load_run(run_dir)
+    replay = RunReplay(run)
+    final = replay.scene_at(run.end_time)
+    assert np.array_equal(final.covered, model.coverage.covered)
+    # Going back in time un-covers; coverage grows monotonically with time.
+    early = replay.scene_at(0.0).covered.sum()
+    assert 0 < early < final.covered.sum()
+    assert replay.scene_at(run.end_time).covered.sum() == final.covered.sum()
+    times, percent = replay.coverage_history()
+    assert np.all(np.diff(percent) >= 0)
+    assert percent[-1] == pytest.approx(100 * model.coverage.fraction)
+    # Links: the beacons' comm graph (range 4 m, line of sight) at the last sample.
+    last = run.positions["time"].max()
+    scene = replay.scene_at(last)
+    lengths = np.hypot(*(scene.links[:, 0] - scene.links[:, 1]).T)
+    assert np.all(lengths <= 4.0)
+    beacons = scene.positions[scene.states == "beacon"]
+    graph = model.comms.graph
+    live = np.array([graph.nodes[n]["pos"] for n in graph.nodes])
+    if len(beacons) == len(live):  # no attach/detach after the last sample
+        assert len(scene.links) == graph.number_of_edges()
+
+
+def test_snapshots_show_walls_and_robots(run_dir, tmp_path):
+    run = load_run(run_dir)
+    times = snapshot_times(run, 3)
+    assert times[0] == 0.0 and times[-1] == pytest.approx(run.end_time)
+    paths = render_snapshots(run, times, tmp_path)
+    assert [p.name for p in paths] == [f"snapshot_{round(t):05d}s.png" for t in times]
+    image = iio.imread(paths[-1])
+    assert _pixels_near(image, WALL_COLOUR) > 0.05 * image.shape[0] * image.shape[1]
+    assert _pixels_near(image, STATE_COLOURS["beacon"], tol=30) > 50
+
+
+def test_gif_of_the_whole_run(run_dir, tmp_path):
+    run = load_run(run_dir)
+    path = render_animation(run, tmp_path / "anim.gif", frames=3, fps=4, dpi=40, progress=False)
+    frames = iio.imread(path, index=None)
+    assert frames.shape[0] == 3
+    assert not np.array_equal(frames[0], frames[-1])
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not on PATH")
+def test_mp4_when_ffmpeg_is_present(run_dir, tmp_path):
+    path = render_animation(load_run(run_dir), tmp_path / "a.mp4", frames=3, dpi=40, progress=False)
+    assert path.stat().st_size > 0
+
+
+def test_mp4_without_ffmpeg_is_a_clear_error(run_dir, tmp_path, monkeypatch):
+    monkeypatch.setattr(shutil, "which", lambda _name: None)
+    with pytest.raises(Exception, match="ffmpeg"):
+        render_animation(load_run(run_dir), tmp_path / "a.mp4", frames=3, progress=False)
+
+
+def test_bad_inputs_name_the_problem(run_dir, tmp_path):
+    run = load_run(run_dir)
+    with pytest.raises(ConfigError, match=r"times must lie within the run"):
+        render_snapshots(run, [1e6], tmp_path)
+    with pytest.raises(ConfigError, match=r"\.gif or \.mp4"):
+        render_animation(run, tmp_path / "a.avi", progress=False)
+    with pytest.raises(ConfigError, match="frames must be at least 2"):
+        render_animation(run, tmp_path / "a.gif", frames=1, progress=False)
+    with pytest.raises(ConfigError, match="at least 1"):
+        snapshot_times(run, 0)
+
+
+def test_missing_or_incomplete_run_folder(run_dir, tmp_path):
+    with pytest.raises(RunFolderError, match="does not exist"):
+        load_run(tmp_path / "nothing")
+    partial = tmp_path / "partial"
+    partial.mkdir()
+    shutil.copy(run_dir / "events.parquet", partial)
+    with pytest.raises(RunFolderError, match="lacks positions.parquet"):
+        load_run(partial)
