@@ -31,9 +31,7 @@ def test_ledger_equals_integral_of_power_over_mode_timeline(changes):
     # integrate each robot's piecewise-constant power from the recorded timeline
     for robot in range(4):
         segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
-        expected = sum(
-            STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments)
-        )
+        expected = sum(STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
         assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12, abs=1e-9)
     assert ledger.energy() == pytest.approx(sum(ledger.frame().energy))
 
