@@ -180,6 +180,7 @@ class GradientFlood:
         self._epoch_of: dict[Node, int] = {}
         self.sources: frozenset[Node] = frozenset()
         self.epoch = 0
+        self.restarted_at = network.env.now
         self.in_flight = 0
         self._listeners: list[Callable[[Node, int, int], None]] = []
 
@@ -191,6 +192,11 @@ class GradientFlood:
     def quiescent(self) -> bool:
         """True when no message of this gradient is in flight."""
         return self.in_flight == 0
+
+    @property
+    def settled_everywhere(self) -> bool:
+        """True when no message is in flight and unreached nodes have decayed (after a wave)."""
+        return self.quiescent and self.network.env.now >= self.restarted_at + self.ttl
 
     def settled(self, node: Node) -> bool:
         """True once the newest wave reached the node (or its soft state expired)."""
@@ -215,6 +221,7 @@ class GradientFlood:
     def restart(self) -> None:
         """Start a new wave from the current sources (call after the topology changed)."""
         self.epoch += 1
+        self.restarted_at = self.network.env.now
         epoch = self.epoch
         for source in self.sources:
             if source in self.network.graph:

@@ -79,11 +79,11 @@ def test_energy_ledger_equals_integral_of_each_robots_power(corridor_run):
 
 
 def run_until_quiescent(model, until):
+    """Run to ``until``, then on until both floods have settled everywhere."""
     model.run(until=until)
-    beacons = model.beacons
-    while not (beacons.forwards.quiescent and beacons.reverse.quiescent) and model.running:
+    floods = (model.beacons.forwards, model.beacons.reverse)
+    while model.running and not all(f.settled_everywhere for f in floods):
         model.run(until=model.env.now + 0.05)
-    model.run(until=model.env.now + max(beacons.forwards.ttl, beacons.reverse.ttl) + 0.2)
 
 
 @settings(max_examples=8, deadline=None)
