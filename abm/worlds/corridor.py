@@ -175,8 +175,19 @@ def branch_count(cells: np.ndarray | list[Cell] | set[Cell]) -> int:
     isolated = sum(d == 0 for d in degree.values())
     # Cells on loops without a node are not reached from any node: count one branch per loop.
     seen: set[Cell] = set()
-    stack = [c for c, d in degree.items() if d != 2]
-    seen.update(stack)
+    _flood([c for c, d in degree.items() if d != 2], points, seen)
+    loops = 0
+    for cell in points - seen:
+        if cell not in seen:
+            loops += 1
+            _flood([cell], points, seen)
+    return ends // 2 + isolated + loops
+
+
+def _flood(start: list[Cell], points: set[Cell], seen: set[Cell]) -> None:
+    """Add to ``seen`` every cell of ``points`` 4-connected to the ``start`` cells."""
+    seen.update(start)
+    stack = list(start)
     while stack:
         x, y = stack.pop()
         for dx, dy in _STEPS:
@@ -184,21 +195,6 @@ def branch_count(cells: np.ndarray | list[Cell] | set[Cell]) -> int:
             if nb in points and nb not in seen:
                 seen.add(nb)
                 stack.append(nb)
-    loops = 0
-    for cell in points - seen:
-        if cell in seen:
-            continue
-        loops += 1
-        stack = [cell]
-        seen.add(cell)
-        while stack:
-            x, y = stack.pop()
-            for dx, dy in _STEPS:
-                nb = (x + dx, y + dy)
-                if nb in points and nb not in seen:
-                    seen.add(nb)
-                    stack.append(nb)
-    return ends // 2 + isolated + loops
 
 
 def corridor_world(
