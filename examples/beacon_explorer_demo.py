@@ -1,14 +1,17 @@
 """Main demo: one beacon/explorer search on a generated high-complexity corridor world.
 
 Covers: building a model from plain keyword arguments, running it to the end of the search,
-the summary table, and a PNG of the final swarm (beacons with their desired directions,
-comm links, covered area). Prints where every output went.
+the summary table, a PNG of the final swarm (beacons with their desired directions, comm
+links, covered area), and an animated GIF of the whole run rendered afterwards from the saved
+run (no re-run). Prints where every output went.
 """
 
 from pathlib import Path
 
 from abm.draw import save_swarm_png
 from analysis.cli.run import format_summary
+from analysis.render import render_animation
+from analysis.runio import load_run, save_run
 from models.beacon_explorer import BeaconExplorerModel
 
 WORLD = "corridor"  # corridor | open | mixed
@@ -35,6 +38,10 @@ def main() -> None:
         ),
     )
     print(f"\nwrote {png}")
+    for path in save_run(model, OUT / "run"):
+        print(f"wrote {path}")
+    gif = render_animation(load_run(OUT / "run"), OUT / "run.gif", frames=40, progress=False)
+    print(f"wrote {gif}  (re-render any run folder with: abm render {OUT / 'run'})")
 
 
 if __name__ == "__main__":
