@@ -15,12 +15,11 @@ from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from abm.draw import STATE_COLOURS
-
 __all__ = [
     "ARROW_COLOUR",
     "COVERED_COLOUR",
     "LINK_COLOUR",
+    "STATE_COLOURS",
     "STATE_MARKERS",
     "model_coverage",
     "WALL_COLOUR",
@@ -30,6 +29,14 @@ __all__ = [
     "state_colour",
 ]
 
+#: Colour-blind-safe colours (Okabe-Ito) per robot state.
+STATE_COLOURS = {
+    "beacon": "#0072B2",
+    "explorer": "#D55E00",
+    "ground": "#999999",
+    "wander": "#E69F00",
+    "depleted": "#000000",
+}
 WALL_COLOUR = "#3a3a3a"
 COVERED_COLOUR = "#9be3a4"
 LINK_COLOUR = "#56B4E9"
