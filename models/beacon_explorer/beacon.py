@@ -325,10 +325,6 @@ class BeaconNetwork:
         self.wake(b)
 
     # ------------------------------------------------------------------ what explorers read
-    def frontier_beacons(self) -> list[int]:
-        """Beacons next to unblocked empty space."""
-        return [r for r, b in self.beacons.items() if b.frontier]
-
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
         ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
