@@ -12,6 +12,7 @@ are a fixed table of offsets, so n discs are one ``(n, k)`` fancy-indexing opera
 """
 
 import numpy as np
+from scipy.signal import fftconvolve
 
 from abm.errors import ConfigError, check_range
 
@@ -72,7 +73,8 @@ class PheromoneField:
         self._pad = 0
         self._store = np.zeros((rows, cols))
         self._mask_store = np.ones((rows, cols), dtype=bool) if mask is None else mask.copy()
-        self._discs: dict[tuple[float, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._discs: dict[tuple[float, int, float], tuple] = {}
+        self._sums: dict[tuple[float, int, float], tuple[np.ndarray, np.ndarray]] = {}
 
     @property
     def _grid(self) -> np.ndarray:
@@ -139,20 +141,42 @@ class PheromoneField:
         out[inside] = self._grid[iy[inside], ix[inside]]
         return out
 
-    def lower_direction(self, points: np.ndarray, radius: float, stride: int = 1) -> np.ndarray:
+    def lower_direction(
+        self,
+        points: np.ndarray,
+        radius: float,
+        stride: int = 1,
+        falloff: float = 2.0,
+        relative: bool = True,
+    ) -> np.ndarray:
         """f1 of Arnaldo et al.: a vector towards less pheromone, ``(n, 2)``.
 
-        ``f1 = -sum_c v_c / |v_c|^2 * field(p + v_c)`` over the pixels ``c`` within ``radius``
-        of ``p`` (``v_c`` the offset from the robot's pixel to ``c``): each pheromone reading
-        pushes away from itself, weighted by the inverse of its distance. Not normalised.
-        ``stride`` reads only every stride-th pixel in x and y (the sensor's discretisation of
-        the circle); the sum is then scaled by ``stride**2``.
+        ``f1 = -sum_c v_c / |v_c|^(1 + falloff) * field(p + v_c)`` over the pixels ``c`` within
+        ``radius`` of ``p`` (``v_c`` the offset from the robot's pixel to ``c``): each
+        pheromone reading pushes away from itself with an importance ``1 / |v_c|^falloff``.
+        ``falloff = 2`` is the paper's text ("the importance of a detected pheromone decreases
+        with the square of the distance"); ``falloff = 1`` is its formula read literally
+        (``v / |v|^2``). Not normalised. ``stride`` reads only every stride-th pixel in x and y
+        (the sensor's discretisation of the circle); the sum is then scaled by ``stride**2``.
+
+        ``relative`` (default): only pixels inside the mask are read, each relative to the
+        reading under the robot, ``field(p + v_c) - field(p)``. In open space this is the
+        same vector (the ``field(p)`` terms of a full disc cancel); where walls or the grid's
+        edge cut the disc it stops the cut-away part, which can hold no pheromone, from
+        reading as the least marked place around and pulling robots into walls.
         """
+        check_range("falloff", falloff, 0.0)
         points = np.atleast_2d(np.asarray(points, dtype=float))
         if len(points) == 0:
             return np.zeros((0, 2))
-        flat, weights = self._cells(points, radius, stride)
-        return -(self._store.ravel()[flat] @ weights) * stride**2
+        flat, weights = self._cells(points, radius, stride, falloff)
+        store = self._store.ravel()
+        f1 = store[flat] @ weights
+        if relative:
+            centre = flat[:, self._disc(radius, stride, falloff)[3]]
+            sx, sy = self._mask_sums(radius, stride, falloff)
+            f1 -= store[centre][:, None] * np.stack([sx[centre], sy[centre]], axis=1)
+        return -f1 * stride**2
 
     def gradient(self, points: np.ndarray) -> np.ndarray:
         """Central-difference gradient (intensity per m) at each point, ``(n, 2)``."""
@@ -163,24 +187,49 @@ class PheromoneField:
         return np.stack([gx[iy, ix], gy[iy, ix]], axis=1)
 
     # ------------------------------------------------------------------ plumbing
-    def _disc(self, radius: float, stride: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        key = (float(radius), int(stride))
+    def _disc(
+        self, radius: float, stride: int = 1, falloff: float = 2.0
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+        """Offsets ``dy, dx`` of a disc, its f1 weights ``(k, 2)`` and the index of (0, 0)."""
+        key = (float(radius), int(stride), float(falloff))
         if key not in self._discs:
             dy, dx = disc_offsets(radius, self.resolution, stride)
             v = np.stack([dx, dy], axis=1) * self.resolution
-            d2 = (v**2).sum(axis=1)
-            weights = np.where(d2 > 0, 1.0, 0.0)[:, None] * v / np.where(d2 > 0, d2, 1.0)[:, None]
-            self._discs[key] = (dy, dx, weights)
+            d = np.hypot(v[:, 0], v[:, 1])
+            scale = np.zeros_like(d)
+            scale[d > 0] = d[d > 0] ** -(1.0 + falloff)
+            centre = int(np.nonzero((dx == 0) & (dy == 0))[0][0])
+            self._discs[key] = (dy, dx, v * scale[:, None], centre)
         return self._discs[key]
 
+    def _mask_sums(
+        self, radius: float, stride: int, falloff: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Per pixel of the padded store, the f1 weights summed over the disc's masked pixels
+        (flat arrays, x and y): what ``field(p)`` is multiplied by in a relative reading.
+        """
+        key = (float(radius), int(stride), float(falloff))
+        if key not in self._sums:
+            dy, dx, weights, _ = self._disc(radius, stride, falloff)
+            r = int(max(np.abs(dx).max(), np.abs(dy).max()))
+            mask = self._mask_store.astype(float)
+            sums = []
+            for axis in (0, 1):
+                kernel = np.zeros((2 * r + 1, 2 * r + 1))
+                kernel[dy + r, dx + r] = weights[:, axis]
+                # correlate: out[p] = sum_k kernel[k] * mask[p + k - r]
+                sums.append(fftconvolve(mask, kernel[::-1, ::-1], mode="same").ravel())
+            self._sums[key] = (sums[0], sums[1])
+        return self._sums[key]
+
     def _cells(
-        self, points: np.ndarray, radius: float, stride: int = 1
+        self, points: np.ndarray, radius: float, stride: int = 1, falloff: float = 2.0
     ) -> tuple[np.ndarray, np.ndarray]:
         """Flat indices ``(n, k)`` into the padded store of each point's disc, and f1 weights.
 
         Points outside the grid are clamped to its edge pixels.
         """
-        dy, dx, weights = self._disc(radius, stride)
+        dy, dx, weights, _ = self._disc(radius, stride, falloff)
         reach = int(max(np.abs(dx).max(), np.abs(dy).max()))
         if reach > self._pad:
             self._repad(reach)
@@ -198,3 +247,4 @@ class PheromoneField:
         self._store = np.pad(grid, pad)
         mask = np.ones((self.rows, self.cols), dtype=bool) if self.mask is None else self.mask
         self._mask_store = np.pad(mask, pad)
+        self._sums.clear()

@@ -64,6 +64,49 @@ def test_lower_direction_vectorised_equals_loop():
     assert np.allclose(together, single)
 
 
+def _brute_f1(f, mask, point, radius, falloff, relative):
+    ix, iy = int(point[0]), int(point[1])
+    here = f.values[iy, ix] if relative else 0.0
+    total = np.zeros(2)
+    r = int(radius)
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            d = np.hypot(dx, dy)
+            cx, cy = ix + dx, iy + dy
+            if d == 0 or d > radius or not (0 <= cx < f.cols and 0 <= cy < f.rows):
+                continue
+            if relative and not mask[cy, cx]:
+                continue
+            total += np.array([dx, dy]) / d ** (1 + falloff) * (f.values[cy, cx] - here)
+    return -total
+
+
+@pytest.mark.parametrize("relative", [True, False])
+@pytest.mark.parametrize("falloff", [1.0, 2.0])
+def test_lower_direction_matches_the_sum_over_the_disc(relative, falloff):
+    rng = np.random.default_rng(0)
+    mask = np.ones((40, 60), dtype=bool)
+    mask[10:30, 20] = False
+    mask[:, :3] = False
+    f = PheromoneField((40, 60), mask=mask)
+    f.deposit(rng.uniform(0, 40, (30, 2)), 6.0, rng.uniform(0, 1, 30))
+    pts = rng.uniform(0, 40, (9, 2))
+    got = f.lower_direction(pts, 8.0, falloff=falloff, relative=relative)
+    want = np.array([_brute_f1(f, mask, p, 8.0, falloff, relative) for p in pts])
+    assert np.allclose(got, want, atol=1e-12)
+
+
+def test_relative_reading_is_not_pulled_into_walls():
+    """An even field inside a walled box: the absolute sum points at the nearest wall (the
+    cut-away part of the disc reads as empty), the relative reading does not."""
+    free = np.pad(np.ones((28, 28), dtype=bool), 1)
+    f = PheromoneField((30, 30), mask=free)
+    f.deposit([[15.0, 15.0]], 40.0, 1.0)
+    near_west_wall = [[3.5, 15.5]]
+    assert f.lower_direction(near_west_wall, 10.0, relative=False)[0, 0] < -1.0
+    assert np.allclose(f.lower_direction(near_west_wall, 10.0), 0.0)
+
+
 def test_bad_input():
     with pytest.raises(ConfigError, match="decay"):
         PheromoneField((5, 5), decay=-1)

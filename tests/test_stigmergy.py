@@ -92,3 +92,16 @@ def test_table1_trend_on_map1():
     r30 = StigmergyModel("hall100", 30.0, seed=11).run().summary()
     assert r20["end_reason"] == r30["end_reason"] == "coverage"
     assert r20["beacon"] > 1.3 * r30["beacon"]
+
+
+@pytest.mark.slow
+def test_time_to_cover_falls_with_radius_on_map1():
+    """Paper map 1: the deployment ends sooner at 40 m than at 20 m (1400 s vs 738 s there);
+    wanders that cannot land any more keep exploring instead of gathering at the walls."""
+    runs = {
+        r: [StigmergyModel("hall100", r, seed=s).run().summary() for s in (1, 2, 3)]
+        for r in (20.0, 40.0)
+    }
+    assert all(x["end_reason"] == "coverage" for rs in runs.values() for x in rs)
+    mean_time = {r: np.mean([x["time"] for x in rs]) for r, rs in runs.items()}
+    assert mean_time[40.0] < 0.8 * mean_time[20.0]

@@ -55,6 +55,11 @@ class StigmergyModel(SwarmModel):
         a2: weight of f2, away from obstacles.
         a3: weight of f3, random walk.
         a4: random increment of f3.
+        f1_falloff: a pheromone reading's importance in f1 falls as 1 / distance^f1_falloff
+            (2: the paper's text; 1: its formula v / |v|^2 read literally).
+        f1_relative: f1 reads only free pixels, each relative to the pheromone under the
+            robot (ours; the paper is silent on walls). False: walls and the map's outside
+            read as zero pheromone, which pulls wanders into walls and corners.
         swarm_size: swarmsize in C_db; None = 1 + time_limit / launch period.
         max_speed: UAV speed (m/s).
         detection_range: sensing radius of ca and cb (m).
@@ -91,6 +96,8 @@ class StigmergyModel(SwarmModel):
         a2: float = _D.a2,
         a3: float = _D.a3,
         a4: float = _D.a4,
+        f1_falloff: float = _D.f1_falloff,
+        f1_relative: bool = True,
         swarm_size: int | None = None,
         max_speed: float = _D.max_speed,
         detection_range: float = _D.detection_range,
@@ -115,7 +122,13 @@ class StigmergyModel(SwarmModel):
         check_range("obstacle_range", obstacle_range, 0.0, low_open=True)
         check_range("launch_rate", launch_rate, 0.0, 1.0, low_open=True)
         check_range("model_step", model_step, 0.0, low_open=True)
-        for name, value in (("a1", a1), ("a2", a2), ("a3", a3), ("a4", a4)):
+        for name, value in (
+            ("a1", a1),
+            ("a2", a2),
+            ("a3", a3),
+            ("a4", a4),
+            ("f1_falloff", f1_falloff),
+        ):
             check_range(name, value, 0.0)
         check_range("max_speed", max_speed, 0.0, low_open=True)
         check_range("detection_range", detection_range, 0.0, low_open=True)
@@ -161,6 +174,8 @@ class StigmergyModel(SwarmModel):
         self.launch_period = launch_period
         self.start = start
         self.a1, self.a2, self.a3, self.a4 = float(a1), float(a2), float(a3), float(a4)
+        self.f1_falloff = float(f1_falloff)
+        self.f1_relative = bool(f1_relative)
         self.swarm_size = int(swarm_size)
         self.max_speed = float(max_speed)
         self.detection_range = float(detection_range)

@@ -39,6 +39,9 @@ class StigmergyParams:
         a2: weight of f2 (obstacle repulsion).
         a3: weight of f3 (random walk).
         a4: size of the random increment of f3.
+        f1_falloff: the importance of a pheromone reading in f1 falls as 1 / distance^f1_falloff.
+            The text says "decreases with the square of the distance" (2); the formula
+            ``v / |v|^2`` read literally gives 1 / distance (1).
         max_speed: UAV speed (m/s).
         detection_range: sensing radius of the coverage metrics ca, cb (m).
         coverage_target: the run ends when ca reaches this fraction.
@@ -61,6 +64,7 @@ class StigmergyParams:
     a2: float = 0.4
     a3: float = 0.4
     a4: float = 0.4
+    f1_falloff: float = 2.0
     max_speed: float = 2.0
     detection_range: float = 10.0
     coverage_target: float = 0.95

@@ -5,7 +5,8 @@ Every model step (0.5 s) each wander robot:
 1. checks its link to the swarm: when the nearest beacon is ``l_i`` away or farther, it lands
    (the physics' done mask; the robot's SimPy process then turns it into a beacon);
 2. picks its heading ``f_hat = f / |f|`` with ``f = a1 f1 + a2 f2 + a3 f3``:
-   f1 towards less pheromone within C_rb (:meth:`PheromoneField.lower_direction`),
+   f1 towards less pheromone within C_rb (:meth:`PheromoneField.lower_direction`), every
+   pixel of the disc read, a reading's importance falling as 1 / distance^2 (``f1_falloff``),
    f2 away from the walls within r_u (a precomputed repulsion grid, one lookup per robot),
    f3 = f_hat(t-1) + a4 * U[-1, 1]^2, a slight random variation of the current heading;
    each component is normalised to a unit vector before weighting (our reading: the paper's
@@ -65,8 +66,6 @@ class WanderController:
         self.repulsion = repulsion_grid(model.arena, model.obstacle_range)
         self.heading = model.physics.add_flyer_state("heading", 2)
         self._next_step = 0.0
-        #: f1 reads every stride-th pixel: about 300 readings per robot whatever C_rb (ours).
-        self.stride = max(1, int(round(model.pheromone_radius / (10.0 * model.arena.resolution))))
         self._next_coverage = 0.0
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
@@ -94,7 +93,11 @@ class WanderController:
     def _headings(self, pos: np.ndarray, previous: np.ndarray) -> np.ndarray:
         m = self.model
         self.field.advance(m.env.now)
-        f1 = unit(self.field.lower_direction(pos, m.pheromone_radius, self.stride))
+        f1 = unit(
+            self.field.lower_direction(
+                pos, m.pheromone_radius, falloff=m.f1_falloff, relative=m.f1_relative
+            )
+        )
         ix, iy = self.arena.cell_of(pos)
         ix = np.clip(ix, 0, self.arena.cols - 1)
         iy = np.clip(iy, 0, self.arena.rows - 1)
