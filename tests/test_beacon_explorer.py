@@ -86,14 +86,8 @@ def run_until_quiescent(model, until):
         model.run(until=model.env.now + 0.05)
 
 
-@settings(max_examples=8, deadline=None)
-@given(st.integers(0, 1000), st.sampled_from(["corridor", "open", "mixed"]), st.floats(20, 150))
-def test_hop_counts_equal_bfs_distances_on_the_beacon_graph(seed, world, when):
-    model = BeaconExplorerModel(world=world, seed=seed, trace_interval=None)
-    run_until_quiescent(model, when)
+def assert_hop_counts_are_bfs_distances(model):
     beacons = model.beacons
-    assume(model.running)  # a finished run stops the clock before soft states expire
-    assert set(model.comms.graph) == set(beacons.beacons)
     graph = beacons.lattice  # hop counts travel over the lattice links (a comm subgraph)
     assert all(model.comms.graph.has_edge(a, b) for a, b in graph.edges)
     dist = nx.single_source_shortest_path_length(graph, model.base.unique_id)
@@ -102,6 +96,31 @@ def test_hop_counts_equal_bfs_distances_on_the_beacon_graph(seed, world, when):
     for node in graph:
         assert beacons.forwards.value(node) == 1 + dist[node]
         assert beacons.reverse.value(node) == (max(0, 127 - rdist[node]) if node in rdist else 0)
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.integers(0, 1000), st.sampled_from(["corridor", "open", "mixed"]), st.floats(20, 150))
+def test_hop_counts_equal_bfs_distances_on_the_beacon_graph(seed, world, when):
+    model = BeaconExplorerModel(world=world, seed=seed, trace_interval=None)
+    run_until_quiescent(model, when)
+    beacons = model.beacons
+    assume(model.running)  # a finished run stops the clock before soft states expire
+    assert set(model.comms.graph) == set(beacons.beacons)
+    assert_hop_counts_are_bfs_distances(model)
+
+
+@pytest.mark.parametrize("seed", [3, 27])
+def test_a_run_is_declared_stuck_only_on_a_settled_network(seed):
+    """ "Stuck" is a verdict on the network: it must not be given while the last robot to attach
+    has no hop count yet (a bug that ended runs the moment the last explorer attached)."""
+    model = BeaconExplorerModel(
+        world="corridor", complexity="low", launch_period=12.0, seed=seed, trace_interval=None
+    )
+    model.run()
+    assert model.end_reason.startswith("stuck")
+    assert model.beacons.quiescent
+    assert_hop_counts_are_bfs_distances(model)
+    assert not any(b.may_detach for b in model.beacons.beacons.values())
 
 
 def test_same_seed_same_event_log_and_different_seed_differs():

@@ -102,6 +102,7 @@ class BeaconNetwork:
         self.reverse.on_change(self._hop_changed)
         comms.on_link_change(self._link_changed)
         self._pending: set[int] = set()
+        self._wakes_in_flight = 0
         self.version = 0  # bumped whenever a signal explorers read changes
 
     # ------------------------------------------------------------------ membership
@@ -312,8 +313,27 @@ class BeaconNetwork:
 
     def wake_later(self, robot: int) -> None:
         """Wake a beacon once a message has reached it."""
+        self._wakes_in_flight += 1
         event = self.env.timeout(self.comms.latency)
-        event.callbacks.append(lambda _ev: self.wake(robot))
+        event.callbacks.append(lambda _ev: self._woken_by_message(robot))
+
+    def _woken_by_message(self, robot: int) -> None:
+        self._wakes_in_flight -= 1
+        self.wake(robot)
+
+    @property
+    def quiescent(self) -> bool:
+        """True when both gradients have settled everywhere and no beacon has a pending decision.
+
+        Only then do the beacons' phases and detach permissions reflect the current network; a
+        robot that has just attached, for instance, has no hop count until the waves reach it.
+        """
+        return (
+            self.forwards.settled_everywhere
+            and self.reverse.settled_everywhere
+            and not self._pending
+            and self._wakes_in_flight == 0
+        )
 
     def _hop_changed(self, node: int, _old: int, _new: int) -> None:
         self.wake(node)

@@ -217,13 +217,16 @@ class BeaconExplorerModel(SwarmModel):
         Complete: the free area is covered. Searched: no beacon signals an empty direction and
         every beacon is redeploying (the swarm believes the reachable environment is searched;
         the paper's robots would now return to the base). Stuck: every robot is a beacon and none
-        may redeploy.
+        may redeploy. Both are judged only once the network is quiescent (hop counts settled, no
+        decision pending), or a robot that has just attached would look unable to redeploy.
         """
         while True:
             yield self.env.timeout(self.params.monitor_period)
             if self.coverage.fraction >= self.params.complete_fraction:
                 self.finish("complete")
                 return
+            if not self.beacons.quiescent:
+                continue  # decisions still travelling through the network
             beacons = self.beacons.beacons.values()
             if not any(b.frontier for b in beacons) and all(b.redeploying for b in beacons):
                 self.finish("searched: no frontier left and every beacon redeploys")
