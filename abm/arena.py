@@ -3,7 +3,7 @@
 The world is a boolean grid ``free[iy, ix]`` of square pixels of side ``resolution`` metres with
 its origin at (0, 0): x grows east (columns), y grows north (rows). Everything outside the grid is
 wall. Grid walls make every geometric query exact and cheap: a ray or a move is walked cell by
-cell (Amanatides-Woo traversal), vectorised over all rays at once with numpy.
+cell (Amanatides-Woo traversal) in compiled loops over all rays (:mod:`abm.gridkernels`).
 """
 
 from collections.abc import Iterable
@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from abm import gridkernels
 from abm.errors import MapError, check_range
 
 __all__ = ["Arena", "CARDINALS"]
@@ -46,12 +47,11 @@ class Arena:
         self.height = self.rows * self.resolution
         # A ring of wall around the grid: clipping any index into the padded grid then answers
         # "free?" for points anywhere, inside or outside, with one fancy-indexing operation.
-        self._padded = np.pad(self.free, 1, constant_values=False)
-        self._runs = _free_runs(self.free)
+        #: The free grid with a ring of wall, ``padded[iy + 1, ix + 1]`` (what the kernels read).
+        self.padded = np.pad(self.free, 1, constant_values=False)
+        self.runs = _free_runs(self.free)
         # Summed-area table of wall cells: walls inside any cell rectangle in O(1).
-        self._walls_sat = np.pad(
-            (~self.free).astype(np.int64).cumsum(0).cumsum(1), ((1, 0), (1, 0))
-        )
+        self.walls_sat = np.pad((~self.free).astype(np.int64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -137,7 +137,7 @@ class Arena:
         """True where cell ``(ix, iy)`` is inside the grid and free."""
         rows = np.minimum(np.maximum(np.asarray(iy) + 1, 0), self.rows + 1)
         cols = np.minimum(np.maximum(np.asarray(ix) + 1, 0), self.cols + 1)
-        return self._padded[rows, cols]
+        return self.padded[rows, cols]
 
     def is_free(self, points: np.ndarray) -> np.ndarray:
         """True for points that lie in free space."""
@@ -146,85 +146,31 @@ class Arena:
     def raycast(self, origins: np.ndarray, directions: np.ndarray, max_range: float) -> np.ndarray:
         """Distance from each origin along its direction to the first wall, capped at max_range.
 
-        Exact for grid walls: every ray is walked cell boundary by cell boundary, all rays in one
-        vectorised loop of at most ``max_range / resolution + 2`` iterations. An origin inside a
-        wall returns 0.
+        Exact for grid walls: every ray is walked cell boundary by cell boundary (compiled, see
+        :mod:`abm.gridkernels`). An origin inside a wall returns 0.
 
         Args:
             origins: ``(n, 2)`` start points (m).
-            directions: ``(n, 2)`` directions (normalised here).
+            directions: ``(n, 2)`` directions (need not be normalised).
             max_range: the sensor's range (m).
 
         """
-        origins = np.atleast_2d(np.asarray(origins, dtype=float))
-        directions = np.atleast_2d(np.asarray(directions, dtype=float))
-        origins, directions = np.broadcast_arrays(origins, directions)
-        n = origins.shape[0]
-        norm = np.linalg.norm(directions, axis=1)
-        d = directions / np.where(norm > 0, norm, 1.0)[:, None]
-        res = self.resolution
-        ix, iy = self.cell_of(origins)
-        step_x = np.where(d[:, 0] > 0, 1, -1)
-        step_y = np.where(d[:, 1] > 0, 1, -1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv_x = np.where(d[:, 0] != 0, 1.0 / np.abs(d[:, 0]), np.inf)
-            inv_y = np.where(d[:, 1] != 0, 1.0 / np.abs(d[:, 1]), np.inf)
-            next_x = np.where(d[:, 0] > 0, (ix + 1) * res - origins[:, 0], origins[:, 0] - ix * res)
-            next_y = np.where(d[:, 1] > 0, (iy + 1) * res - origins[:, 1], origins[:, 1] - iy * res)
-            t_max_x = np.where(np.isfinite(inv_x), next_x * inv_x, np.inf)
-            t_max_y = np.where(np.isfinite(inv_y), next_y * inv_y, np.inf)
-        t_delta_x = res * inv_x
-        t_delta_y = res * inv_y
-        dist = np.full(n, float(max_range))
-        active = self.free_at(ix, iy)
-        dist[~active] = 0.0
-        for _ in range(int(np.ceil(max_range / res)) * 2 + 2):
-            if not active.any():
-                break
-            go_x = t_max_x < t_max_y
-            t_here = np.where(go_x, t_max_x, t_max_y)
-            beyond = t_here >= max_range
-            active &= ~beyond
-            ix = np.where(active & go_x, ix + step_x, ix)
-            iy = np.where(active & ~go_x, iy + step_y, iy)
-            hit = active & ~self.free_at(ix, iy)
-            dist[hit] = t_here[hit]
-            active &= ~hit
-            t_max_x = np.where(go_x, t_max_x + t_delta_x, t_max_x)
-            t_max_y = np.where(~go_x, t_max_y + t_delta_y, t_max_y)
-        return dist
+        origins, directions = _point_pairs(origins, directions)
+        return gridkernels.raycasts(
+            self.padded, self.resolution, origins, directions, float(max_range)
+        )
 
     def cardinal_distances(self, points: np.ndarray, max_range: float) -> np.ndarray:
         """Distances ``(n, 4)`` to the nearest wall to the N, E, S and W of each point.
 
-        Exact and loop-free: the distance to the edge of the point's own cell plus the run of
-        free cells beyond it in that direction (precomputed per cell), capped at ``max_range``.
+        Exact and loop-free per point: the distance to the edge of the point's own cell plus the
+        run of free cells beyond it in that direction (precomputed per cell), capped at
+        ``max_range``; 0 for a point inside a wall.
         """
-        points = np.atleast_2d(np.asarray(points, dtype=float))
-        res = self.resolution
-        ix, iy = self.cell_of(points)
-        inside = self.free_at(ix, iy)
-        ix = np.minimum(np.maximum(ix, 0), self.cols - 1)
-        iy = np.minimum(np.maximum(iy, 0), self.rows - 1)
-        x, y = points[:, 0], points[:, 1]
-        edge = np.stack(
-            [(iy + 1) * res - y, (ix + 1) * res - x, y - iy * res, x - ix * res], axis=1
+        points = np.ascontiguousarray(np.atleast_2d(np.asarray(points, dtype=float)))
+        return gridkernels.cardinal_distances(
+            self.padded, self.runs, self.resolution, points, float(max_range)
         )
-        dist = edge + self._runs[:, iy, ix].T * res
-        dist[~inside] = 0.0
-        return np.minimum(dist, max_range)
-
-    def walls_in_rectangle(self, ix0, iy0, ix1, iy1) -> np.ndarray:
-        """Number of wall cells in the cell rectangles spanned by two corner cells (inclusive).
-
-        Corners are clipped to the grid (cells outside it are walls but are not counted here).
-        """
-        lo_x = np.minimum(np.maximum(np.minimum(ix0, ix1), 0), self.cols - 1)
-        hi_x = np.minimum(np.maximum(np.maximum(ix0, ix1), 0), self.cols - 1) + 1
-        lo_y = np.minimum(np.maximum(np.minimum(iy0, iy1), 0), self.rows - 1)
-        hi_y = np.minimum(np.maximum(np.maximum(iy0, iy1), 0), self.rows - 1) + 1
-        t = self._walls_sat
-        return t[hi_y, hi_x] - t[lo_y, hi_x] - t[hi_y, lo_x] + t[lo_y, lo_x]
 
     def segment_crosses_wall(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
         """True for each segment ``start -> end`` that enters a wall cell anywhere.
@@ -233,21 +179,21 @@ class Arena:
         rectangle holds no wall (a summed-area-table lookup) it is clear; only the others are
         walked cell by cell.
         """
-        start = np.atleast_2d(np.asarray(start, dtype=float))
-        end = np.atleast_2d(np.asarray(end, dtype=float))
-        start, end = np.broadcast_arrays(start, end)
-        sx, sy = self.cell_of(start)
-        ex, ey = self.cell_of(end)
-        out = ~self.free_at(sx, sy) | ~self.free_at(ex, ey)
-        clear = self.walls_in_rectangle(sx, sy, ex, ey) == 0
-        moving = ~out & ~clear
-        if moving.any():
-            length = np.hypot(*(end[moving] - start[moving]).T)
-            reach = self.raycast(
-                start[moving], end[moving] - start[moving], float(length.max()) + self.resolution
-            )
-            out[moving] = reach < length
-        return out
+        start, end = _point_pairs(start, end)
+        return gridkernels.segments_cross(self.padded, self.walls_sat, self.resolution, start, end)
+
+    def nearest_visible(
+        self, points: np.ndarray, targets: np.ndarray, max_range: float
+    ) -> np.ndarray:
+        """Row of the nearest target within ``max_range`` and in line of sight of each point.
+
+        -1 where no target qualifies; e.g. the beacon an explorer can communicate with.
+        """
+        points = np.ascontiguousarray(np.atleast_2d(np.asarray(points, dtype=float)))
+        targets = np.ascontiguousarray(np.asarray(targets, dtype=float).reshape(-1, 2))
+        return gridkernels.nearest_visible(
+            self.padded, self.walls_sat, self.resolution, points, targets, float(max_range)
+        )
 
     def line_of_sight(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
         """True for each pair of points that see each other (no wall cell between them)."""
@@ -263,6 +209,14 @@ class Arena:
             f"Arena({self.name!r}, {self.cols}x{self.rows} px of {self.resolution:g} m, "
             f"free area {self.free_area:g} m^2)"
         )
+
+
+def _point_pairs(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two ``(n, 2)`` float arrays, broadcast against each other and contiguous for the kernels."""
+    a = np.atleast_2d(np.asarray(a, dtype=float))
+    b = np.atleast_2d(np.asarray(b, dtype=float))
+    a, b = np.broadcast_arrays(a, b)
+    return np.ascontiguousarray(a), np.ascontiguousarray(b)
 
 
 def _free_runs(free: np.ndarray) -> np.ndarray:

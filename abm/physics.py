@@ -1,4 +1,4 @@
-"""The single vectorised motion process: every flying robot advanced per tick with numpy.
+"""The single motion process: every flying robot advanced per tick in one compiled loop.
 
 One SimPy process owns all continuous motion. Each tick of ``dt`` seconds it asks the model's
 controller for every flyer's desired velocity (and which flyers have finished their flight),
@@ -16,7 +16,9 @@ Walls: a robot's body is an axis-aligned square of half-width ``body_radius``; m
 one axis at a time and each axis move is shorter than a grid pixel, so a body can never pass
 through a wall: it is stopped flush against it. A new contact counts one wall collision.
 Robots whose centres come closer than two body radii collide elastically; each new contact
-counts two collisions (the paper counts a robot-robot collision as 2).
+counts two collisions (the paper counts a robot-robot collision as 2). The per-flyer work is
+compiled (:func:`abm.gridkernels.flight_step`): with tens of flyers, numpy's per-call overhead,
+not arithmetic, would set the speed.
 """
 
 from collections.abc import Callable
@@ -24,8 +26,10 @@ from typing import Protocol
 
 import numpy as np
 import simpy
+from numba import njit
 from scipy.spatial import cKDTree
 
+from abm import gridkernels
 from abm.arena import Arena
 from abm.errors import ConfigError, check_range
 
@@ -214,19 +218,27 @@ class Physics:
         self.flyer_steps += self.n_flying
         desired, done = self.controller.control(self)
         p = self.params
-        m = p.mass
-        force = m * (desired - self.vel) / p.tau
-        norm = np.hypot(force[:, 0], force[:, 1])
-        force *= np.minimum(1.0, p.max_force / np.maximum(norm, 1e-12))[:, None]
-        speed = np.hypot(self.vel[:, 0], self.vel[:, 1])
-        force -= (0.5 * p.rho * p.area * p.drag_coefficient * speed)[:, None] * self.vel
-        self.vel += force * (self.dt / m)
-        speed = np.hypot(self.vel[:, 0], self.vel[:, 1])
-        self.vel *= np.minimum(1.0, p.max_speed / np.maximum(speed, 1e-12))[:, None]
-        step = self.vel * self.dt
-        if p.body_noise > 0:
-            step += self.rng.normal(0.0, p.body_noise, size=step.shape)
-        self._move(step)
+        noise = (
+            self.rng.normal(0.0, p.body_noise, size=self.pos.shape)
+            if p.body_noise > 0
+            else np.zeros_like(self.pos)
+        )
+        contact = gridkernels.flight_step(
+            self.pos,
+            self.vel,
+            np.ascontiguousarray(desired, dtype=float),
+            noise,
+            self.arena.padded,
+            self.arena.resolution,
+            p.mass,
+            p.tau,
+            p.max_force,
+            0.5 * p.rho * p.area * p.drag_coefficient,
+            p.max_speed,
+            self.dt,
+            p.body_radius,
+        )
+        self._count_wall_contacts(contact)
         self._robot_contacts()
         if self.trace is not None:
             self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
@@ -239,30 +251,8 @@ class Physics:
             for event in finished:
                 event.succeed()
 
-    def _move(self, step: np.ndarray) -> None:
-        """Apply ``step`` axis by axis, stopping bodies flush against walls."""
-        r = self.params.body_radius
-        res = self.arena.resolution
-        contact = np.zeros(len(self.ids), dtype=bool)
-        for axis in (0, 1):
-            other = 1 - axis
-            d = step[:, axis]
-            new = self.pos[:, axis] + d
-            sign = np.where(d >= 0, 1.0, -1.0)
-            lead_cell = np.floor((new + sign * r) / res).astype(np.int64)
-            lo = np.floor((self.pos[:, other] - r) / res).astype(np.int64)
-            hi = np.floor((self.pos[:, other] + r) / res).astype(np.int64)
-            if axis == 0:
-                blocked = ~self.arena.free_at(lead_cell, lo) | ~self.arena.free_at(lead_cell, hi)
-            else:
-                blocked = ~self.arena.free_at(lo, lead_cell) | ~self.arena.free_at(hi, lead_cell)
-            blocked &= d != 0
-            if blocked.any():
-                flush = np.where(sign > 0, lead_cell * res - r, (lead_cell + 1) * res + r)
-                new = np.where(blocked, flush - sign * 1e-9, new)
-                self.vel[blocked, axis] = 0.0
-                contact |= blocked
-            self.pos[:, axis] = new
+    def _count_wall_contacts(self, contact: np.ndarray) -> None:
+        """A body that touches a wall now and did not last tick is a new wall collision."""
         new_contacts = contact & ~self._wall_contact
         self._wall_contact = contact
         if new_contacts.any():
@@ -279,9 +269,7 @@ class Physics:
             return
         reach = 2 * self.params.body_radius
         if n <= 64:
-            diff = self.pos[:, None, :] - self.pos[None, :, :]
-            close = np.hypot(diff[..., 0], diff[..., 1]) < reach
-            i, j = np.nonzero(np.triu(close, k=1))
+            i, j = _close_pairs(self.pos, reach)
         else:
             pairs = cKDTree(self.pos).query_pairs(reach, output_type="ndarray")
             i, j = pairs[:, 0], pairs[:, 1]
@@ -304,3 +292,17 @@ class Physics:
         if self.on_collision is not None:
             for a, b in sorted(new):
                 self.on_collision("robot", a, b)
+
+
+@njit(cache=True)
+def _close_pairs(pos: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Index pairs ``i < j`` of points closer than ``reach`` (all pairs: for small swarms)."""
+    n = pos.shape[0]
+    first = []
+    second = []
+    for i in range(n):
+        for j in range(i + 1, n):
+            if (pos[i, 0] - pos[j, 0]) ** 2 + (pos[i, 1] - pos[j, 1]) ** 2 < reach * reach:
+                first.append(i)
+                second.append(j)
+    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)

@@ -27,7 +27,7 @@ class Recorder:
         self.counts = dict.fromkeys(self.states, 0)
         self._events: list[dict] = []
         self._series: list[tuple] = []
-        self._positions: list[pd.DataFrame] = []
+        self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str]]] = []
 
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
         """Append an event at ``env.now``."""
@@ -46,23 +46,23 @@ class Recorder:
 
     def snapshot(self, robots: np.ndarray, positions: np.ndarray, states: list[str]) -> None:
         """Record where every robot is and what it is at ``env.now``."""
-        self._positions.append(
-            pd.DataFrame(
-                {
-                    "time": self.env.now,
-                    "robot": robots,
-                    "x": positions[:, 0],
-                    "y": positions[:, 1],
-                    "state": states,
-                }
-            )
-        )
+        self._positions.append((self.env.now, robots, positions, list(states)))
 
     def positions(self) -> pd.DataFrame:
         """Sampled positions: one row per robot and sample (time, robot, x, y, state)."""
         if not self._positions:
             return pd.DataFrame(columns=["time", "robot", "x", "y", "state"])
-        return pd.concat(self._positions, ignore_index=True)
+        times, robots, positions, states = zip(*self._positions, strict=True)
+        xy = np.concatenate(positions)
+        return pd.DataFrame(
+            {
+                "time": np.repeat(times, [len(r) for r in robots]),
+                "robot": np.concatenate(robots),
+                "x": xy[:, 0],
+                "y": xy[:, 1],
+                "state": [s for sample in states for s in sample],
+            }
+        )
 
     def events(self) -> pd.DataFrame:
         """The event log, one row per event, in time order."""

@@ -3,13 +3,90 @@
 Stirling et al. (2010) Sect. 3.1 and App. B: four cardinal infrared distance sensors with range
 S_r = 3.5 m and Gaussian noise of 5 cm; a relative-positioning sensor with range std 17 cm and
 bearing std 6.1 deg at 3 m (Pugh et al. 2009). We scale the range noise linearly with range.
+
+The per-reading models are compiled scalar functions (:func:`noisy_reading`,
+:func:`measured_relative`) so that compiled controllers apply exactly the same models as the
+numpy-facing functions here; the random numbers always come from the model's generator.
 """
 
+import math
+
 import numpy as np
+from numba import njit
 
 from abm.arena import Arena
 
-__all__ = ["distance_sensors", "relative_positions"]
+__all__ = [
+    "BEARING_NOISE",
+    "RANGE_NOISE",
+    "REFERENCE_RANGE",
+    "distance_sensors",
+    "measured_relative",
+    "noisy_reading",
+    "relative_positions",
+]
+
+#: Relative positioning (Pugh et al. 2009): range std (m) and bearing std (rad) at
+#: ``REFERENCE_RANGE`` m.
+RANGE_NOISE = 0.17
+BEARING_NOISE = math.radians(6.1)
+REFERENCE_RANGE = 3.0
+
+
+@njit(cache=True, inline="always")
+def noisy_reading(true: float, z: float, noise: float, max_range: float) -> float:
+    """A distance sensor's reading of a wall at ``true`` m, given a standard normal draw ``z``.
+
+    A sensor that sees nothing within range reads ``max_range`` (no noise is added then).
+    """
+    value = true + z * noise if true < max_range else true
+    return min(max(value, 0.0), max_range)
+
+
+@njit(cache=True, inline="always")
+def measured_relative(
+    dx: float,
+    dy: float,
+    z_range: float,
+    z_bearing: float,
+    range_noise: float,
+    bearing_noise: float,
+    reference_range: float,
+) -> tuple[float, float]:
+    """Measured relative position of a robot at ``(dx, dy)``, given two standard normal draws.
+
+    Range noise std ``range_noise * r / reference_range``; bearing noise std ``bearing_noise``
+    (radians).
+    """
+    r = math.hypot(dx, dy)
+    theta = math.atan2(dy, dx) + z_bearing * bearing_noise
+    r = max(r + z_range * range_noise * r / reference_range, 0.0)
+    return r * math.cos(theta), r * math.sin(theta)
+
+
+@njit(cache=True)
+def _noisy_readings(true, z, noise, max_range):
+    out = np.empty_like(true)
+    for i in range(true.shape[0]):
+        for d in range(true.shape[1]):
+            out[i, d] = noisy_reading(true[i, d], z[i, d], noise, max_range)
+    return out
+
+
+@njit(cache=True)
+def _measured_relatives(vectors, z, range_noise, bearing_noise, reference_range):
+    out = np.empty_like(vectors)
+    for i in range(vectors.shape[0]):
+        out[i, 0], out[i, 1] = measured_relative(
+            vectors[i, 0],
+            vectors[i, 1],
+            z[i, 0],
+            z[i, 1],
+            range_noise,
+            bearing_noise,
+            reference_range,
+        )
+    return out
 
 
 def distance_sensors(
@@ -24,26 +101,28 @@ def distance_sensors(
     A sensor that sees nothing within range reads ``max_range``.
     """
     true = arena.cardinal_distances(points, max_range)
-    if noise > 0:
-        true = true + rng.normal(0.0, noise, size=true.shape) * (true < max_range)
-    return np.clip(true, 0.0, max_range)
+    if noise <= 0:
+        return true
+    return _noisy_readings(true, rng.standard_normal(true.shape), float(noise), float(max_range))
 
 
 def relative_positions(
     vectors: np.ndarray,
     rng: np.random.Generator,
-    range_noise: float = 0.17,
-    bearing_noise_deg: float = 6.1,
-    reference_range: float = 3.0,
+    range_noise: float = RANGE_NOISE,
+    bearing_noise: float = BEARING_NOISE,
+    reference_range: float = REFERENCE_RANGE,
 ) -> np.ndarray:
     """Noisy measurement of relative position vectors ``(n, 2)``.
 
-    Range noise has std ``range_noise * r / reference_range``; bearing noise has a constant std.
+    Range noise has std ``range_noise * r / reference_range``; bearing noise has a constant std
+    of ``bearing_noise`` radians.
     """
-    vectors = np.atleast_2d(np.asarray(vectors, dtype=float))
-    r = np.hypot(vectors[:, 0], vectors[:, 1])
-    theta = np.arctan2(vectors[:, 1], vectors[:, 0])
-    r_noisy = r + rng.normal(0.0, 1.0, size=r.shape) * range_noise * r / reference_range
-    theta_noisy = theta + rng.normal(0.0, np.deg2rad(bearing_noise_deg), size=theta.shape)
-    r_noisy = np.maximum(r_noisy, 0.0)
-    return np.stack([r_noisy * np.cos(theta_noisy), r_noisy * np.sin(theta_noisy)], axis=1)
+    vectors = np.ascontiguousarray(np.atleast_2d(np.asarray(vectors, dtype=float)))
+    return _measured_relatives(
+        vectors,
+        rng.standard_normal(vectors.shape),
+        float(range_noise),
+        float(bearing_noise),
+        float(reference_range),
+    )

@@ -4,18 +4,46 @@ Every control step each explorer measures N, the vector to its nearest beacon (r
 positioning, noisy), reads that beacon's desired direction D (length I_r), forms L = N + D, adds
 the collision-avoidance vector C (away from walls sensed by the four distance sensors, magnitude
 growing as 1/distance) and flies along T = L + C. When |T| <= eps at a spot where a beacon is
-required, it ascends and attaches. All of this is computed at once for every flyer with numpy.
+required, it ascends and attaches. All of this is one compiled loop over the flyers
+(:func:`_steer`), with the sensor models of :mod:`abm.sensors` and the model's random generator
+supplying every noise draw.
 """
 
+import math
+from typing import NamedTuple
+
 import numpy as np
+from numba import njit
 
 from abm.arena import CARDINALS, Arena
+from abm.gridkernels import cardinal_distances, nearest_visible
 from abm.physics import Physics
-from abm.sensors import distance_sensors, relative_positions
+from abm.sensors import (
+    BEARING_NOISE,
+    RANGE_NOISE,
+    REFERENCE_RANGE,
+    measured_relative,
+    noisy_reading,
+)
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.params import BeaconExplorerParams
 
 __all__ = ["ExplorerController"]
+
+
+class _Constants(NamedTuple):
+    """The algorithm's constants the compiled controller reads (see BeaconExplorerParams)."""
+
+    comm_range: float
+    sensor_range: float
+    sensor_noise: float
+    avoid_gain: float
+    slow_radius: float
+    attach_eps: float
+    attach_speed: float
+    interspace: float
+    gain: float  # of the low-pass filter on T, per tick
+    max_speed: float
 
 
 class ExplorerController:
@@ -47,7 +75,18 @@ class ExplorerController:
         self._version = -1
         self._signals = None
         physics.add_flyer_state("T", 2)
-        self._gain = min(1.0, physics.dt / params.filter_time)
+        self._constants = _Constants(
+            params.comm_range,
+            params.sensor_range,
+            params.sensor_noise,
+            params.avoid_gain,
+            params.slow_radius,
+            params.attach_eps,
+            params.attach_speed,
+            params.interspace,
+            min(1.0, physics.dt / params.filter_time),
+            max_speed,
+        )
 
     def _current_signals(self):
         if self._version != self.beacons.version:
@@ -55,56 +94,78 @@ class ExplorerController:
             self._version = self.beacons.version
         return self._signals
 
-    def nearest_beacon(self, points: np.ndarray, beacon_pos: np.ndarray) -> np.ndarray:
-        """Row of the nearest beacon in line of sight for each point (-1 if none in C_r)."""
-        diff = beacon_pos[None, :, :] - points[:, None, :]
-        dist = np.hypot(diff[..., 0], diff[..., 1])
-        dist[dist > self.params.comm_range] = np.inf
-        rows = np.arange(len(points))
-        for _ in range(4):
-            nearest = np.argmin(dist, axis=1)
-            d = dist[rows, nearest]
-            check = np.isfinite(d)
-            if not check.any():
-                break
-            blind = np.zeros(len(points), dtype=bool)
-            blind[check] = ~self.arena.line_of_sight(points[check], beacon_pos[nearest[check]])
-            if not blind.any():
-                break
-            dist[rows[blind], nearest[blind]] = np.inf
-        nearest = np.argmin(dist, axis=1)
-        return np.where(np.isfinite(dist[rows, nearest]), nearest, -1)
-
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and which of them attach now."""
-        p = self.params
-        x = physics.pos
-        n = len(x)
+        n = physics.n_flying
         _ids, beacon_pos, desired_vec, to_empty = self._current_signals()
         if len(beacon_pos) == 0:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
-        k = self.nearest_beacon(x, beacon_pos)
-        lost = k < 0
-        k = np.maximum(k, 0)
-        N = relative_positions(beacon_pos[k] - x, self.rng)  # noqa: N806 - the paper's symbol
-        D = desired_vec[k]  # noqa: N806
-        L = N + D  # noqa: N806
-        reading = distance_sensors(self.arena, x, self.rng, p.sensor_range, p.sensor_noise)
-        push = p.avoid_gain * np.maximum(
-            0.0, 1.0 / np.maximum(reading, 0.05) - 1.0 / p.sensor_range
+        arena = self.arena
+        return _steer(
+            arena.padded,
+            arena.runs,
+            arena.walls_sat,
+            arena.resolution,
+            physics.pos,
+            physics.vel,
+            physics.flyer_state["T"],
+            np.ascontiguousarray(beacon_pos),
+            np.ascontiguousarray(desired_vec),
+            to_empty,
+            self.rng.standard_normal((n, 6)),
+            self._constants,
         )
-        C = -(push @ CARDINALS)  # noqa: N806
+
+
+@njit(cache=True)
+def _steer(padded, runs, sat, res, pos, vel, T, beacon_pos, desired_vec, to_empty, z, p):  # noqa: N803
+    """Fig. 4 for every flyer: T = L + C with L = N + D; attach when |T| <= eps.
+
+    ``z`` holds six standard normal draws per flyer: two for the relative-positioning sensor,
+    four for the distance sensors. ``T`` (the low-pass filtered translation vector) is updated
+    in place. Returns desired velocities and the attach mask.
+    """
+    n = pos.shape[0]
+    desired = np.zeros((n, 2))
+    attach = np.zeros(n, dtype=np.bool_)
+    nearest = nearest_visible(padded, sat, res, pos, beacon_pos, p.comm_range)
+    walls = cardinal_distances(padded, runs, res, pos, p.sensor_range)
+    for i in range(n):
+        lost = nearest[i] < 0  # out of touch with every beacon: hover and wait
+        k = max(nearest[i], 0)
+        # N: measured vector to the nearest beacon; D: its desired direction (length I_r).
+        nx, ny = measured_relative(
+            beacon_pos[k, 0] - pos[i, 0],
+            beacon_pos[k, 1] - pos[i, 1],
+            z[i, 0],
+            z[i, 1],
+            RANGE_NOISE,
+            BEARING_NOISE,
+            REFERENCE_RANGE,
+        )
+        lx = nx + desired_vec[k, 0]
+        ly = ny + desired_vec[k, 1]
+        # C: away from the walls the four distance sensors see, growing as 1 / distance.
+        cx = 0.0
+        cy = 0.0
+        for d in range(4):
+            reading = noisy_reading(walls[i, d], z[i, 2 + d], p.sensor_noise, p.sensor_range)
+            push = p.avoid_gain * max(0.0, 1.0 / max(reading, 0.05) - 1.0 / p.sensor_range)
+            cx -= push * CARDINALS[d, 0]
+            cy -= push * CARDINALS[d, 1]
         # Each explorer low-pass filters its noisy T (a real sensor stack smooths at 10 Hz).
-        T = physics.flyer_state["T"]  # noqa: N806
-        T += self._gain * (L + C - T)  # noqa: N806
-        size = np.hypot(T[:, 0], T[:, 1])
-        desired = T * (self.max_speed / np.maximum(size, p.slow_radius))[:, None]
-        desired[lost] = 0.0  # out of touch with every beacon: hover and wait
-        attach = (
-            ~lost
-            & (size <= p.attach_eps)
-            & (np.hypot(physics.vel[:, 0], physics.vel[:, 1]) <= p.attach_speed)
-            & to_empty[k]
-            & (np.hypot(N[:, 0], N[:, 1]) > p.interspace / 2)
+        T[i, 0] += p.gain * (lx + cx - T[i, 0])
+        T[i, 1] += p.gain * (ly + cy - T[i, 1])
+        size = math.hypot(T[i, 0], T[i, 1])
+        if lost:
+            continue
+        scale = p.max_speed / max(size, p.slow_radius)
+        desired[i, 0] = T[i, 0] * scale
+        desired[i, 1] = T[i, 1] * scale
+        attach[i] = (
+            size <= p.attach_eps
+            and math.hypot(vel[i, 0], vel[i, 1]) <= p.attach_speed
+            and to_empty[k]
+            and math.hypot(nx, ny) > p.interspace / 2
         )
-        return desired, attach
+    return desired, attach
