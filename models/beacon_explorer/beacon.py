@@ -34,6 +34,8 @@ __all__ = ["Beacon", "BeaconNetwork", "NORTH", "EAST", "SOUTH", "WEST", "NO_DIRE
 NORTH, EAST, SOUTH, WEST = 0, 1, 2, 3
 NO_DIRECTION = -1
 DIRECTIONS = (NORTH, EAST, SOUTH, WEST)  # clockwise from North
+#: Compass bearings (deg, clockwise from North) of the rays probing the NE, SE, SW, NW quadrants.
+QUADRANT_RAYS = tuple(q * 90 + a for q in range(4) for a in (15, 30, 45, 60, 75))
 
 
 def opposite(direction: int) -> int:
@@ -180,7 +182,7 @@ class BeaconNetwork:
         junction senses only one wall, so with four sensors alone it would pass for open space
         and lose the junction memory the depth-first search relies on; we therefore also call a
         beacon open-space only if some quadrant is open: two adjacent free cardinal directions
-        and a free diagonal between them (space wider than a corridor). See README.
+        and nothing sensed on five rays between them (space wider than a corridor). See README.
         """
         p = self.params
         reading = distance_sensors(
@@ -191,12 +193,17 @@ class BeaconNetwork:
             (reading[NORTH] < p.corridor_width and reading[SOUTH] < p.corridor_width)
             or (reading[EAST] < p.corridor_width and reading[WEST] < p.corridor_width)
         )
-        diagonals = CARDINALS + np.roll(CARDINALS, -1, axis=0)  # NE, SE, SW, NW
-        diag = self.arena.raycast(np.repeat(position[None], 4, axis=0), diagonals, p.sensor_range)
-        diag = diag + self.rng.normal(0.0, p.sensor_noise, 4) * (diag < p.sensor_range)
+        # Five rays into each quadrant (NE, SE, SW, NW; 15 to 75 degrees from its first
+        # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
+        # corner can run 3.5 m up the side branch and pass for open space.
+        rays = np.array([[np.sin(a), np.cos(a)] for a in np.radians(QUADRANT_RAYS)])
+        reach = self.arena.raycast(
+            np.repeat(position[None], len(rays), axis=0), rays, p.sensor_range
+        )
+        reach = reach + self.rng.normal(0.0, p.sensor_noise, len(reach)) * (reach < p.sensor_range)
+        quadrant_clear = (reach > p.open_diagonal).reshape(4, -1).all(axis=1)
         open_quadrant = any(
-            not walls[d] and not walls[(d + 1) % 4] and diag[d] > p.open_diagonal
-            for d in DIRECTIONS
+            not walls[d] and not walls[(d + 1) % 4] and quadrant_clear[d] for d in DIRECTIONS
         )
         return walls, opposing or not open_quadrant
 

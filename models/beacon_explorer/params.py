@@ -37,8 +37,9 @@ class BeaconExplorerParams:
         obstacle_threshold: a direction whose wall reading is below this is an obstacle (m; ours:
             I_r, so a lattice that drifted up to a metre still reads the wall beyond the next
             cell as empty; wall avoidance then stops the explorer short of that wall).
-        open_diagonal: a diagonal ray reading at least this (nothing sensed), between two free
-            cardinal directions, means open space (m; ours, see README).
+        open_diagonal: five rays into the quadrant between two free cardinal directions all
+            reading more than this (nothing sensed within noise) mean open space (m; ours, see
+            README).
         attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
             ``filter_time`` (m; ours).
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
@@ -61,7 +62,7 @@ class BeaconExplorerParams:
     comm_range: float = 4.0
     corridor_width: float = 3.0
     obstacle_threshold: float = 3.0
-    open_diagonal: float = 3.4
+    open_diagonal: float = 3.45
     attach_eps: float = 0.15
     attach_speed: float = 0.2
     filter_time: float = 0.3
