@@ -446,6 +446,16 @@ def write_report(sweep_dir: str | Path, out: str | Path | None = None) -> Path:
     return out
 
 
+def _end_reasons(df: pd.DataFrame) -> list[tuple[str, str]]:
+    """How the runs ended ("stuck: ..." counted as "stuck"); runs that hit the time limit are
+    outliers in every mean, so the reader must see how many there are.
+    """
+    if "end_reason" not in df:
+        return []
+    kinds = df["end_reason"].dropna().str.split(":").str[0].value_counts()
+    return [("runs ended by", ", ".join(f"{k} {n}" for k, n in kinds.items()))]
+
+
 def _meta_html(manifest: dict, df: pd.DataFrame, failed: pd.DataFrame, folder: Path) -> str:
     grid = manifest.get("grid", {})
     rows = [
@@ -454,6 +464,7 @@ def _meta_html(manifest: dict, df: pd.DataFrame, failed: pd.DataFrame, folder: P
         ("replications", manifest.get("replications", "?")),
         ("sweep seed", manifest.get("seed", "?")),
         ("runs finished / failed", f"{len(df) - len(failed)} / {len(failed)}"),
+        *_end_reasons(df),
         ("data", str(folder.resolve())),
         ("generated", datetime.datetime.now().isoformat(timespec="seconds")),
     ]
@@ -494,11 +505,15 @@ def _period_tables(runs: pd.DataFrame) -> list[str]:
             f"<b>{r['r']:.3f}</b> (df = {r['df']}, p = {r['p']:.2g}); paper: 0.974 (df = 16).</p>",
         ]
     means = stats.condition_means(runs, metrics=[*stats.METRICS, "coverage_area"])
-    wide = means.pivot_table(
-        index=[c for c in ("complexity", "launch_period") if c in means],
-        columns="metric",
-        values="mean",
-    ).reset_index()
+    wide = (
+        means.pivot_table(
+            index=[c for c in ("complexity", "launch_period") if c in means],
+            columns="metric",
+            values="mean",
+        )
+        .rename_axis(columns=None)
+        .reset_index()
+    )
     out += [
         "<h2>Condition means</h2>",
         '<p class="note">Times in s, energies in J, coverage area in % of the free area.</p>',
