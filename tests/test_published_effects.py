@@ -3,9 +3,9 @@
 Stirling et al. (2010), high-complexity corridors, 24 s vs 6 s: flight time -41.5 %,
 collisions -93.9 %, coverage time +90.5 %, energy -30.8 %; hovering beacons cost 3.6x the
 energy (mixed, 6 s). We assert the directions we reproduce, with a margin. Total energy is not
-asserted: ours is flat (about +1 %), because our explorers waste less flight at short periods
-than the paper's, so the extra beacon energy of the longer search cancels the flight saving
-(see the README, "Reproduction").
+asserted: ours does not fall, because our explorers waste less flight at short periods than the
+paper's, so the extra beacon energy of the longer search cancels the flight saving (see the
+README, "Reproduction").
 """
 
 from concurrent.futures import ProcessPoolExecutor
