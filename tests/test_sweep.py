@@ -152,7 +152,7 @@ def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     sweep_file = tmp_path / "small.toml"
     sweep_file.write_text(
         SMOKE.read_text().replace("[60.0]", "[20.0]").replace('["low", "high"]', '["high"]')
-        .replace("replications = 2", "replications = 12")
+        .replace("replications = 2", "replications = 100")
     )  # fmt: skip
     abm = "import sys; from analysis.cli import main; sys.exit(main())"
     cmd = [sys.executable, "-c", abm, "sweep", str(sweep_file), "--executor", "serial",
@@ -165,13 +165,13 @@ def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     _stdout, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, stderr.decode()
     kept = {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.parquet")}
-    assert 2 <= len(kept) < 24
+    assert 2 <= len(kept) < 200
 
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert f"skipping {len(kept)} runs already in" in done.stderr
     df = load_results(out)
-    assert len(df) == 24 and df["run_id"].is_unique and (df["status"] == "ok").all()
+    assert len(df) == 200 and df["run_id"].is_unique and (df["status"] == "ok").all()
     assert {n: (out / "runs" / n).stat().st_mtime_ns for n in kept} == kept
     assert not [p for p in out.rglob("*.tmp")]
 
