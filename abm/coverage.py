@@ -6,11 +6,59 @@ counts only if the straight line from the sensor to the pixel centre stays in fr
 """
 
 import numpy as np
+from numba import njit
 
 from abm.arena import Arena
 from abm.errors import check_range
 
-__all__ = ["CoverageRaster"]
+__all__ = ["CoverageRaster", "visible_cells"]
+
+
+def visible_cells(
+    arena: Arena,
+    points: np.ndarray,
+    dy: np.ndarray,
+    dx: np.ndarray,
+    skip: np.ndarray | None = None,
+    line_of_sight: bool = True,
+) -> np.ndarray:
+    """Row-major indices of the free arena cells sensors at ``points`` see (with repeats).
+
+    A sensor sees the cells at offsets ``(dy, dx)`` from its own cell (e.g. a disc from
+    :func:`abm.pheromone.disc_offsets`) that are free, not already True in ``skip`` (a
+    boolean grid, e.g. what was seen before) and, with ``line_of_sight``, reached by the
+    straight line from the sensor to the cell's centre without entering a wall.
+    """
+    points = np.ascontiguousarray(np.atleast_2d(points), dtype=float)
+    skip = np.zeros_like(arena.free) if skip is None else skip
+    cells, rows = _disc_cells(
+        arena.free, skip, points, arena.resolution, dy.astype(np.int64), dx.astype(np.int64)
+    )
+    if line_of_sight and len(cells):
+        iy, ix = np.divmod(cells, arena.cols)
+        ends = (np.stack([ix, iy], axis=1) + 0.5) * arena.resolution
+        cells = cells[~arena.segment_crosses_wall(points[rows], ends)]
+    return cells
+
+
+@njit(cache=True)
+def _disc_cells(free, skip, points, res, dy, dx):
+    """Free, not skipped cells at the offsets around each point's cell, and the point's row."""
+    rows, cols = free.shape
+    cells = np.empty(points.shape[0] * dy.shape[0], dtype=np.int64)
+    owner = np.empty_like(cells)
+    m = 0
+    for i in range(points.shape[0]):
+        ix = int(np.floor(points[i, 0] / res))
+        iy = int(np.floor(points[i, 1] / res))
+        for k in range(dy.shape[0]):
+            cx = ix + dx[k]
+            cy = iy + dy[k]
+            if 0 <= cx < cols and 0 <= cy < rows and free[cy, cx] and not skip[cy, cx]:
+                cells[m] = cy * cols + cx
+                owner[m] = i
+                m += 1
+    return cells[:m], owner[:m]
 
 
 class CoverageRaster:

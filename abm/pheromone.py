@@ -7,14 +7,16 @@ exponentially at rate ``decay`` (C_eps, 1/s): a value ``q`` deposited at ``t0`` 
 is scaled once per query time, never per deposit), so the field matches the closed form at any
 time whatever the query pattern.
 
-Every query and deposit is vectorised over many robots at once: the cells of a disc of radius r
-are a fixed table of offsets, so n discs are one ``(n, k)`` fancy-indexing operation.
+Every query and deposit serves many robots in one call: the cells of a disc of radius r are a
+fixed table of flat offsets into the grid (stored with a zero margin as wide as the largest
+disc, so no bounds checks), walked by compiled (numba) loops over robots x offsets.
 """
 
 import numpy as np
-from scipy.signal import fftconvolve
+from numba import njit
 
 from abm.errors import ConfigError, check_range
+from abm.visibility import cached_disc_visibility
 
 __all__ = ["PheromoneField", "disc_offsets"]
 
@@ -32,6 +34,67 @@ def disc_offsets(
     dy, dx = np.mgrid[-r : r + 1 : stride, -r : r + 1 : stride]
     inside = np.hypot(dx, dy) * resolution <= radius + 1e-9
     return dy[inside].ravel(), dx[inside].ravel()
+
+
+_NO_TABLE = np.zeros((1, 1), dtype=np.uint8)
+
+
+@njit(cache=True)
+def _cell(x, y, res, rows, cols, pad):
+    """Flat index in the padded store and row-major index in the grid of the pixel under
+    (x, y), clamped to the grid.
+    """
+    ix = min(max(int(np.floor(x / res)), 0), cols - 1)
+    iy = min(max(int(np.floor(y / res)), 0), rows - 1)
+    return (iy + pad) * (cols + 2 * pad) + ix + pad, iy * cols + ix
+
+
+@njit(cache=True)
+def _deposit_discs(store, mask, points, res, rows, cols, pad, offsets, intensity, table, use):
+    """Add ``intensity[i]`` on the disc ``offsets`` (flat, padded store) around each point
+    where the mask is True, or (``use`` a table) where the point's pixel sees the pixel.
+    """
+    for i in range(points.shape[0]):
+        c, cell = _cell(points[i, 0], points[i, 1], res, rows, cols, pad)
+        q = intensity[i]
+        for k in range(offsets.shape[0]):
+            j = c + offsets[k]
+            if use:
+                if not (table[cell, k >> 3] >> (7 - (k & 7))) & 1:
+                    continue
+            elif not mask[j]:
+                continue
+            store[j] += q
+
+
+@njit(cache=True)
+def _disc_readings(
+    store, mask, points, res, rows, cols, pad, offsets, weights, relative, table, use
+):
+    """``sum_k weights[k] * reading_k`` per point, ``(n, 2)``: reading_k is the store at the
+    point's pixel + ``offsets[k]``; ``relative``: minus the store under the point, masked
+    pixels only; ``use`` a table: only the pixels the point's pixel sees.
+    """
+    n = points.shape[0]
+    out = np.zeros((n, 2))
+    for i in range(n):
+        c, cell = _cell(points[i, 0], points[i, 1], res, rows, cols, pad)
+        here = store[c] if relative else 0.0
+        ax = 0.0
+        ay = 0.0
+        for k in range(offsets.shape[0]):
+            j = c + offsets[k]
+            if use:
+                if not (table[cell, k >> 3] >> (7 - (k & 7))) & 1:
+                    continue
+            elif relative and not mask[j]:
+                continue
+            v = store[j] - here
+            ax += weights[k, 0] * v
+            ay += weights[k, 1] * v
+        out[i, 0] = ax
+        out[i, 1] = ay
+    return out
 
 
 class PheromoneField:
@@ -74,7 +137,8 @@ class PheromoneField:
         self._store = np.zeros((rows, cols))
         self._mask_store = np.ones((rows, cols), dtype=bool) if mask is None else mask.copy()
         self._discs: dict[tuple[float, int, float], tuple] = {}
-        self._sums: dict[tuple[float, int, float], tuple[np.ndarray, np.ndarray]] = {}
+        self._tables: dict[tuple[float, int], np.ndarray] = {}
+        self._flat: dict[tuple[float, int], np.ndarray] = {}
 
     @property
     def _grid(self) -> np.ndarray:
@@ -107,6 +171,7 @@ class PheromoneField:
         radius: float,
         intensity: float | np.ndarray,
         time: float | None = None,
+        line_of_sight: bool = False,
     ) -> None:
         """Add ``intensity`` to every pixel within ``radius`` (m) of each point.
 
@@ -115,6 +180,8 @@ class PheromoneField:
             radius: disc radius (m): C_rw for a flying robot, C_rb for a landing footprint.
             intensity: one value or one per point (C_dw, C_db).
             time: deposit time (s); the field is first decayed to it.
+            line_of_sight: only on the pixels the point's pixel sees (the mask's False pixels
+                are walls, :mod:`abm.visibility`); otherwise on the whole disc within the mask.
 
         """
         if time is not None:
@@ -122,13 +189,23 @@ class PheromoneField:
         points = np.atleast_2d(np.asarray(points, dtype=float))
         if len(points) == 0:
             return
-        intensity = np.broadcast_to(np.asarray(intensity, dtype=float), (len(points),))
-        flat, _ = self._cells(points, radius)
-        weights = np.broadcast_to(intensity[:, None], flat.shape)
-        valid = self._mask_store.ravel()[flat]
-        flat, weights = flat[valid], weights[valid]
-        added = np.bincount(flat.ravel(), weights=weights.ravel(), minlength=self._store.size)
-        self._store += added.reshape(self._store.shape)
+        intensity = np.ascontiguousarray(
+            np.broadcast_to(np.asarray(intensity, dtype=float), (len(points),))
+        )
+        offsets = self._offsets(radius)
+        _deposit_discs(
+            self._store.ravel(),
+            self._mask_store.ravel(),
+            points,
+            self.resolution,
+            self.rows,
+            self.cols,
+            self._pad,
+            offsets,
+            intensity,
+            self._visibility(radius, 1) if line_of_sight else _NO_TABLE,
+            line_of_sight,
+        )
 
     # ------------------------------------------------------------------ reading
     def value_at(self, points: np.ndarray) -> np.ndarray:
@@ -148,6 +225,7 @@ class PheromoneField:
         stride: int = 1,
         falloff: float = 2.0,
         relative: bool = True,
+        line_of_sight: bool = False,
     ) -> np.ndarray:
         """f1 of Arnaldo et al.: a vector towards less pheromone, ``(n, 2)``.
 
@@ -164,18 +242,30 @@ class PheromoneField:
         same vector (the ``field(p)`` terms of a full disc cancel); where walls or the grid's
         edge cut the disc it stops the cut-away part, which can hold no pheromone, from
         reading as the least marked place around and pulling robots into walls.
+
+        ``line_of_sight`` (implies ``relative``): read only the pixels the robot's pixel sees,
+        with the mask's False pixels as walls (:mod:`abm.visibility`), so pheromone behind a
+        wall neither pulls nor pushes.
         """
         check_range("falloff", falloff, 0.0)
         points = np.atleast_2d(np.asarray(points, dtype=float))
         if len(points) == 0:
             return np.zeros((0, 2))
-        flat, weights = self._cells(points, radius, stride, falloff)
-        store = self._store.ravel()
-        f1 = store[flat] @ weights
-        if relative:
-            centre = flat[:, self._disc(radius, stride, falloff)[3]]
-            sx, sy = self._mask_sums(radius, stride, falloff)
-            f1 -= store[centre][:, None] * np.stack([sx[centre], sy[centre]], axis=1)
+        offsets = self._offsets(radius, stride)
+        f1 = _disc_readings(
+            self._store.ravel(),
+            self._mask_store.ravel(),
+            points,
+            self.resolution,
+            self.rows,
+            self.cols,
+            self._pad,
+            offsets,
+            self._disc(radius, stride, falloff)[2],
+            relative or line_of_sight,
+            self._visibility(radius, stride) if line_of_sight else _NO_TABLE,
+            line_of_sight,
+        )
         return -f1 * stride**2
 
     def gradient(self, points: np.ndarray) -> np.ndarray:
@@ -202,44 +292,25 @@ class PheromoneField:
             self._discs[key] = (dy, dx, v * scale[:, None], centre)
         return self._discs[key]
 
-    def _mask_sums(
-        self, radius: float, stride: int, falloff: float
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Per pixel of the padded store, the f1 weights summed over the disc's masked pixels
-        (flat arrays, x and y): what ``field(p)`` is multiplied by in a relative reading.
-        """
-        key = (float(radius), int(stride), float(falloff))
-        if key not in self._sums:
-            dy, dx, weights, _ = self._disc(radius, stride, falloff)
-            r = int(max(np.abs(dx).max(), np.abs(dy).max()))
-            mask = self._mask_store.astype(float)
-            sums = []
-            for axis in (0, 1):
-                kernel = np.zeros((2 * r + 1, 2 * r + 1))
-                kernel[dy + r, dx + r] = weights[:, axis]
-                # correlate: out[p] = sum_k kernel[k] * mask[p + k - r]
-                sums.append(fftconvolve(mask, kernel[::-1, ::-1], mode="same").ravel())
-            self._sums[key] = (sums[0], sums[1])
-        return self._sums[key]
+    def _visibility(self, radius: float, stride: int) -> np.ndarray:
+        """The visibility table of the disc over the mask (built once, shared by equal masks)."""
+        key = (float(radius), int(stride))
+        if key not in self._tables:
+            dy, dx, _, _ = self._disc(radius, stride)
+            mask = np.ones((self.rows, self.cols), dtype=bool) if self.mask is None else self.mask
+            self._tables[key] = cached_disc_visibility(mask, dy, dx)
+        return self._tables[key]
 
-    def _cells(
-        self, points: np.ndarray, radius: float, stride: int = 1, falloff: float = 2.0
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Flat indices ``(n, k)`` into the padded store of each point's disc, and f1 weights.
-
-        Points outside the grid are clamped to its edge pixels.
-        """
-        dy, dx, weights, _ = self._disc(radius, stride, falloff)
-        reach = int(max(np.abs(dx).max(), np.abs(dy).max()))
-        if reach > self._pad:
-            self._repad(reach)
-        p = self._pad
-        width = self.cols + 2 * p
-        ix = np.clip(np.floor(points[:, 0] / self.resolution).astype(np.int64), 0, self.cols - 1)
-        iy = np.clip(np.floor(points[:, 1] / self.resolution).astype(np.int64), 0, self.rows - 1)
-        centre = (iy + p) * width + (ix + p)
-        flat = centre[:, None] + (dy * width + dx)[None, :]
-        return flat, weights
+    def _offsets(self, radius: float, stride: int = 1) -> np.ndarray:
+        """Flat offsets in the padded store of the disc's pixels (widens the margin first)."""
+        key = (float(radius), int(stride))
+        if key not in self._flat:
+            dy, dx, _, _ = self._disc(radius, stride)
+            reach = int(max(np.abs(dx).max(), np.abs(dy).max()))
+            if reach > self._pad:
+                self._repad(reach)
+            self._flat[key] = dy * (self.cols + 2 * self._pad) + dx
+        return self._flat[key]
 
     def _repad(self, pad: int) -> None:
         grid = self._grid.copy()
@@ -247,4 +318,4 @@ class PheromoneField:
         self._store = np.pad(grid, pad)
         mask = np.ones((self.rows, self.cols), dtype=bool) if self.mask is None else self.mask
         self._mask_store = np.pad(mask, pad)
-        self._sums.clear()
+        self._flat.clear()

@@ -107,6 +107,22 @@ def test_relative_reading_is_not_pulled_into_walls():
     assert np.allclose(f.lower_direction(near_west_wall, 10.0), 0.0)
 
 
+def test_line_of_sight_deposit_and_reading_stop_at_walls():
+    mask = np.ones((30, 30), dtype=bool)
+    mask[:, 15] = False
+    f = PheromoneField((30, 30), mask=mask)
+    f.deposit([[12.5, 15.5]], 8.0, 1.0, line_of_sight=True)
+    assert f.values[15, 12 + 5] == 0.0  # behind the wall
+    assert f.values[15, 12 - 5] == 1.0
+    g = PheromoneField((30, 30), mask=mask)
+    g.deposit([[12.5, 15.5]], 8.0, 1.0)
+    assert g.values[15, 12 + 5] == 1.0  # the plain disc goes through
+    h = PheromoneField((30, 30), mask=mask)
+    h.deposit([[20.5, 15.5]], 3.0, 5.0)  # behind the wall
+    assert h.lower_direction([[12.5, 15.5]], 10.0)[0, 0] < 0  # pushed away from it
+    assert np.allclose(h.lower_direction([[12.5, 15.5]], 10.0, line_of_sight=True), 0.0)
+
+
 def test_bad_input():
     with pytest.raises(ConfigError, match="decay"):
         PheromoneField((5, 5), decay=-1)

@@ -35,6 +35,27 @@ def test_landings_respect_link_threshold(run):
     assert d.min() >= run.link_threshold - run.max_speed * run.physics.dt - 0.2
 
 
+def test_sonar_f2_points_away_from_the_walls_it_detects():
+    from abm.worlds import builtin_map
+    from models.stigmergy.wander import sonar_grid
+
+    arena = builtin_map("divided")  # wall at x = 50, door at y = 45..49
+    f2 = sonar_grid(arena, 5.0, 8)
+    assert np.all(f2[50, 20] == 0)  # open floor: nothing within 5 m
+    assert f2[70, 47, 0] < 0 and abs(f2[70, 47, 1]) < 1e-9  # west of the wall: pushed west
+    assert f2[80, 2, 0] > 0  # east of the perimeter wall
+
+
+def test_nearest_distance():
+    from models.stigmergy.wander import nearest_distance
+
+    rng = np.random.default_rng(0)
+    p, t = rng.uniform(0, 10, (7, 2)), rng.uniform(0, 10, (5, 2))
+    want = np.hypot(*(p[:, None] - t[None]).transpose(2, 0, 1)).min(axis=1)
+    assert np.allclose(nearest_distance(p, t), want)
+    assert np.all(np.isinf(nearest_distance(p, np.empty((0, 2)))))
+
+
 def test_same_seed_same_run():
     a = _small(time_limit=300.0).run()
     b = _small(time_limit=300.0).run()

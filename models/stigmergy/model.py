@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from abm.arena import Arena
+from abm.coverage import visible_cells
 from abm.errors import ConfigError, check_range
 from abm.model import SwarmModel
 from abm.pheromone import PheromoneField, disc_offsets
@@ -21,7 +22,7 @@ from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.worlds.bitmap import MAPS, load_map, map_entropy
 from models.stigmergy.params import DEFAULTS
-from models.stigmergy.wander import WanderController
+from models.stigmergy.wander import WanderController, nearest_distance
 
 __all__ = ["StigmergyModel"]
 
@@ -48,6 +49,7 @@ class StigmergyModel(SwarmModel):
         decay: C_eps (1/s), exponential.
         link_threshold: l_i (m): a wander lands when no beacon is closer; None = C_rb.
         obstacle_range: r_u (m).
+        obstacle_beams: range sensors in f2's ring (ours); 0 = every wall pixel within r_u.
         launch_rate: eta, robots per ``model_step``.
         model_step: the paper's model step (s): heading updates, deposits and landing checks.
         start: p0 (m); None = the map's default ((5, 80) for every built-in map).
@@ -60,6 +62,10 @@ class StigmergyModel(SwarmModel):
         f1_relative: f1 reads only free pixels, each relative to the pheromone under the
             robot (ours; the paper is silent on walls). False: walls and the map's outside
             read as zero pheromone, which pulls wanders into walls and corners.
+        deposit_line_of_sight: pheromone is laid only where the robot sees (walls block it).
+        f1_line_of_sight: f1 reads only the pixels the robot sees (walls block the pheromone
+            sensor; ours, the paper is silent). False: pheromone is read through walls, and
+            wanders gather at a wall with less pheromone behind it instead of finding the door.
         swarm_size: swarmsize in C_db; None = 1 + time_limit / launch period.
         max_speed: UAV speed (m/s).
         detection_range: sensing radius of ca and cb (m).
@@ -98,6 +104,9 @@ class StigmergyModel(SwarmModel):
         a4: float = _D.a4,
         f1_falloff: float = _D.f1_falloff,
         f1_relative: bool = True,
+        f1_line_of_sight: bool = False,
+        deposit_line_of_sight: bool = True,
+        obstacle_beams: int = 8,
         swarm_size: int | None = None,
         max_speed: float = _D.max_speed,
         detection_range: float = _D.detection_range,
@@ -120,6 +129,7 @@ class StigmergyModel(SwarmModel):
         check_range("decay", decay, 0.0)
         check_range("link_threshold", link_threshold, 0.0, low_open=True)
         check_range("obstacle_range", obstacle_range, 0.0, low_open=True)
+        check_range("obstacle_beams", obstacle_beams, 0, integer=True)
         check_range("launch_rate", launch_rate, 0.0, 1.0, low_open=True)
         check_range("model_step", model_step, 0.0, low_open=True)
         for name, value in (
@@ -169,6 +179,7 @@ class StigmergyModel(SwarmModel):
         self.decay = float(decay)
         self.link_threshold = float(link_threshold)
         self.obstacle_range = float(obstacle_range)
+        self.obstacle_beams = int(obstacle_beams)
         self.launch_rate = float(launch_rate)
         self.model_step = float(model_step)
         self.launch_period = launch_period
@@ -176,6 +187,8 @@ class StigmergyModel(SwarmModel):
         self.a1, self.a2, self.a3, self.a4 = float(a1), float(a2), float(a3), float(a4)
         self.f1_falloff = float(f1_falloff)
         self.f1_relative = bool(f1_relative)
+        self.f1_line_of_sight = bool(f1_line_of_sight)
+        self.deposit_line_of_sight = bool(deposit_line_of_sight)
         self.swarm_size = int(swarm_size)
         self.max_speed = float(max_speed)
         self.detection_range = float(detection_range)
@@ -224,40 +237,28 @@ class StigmergyModel(SwarmModel):
         robot.position = position
         self.recorder.log("land", robot.unique_id, x=position[0], y=position[1])
         intensity = max(0.0, (self.swarm_size - index) / self.swarm_size)
-        self.pheromone.deposit(position, self.pheromone_radius, intensity, time=self.env.now)
+        self.pheromone.deposit(
+            position,
+            self.pheromone_radius,
+            intensity,
+            time=self.env.now,
+            line_of_sight=self.deposit_line_of_sight,
+        )
         self.beacon_positions = np.vstack([self.beacon_positions, position[None]])
         self.stamp_coverage(position[None])
 
     # ------------------------------------------------------------------ sensing
     def link_distance(self, points: np.ndarray) -> np.ndarray:
         """Distance (m) from each point to the nearest beacon (its link to the swarm)."""
-        diff = points[:, None, :] - self.beacon_positions[None, :, :]
-        return np.sqrt((diff**2).sum(axis=2).min(axis=1))
-
-    def _visible(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Free pixels within the detection range of the points (walls block the view)."""
-        dy, dx = self._view
-        ix, iy = self.arena.cell_of(points)
-        cx = (ix[:, None] + dx).ravel()
-        cy = (iy[:, None] + dy).ravel()
-        origin = np.repeat(points, len(dx), axis=0)
-        inside = (cx >= 0) & (cx < self.arena.cols) & (cy >= 0) & (cy < self.arena.rows)
-        cx, cy, origin = cx[inside], cy[inside], origin[inside]
-        keep = self.arena.free[cy, cx]
-        cx, cy, origin = cx[keep], cy[keep], origin[keep]
-        return cx, cy, origin
+        return nearest_distance(np.atleast_2d(points), self.beacon_positions)
 
     def stamp_coverage(self, points: np.ndarray) -> None:
         """Add what sensors at ``points`` see to ca; ends the run at the coverage target."""
-        cx, cy, origin = self._visible(np.atleast_2d(points))
-        new = ~self.seen[cy, cx]
-        cx, cy, origin = cx[new], cy[new], origin[new]
-        if len(cx) and self.coverage_line_of_sight:
-            ok = self.arena.line_of_sight(
-                origin, (np.stack([cx, cy], axis=1) + 0.5) * 1.0 * self.arena.resolution
-            )
-            cx, cy = cx[ok], cy[ok]
-        self.seen[cy, cx] = True
+        dy, dx = self._view
+        cells = visible_cells(
+            self.arena, points, dy, dx, skip=self.seen, line_of_sight=self.coverage_line_of_sight
+        )
+        self.seen.ravel()[cells] = True
         if self.ca >= self.coverage_target:
             self.finish("coverage")
 
@@ -269,15 +270,9 @@ class StigmergyModel(SwarmModel):
     def cb(self) -> float:
         """Fraction of free area seen by the robots where they are now (all states)."""
         points = np.array([r.position for r in self.robots])
-        cx, cy, origin = self._visible(points)
-        if self.coverage_line_of_sight and len(cx):
-            ok = self.arena.line_of_sight(
-                origin, (np.stack([cx, cy], axis=1) + 0.5) * self.arena.resolution
-            )
-            cx, cy = cx[ok], cy[ok]
-        seen = np.zeros_like(self.seen)
-        seen[cy, cx] = True
-        return float(seen.sum()) / self._n_free
+        dy, dx = self._view
+        cells = visible_cells(self.arena, points, dy, dx, line_of_sight=self.coverage_line_of_sight)
+        return float(len(np.unique(cells))) / self._n_free
 
     # ------------------------------------------------------------------ data
     def reporters(self) -> dict:

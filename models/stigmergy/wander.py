@@ -17,13 +17,15 @@ Between model steps (the physics ticks faster) the robots keep their heading at 
 """
 
 import numpy as np
+from numba import njit
 from scipy import ndimage
 
 from abm.arena import Arena
+from abm.errors import check_range
 from abm.pheromone import PheromoneField, disc_offsets
 from abm.physics import Physics
 
-__all__ = ["WanderController", "repulsion_grid", "unit"]
+__all__ = ["WanderController", "nearest_distance", "repulsion_grid", "sonar_grid", "unit"]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -50,6 +52,26 @@ def repulsion_grid(arena: Arena, radius: float) -> np.ndarray:
     return np.stack([fx, fy], axis=-1)
 
 
+def sonar_grid(arena: Arena, radius: float, beams: int) -> np.ndarray:
+    """f2 per pixel from a ring of ``beams`` range sensors, ``(rows, cols, 2)``.
+
+    From each pixel centre p, beam j (world-fixed, every 360 / beams degrees, the first along
+    +x) detects the first wall within ``radius`` at r_j; ``f2 = sum_j (p - r_j) / |p - r_j|``
+    over the beams that detect one (the paper's "obstacles detected by the ultrasonic
+    sensors", each pointing away from its obstacle).
+    """
+    check_range("beams", beams, 1, integer=True)
+    iy, ix = np.nonzero(arena.free)
+    centres = arena.cell_centre(ix, iy)
+    angles = 2 * np.pi * np.arange(beams) / beams
+    directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    out = np.zeros(arena.free.shape + (2,))
+    for d in directions:
+        hit = arena.raycast(centres, np.broadcast_to(d, centres.shape), radius) < radius
+        out[iy[hit], ix[hit]] -= d
+    return out
+
+
 class WanderController:
     """The physics controller of a :class:`StigmergyModel`.
 
@@ -63,10 +85,14 @@ class WanderController:
         self.field: PheromoneField = model.pheromone
         self.rng = model.rng
         self.arena = model.arena
-        self.repulsion = repulsion_grid(model.arena, model.obstacle_range)
+        if model.obstacle_beams:
+            self.repulsion = sonar_grid(model.arena, model.obstacle_range, model.obstacle_beams)
+        else:
+            self.repulsion = repulsion_grid(model.arena, model.obstacle_range)
         self.heading = model.physics.add_flyer_state("heading", 2)
         self._next_step = 0.0
         self._next_coverage = 0.0
+        self._steered = 0  # flyers (the first rows) that already have a heading
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and the mask of those landing now."""
@@ -76,36 +102,83 @@ class WanderController:
         n = physics.n_flying
         done = np.zeros(n, dtype=bool)
         due = now >= self._next_step - 1e-9
-        fresh = np.hypot(heading[:, 0], heading[:, 1]) == 0
-        if due or fresh.any():
-            rows = np.arange(n) if due else np.nonzero(fresh)[0]
+        if due or n > self._steered:  # a model step, or robots launched since the last one
+            rows = slice(0, n) if due else slice(self._steered, n)
             heading[rows] = self._headings(physics.pos[rows], heading[rows])
         if due:
             self._next_step = now + m.model_step
             pos = physics.pos
-            done = m.link_distance(pos) >= m.link_threshold
-            self.field.deposit(pos[~done], m.wander_radius, m.wander_intensity, time=now)
+            done = self.link(pos) >= m.link_threshold
+            self.field.deposit(
+                pos[~done],
+                m.wander_radius,
+                m.wander_intensity,
+                time=now,
+                line_of_sight=m.deposit_line_of_sight,
+            )
             if now >= self._next_coverage - 1e-9:
                 self._next_coverage = now + m.coverage_interval
                 m.stamp_coverage(pos)
+        # the physics removes the landing rows after this call; new flyers are appended
+        self._steered = n - int(done.sum())
         return heading * m.max_speed, done
+
+    def link(self, pos: np.ndarray) -> np.ndarray:
+        """Distance (m) from each flyer to the nearest beacon."""
+        return nearest_distance(pos, self.model.beacon_positions)
 
     def _headings(self, pos: np.ndarray, previous: np.ndarray) -> np.ndarray:
         m = self.model
         self.field.advance(m.env.now)
-        f1 = unit(
-            self.field.lower_direction(
-                pos, m.pheromone_radius, falloff=m.f1_falloff, relative=m.f1_relative
-            )
+        f1 = self.field.lower_direction(
+            pos,
+            m.pheromone_radius,
+            falloff=m.f1_falloff,
+            relative=m.f1_relative,
+            line_of_sight=m.f1_line_of_sight,
         )
-        ix, iy = self.arena.cell_of(pos)
-        ix = np.clip(ix, 0, self.arena.cols - 1)
-        iy = np.clip(iy, 0, self.arena.rows - 1)
-        f2 = unit(self.repulsion[iy, ix])
-        f3 = unit(previous + m.a4 * self.rng.uniform(-1.0, 1.0, size=pos.shape))
-        f = m.a1 * f1 + m.a2 * f2 + m.a3 * f3
-        f_hat = unit(f)
-        still = np.hypot(f_hat[:, 0], f_hat[:, 1]) == 0
+        noise = self.rng.uniform(-1.0, 1.0, size=pos.shape)
+        f_hat = _steer(
+            f1, pos, previous, noise, self.repulsion, self.arena.resolution, m.a1, m.a2, m.a3, m.a4
+        )
+        still = (f_hat[:, 0] == 0) & (f_hat[:, 1] == 0)
         if still.any():  # a perfect cancellation: keep the random heading
             f_hat[still] = unit(self.rng.normal(size=(int(still.sum()), 2)))
         return f_hat
+
+
+@njit(cache=True)
+def _unit(x, y):
+    norm = np.hypot(x, y)
+    if norm > 0:
+        return x / norm, y / norm
+    return 0.0, 0.0
+
+
+@njit(cache=True)
+def _steer(f1, pos, previous, noise, repulsion, res, a1, a2, a3, a4):
+    """``f_hat = unit(a1 unit(f1) + a2 unit(f2) + a3 unit(previous + a4 noise))`` per flyer,
+    with f2 read from the repulsion grid under the flyer.
+    """
+    rows, cols = repulsion.shape[0], repulsion.shape[1]
+    out = np.empty_like(f1)
+    for i in range(f1.shape[0]):
+        f1x, f1y = _unit(f1[i, 0], f1[i, 1])
+        ix = min(max(int(np.floor(pos[i, 0] / res)), 0), cols - 1)
+        iy = min(max(int(np.floor(pos[i, 1] / res)), 0), rows - 1)
+        f2x, f2y = _unit(repulsion[iy, ix, 0], repulsion[iy, ix, 1])
+        f3x, f3y = _unit(previous[i, 0] + a4 * noise[i, 0], previous[i, 1] + a4 * noise[i, 1])
+        out[i, 0], out[i, 1] = _unit(a1 * f1x + a2 * f2x + a3 * f3x, a1 * f1y + a2 * f2y + a3 * f3y)
+    return out
+
+
+@njit(cache=True)
+def nearest_distance(points: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Distance from each point to the nearest target (inf without targets)."""
+    out = np.full(points.shape[0], np.inf)
+    for i in range(points.shape[0]):
+        for j in range(targets.shape[0]):
+            d = np.hypot(points[i, 0] - targets[j, 0], points[i, 1] - targets[j, 1])
+            if d < out[i]:
+                out[i] = d
+    return out
