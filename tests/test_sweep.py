@@ -151,7 +151,7 @@ def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     out = tmp_path / "small"
     sweep_file = tmp_path / "small.toml"
     sweep_file.write_text(
-        SMOKE.read_text().replace("[60.0]", "[20.0]").replace('["low", "high"]', '["high"]')
+        SMOKE.read_text().replace('["low", "high"]', '["high"]')
         .replace("replications = 2", "replications = 100")
     )  # fmt: skip
     abm = "import sys; from analysis.cli import main; sys.exit(main())"
