@@ -37,6 +37,7 @@ def disc_offsets(
 
 
 _NO_TABLE = np.zeros((1, 1), dtype=np.uint8)
+_NO_WEIGHTS = np.zeros((0, 2))
 
 
 @njit(cache=True)
@@ -68,28 +69,46 @@ def _deposit_discs(store, mask, points, res, rows, cols, pad, offsets, intensity
 
 
 @njit(cache=True)
-def _disc_readings(
-    store, mask, points, res, rows, cols, pad, offsets, weights, relative, table, use
-):
-    """``sum_k weights[k] * reading_k`` per point, ``(n, 2)``: reading_k is the store at the
-    point's pixel + ``offsets[k]``; ``relative``: minus the store under the point, masked
-    pixels only; ``use`` a table: only the pixels the point's pixel sees.
+def _disc_sums(store, points, res, rows, cols, pad, offsets, wx, wy, here_weight):
+    """``sum_k (wx[k], wy[k]) * store[pixel + offsets[k]]`` per point, ``(n, 2)``, minus
+    ``store[pixel] * here_weight[cell]`` when ``here_weight`` has a row per grid cell (the
+    relative reading; the weight is the disc's sum of weights over the masked pixels).
+    """
+    n = points.shape[0]
+    out = np.zeros((n, 2))
+    relative = here_weight.shape[0] == rows * cols
+    for i in range(n):
+        c, cell = _cell(points[i, 0], points[i, 1], res, rows, cols, pad)
+        ax = 0.0
+        ay = 0.0
+        for k in range(offsets.shape[0]):
+            v = store[c + offsets[k]]
+            ax += wx[k] * v
+            ay += wy[k] * v
+        if relative:
+            ax -= store[c] * here_weight[cell, 0]
+            ay -= store[c] * here_weight[cell, 1]
+        out[i, 0] = ax
+        out[i, 1] = ay
+    return out
+
+
+@njit(cache=True)
+def _visible_readings(store, points, res, rows, cols, pad, offsets, weights, table):
+    """``sum_k weights[k] * (store[pixel + offsets[k]] - store[pixel])`` per point over the
+    offsets its pixel sees (``table``), ``(n, 2)``.
     """
     n = points.shape[0]
     out = np.zeros((n, 2))
     for i in range(n):
         c, cell = _cell(points[i, 0], points[i, 1], res, rows, cols, pad)
-        here = store[c] if relative else 0.0
+        here = store[c]
         ax = 0.0
         ay = 0.0
         for k in range(offsets.shape[0]):
-            j = c + offsets[k]
-            if use:
-                if not (table[cell, k >> 3] >> (7 - (k & 7))) & 1:
-                    continue
-            elif relative and not mask[j]:
+            if not (table[cell, k >> 3] >> (7 - (k & 7))) & 1:
                 continue
-            v = store[j] - here
+            v = store[c + offsets[k]] - here
             ax += weights[k, 0] * v
             ay += weights[k, 1] * v
         out[i, 0] = ax
@@ -139,6 +158,7 @@ class PheromoneField:
         self._discs: dict[tuple[float, int, float], tuple] = {}
         self._tables: dict[tuple[float, int], np.ndarray] = {}
         self._flat: dict[tuple[float, int], np.ndarray] = {}
+        self._derived: dict[tuple, object] = {}
 
     @property
     def _grid(self) -> np.ndarray:
@@ -252,20 +272,15 @@ class PheromoneField:
         if len(points) == 0:
             return np.zeros((0, 2))
         offsets = self._offsets(radius, stride)
-        f1 = _disc_readings(
-            self._store.ravel(),
-            self._mask_store.ravel(),
-            points,
-            self.resolution,
-            self.rows,
-            self.cols,
-            self._pad,
-            offsets,
-            self._disc(radius, stride, falloff)[2],
-            relative or line_of_sight,
-            self._visibility(radius, stride) if line_of_sight else _NO_TABLE,
-            line_of_sight,
-        )
+        _, _, weights, _ = self._disc(radius, stride, falloff)
+        grid = (self.resolution, self.rows, self.cols, self._pad)
+        if line_of_sight:
+            table = self._visibility(radius, stride)
+            f1 = _visible_readings(self._store.ravel(), points, *grid, offsets, weights, table)
+        else:
+            wx, wy = self._split(radius, stride, falloff)
+            here = self._here_weights(radius, stride, falloff) if relative else _NO_WEIGHTS
+            f1 = _disc_sums(self._store.ravel(), points, *grid, offsets, wx, wy, here)
         return -f1 * stride**2
 
     def gradient(self, points: np.ndarray) -> np.ndarray:
@@ -300,6 +315,29 @@ class PheromoneField:
             mask = np.ones((self.rows, self.cols), dtype=bool) if self.mask is None else self.mask
             self._tables[key] = cached_disc_visibility(mask, dy, dx)
         return self._tables[key]
+
+    def _split(self, radius: float, stride: int, falloff: float) -> tuple[np.ndarray, np.ndarray]:
+        """The disc's f1 weights as two contiguous arrays (x, y)."""
+        key = ("split", float(radius), int(stride), float(falloff))
+        if key not in self._derived:
+            weights = self._disc(radius, stride, falloff)[2]
+            self._derived[key] = (weights[:, 0].copy(), weights[:, 1].copy())
+        return self._derived[key]
+
+    def _here_weights(self, radius: float, stride: int, falloff: float) -> np.ndarray:
+        """Per grid cell ``(rows * cols, 2)``: the f1 weights summed over the disc's masked
+        pixels, what the reading under the robot is multiplied by in a relative reading.
+        """
+        key = ("here", float(radius), int(stride), float(falloff))
+        if key not in self._derived:
+            iy, ix = np.mgrid[0 : self.rows, 0 : self.cols]
+            centres = (np.stack([ix.ravel(), iy.ravel()], axis=1) + 0.5) * self.resolution
+            mask = self._mask_store.astype(float).ravel()
+            wx, wy = self._split(radius, stride, falloff)
+            offsets = self._offsets(radius, stride)  # may widen the margin: before ``grid``
+            grid = (self.resolution, self.rows, self.cols, self._pad)
+            self._derived[key] = _disc_sums(mask, centres, *grid, offsets, wx, wy, _NO_WEIGHTS)
+        return self._derived[key]
 
     def _offsets(self, radius: float, stride: int = 1) -> np.ndarray:
         """Flat offsets in the padded store of the disc's pixels (widens the margin first)."""
