@@ -18,7 +18,7 @@ import pandas as pd
 
 from analysis.macro import fit_lambdas, fit_recurrence, predict_from_lambdas, rmsd
 
-__all__ = ["analyse", "run_grid", "run_stigmergy", "write_report"]
+__all__ = ["analyse", "run_grid", "run_stigmergy", "sweep_grid", "write_report"]
 
 
 def run_stigmergy(task: dict) -> tuple[dict, pd.DataFrame]:
@@ -76,6 +76,59 @@ def run_grid(
     summaries = pd.DataFrame([s for s, _ in results])
     counts = pd.concat([c for _, c in results], ignore_index=True)
     return summaries, counts
+
+
+def sweep_grid(
+    maps: list[str],
+    radii: list[float],
+    runs: int,
+    out: str | Path,
+    seed: int = 0,
+    workers: int | None = None,
+    progress: bool = True,
+    **model_kwargs,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """:func:`run_grid` as a resumable sweep (:func:`analysis.sweep.run_sweep`).
+
+    Each finished run is written to ``out`` at once (``runs/``, ``series/``); runs already
+    there are skipped, so an interrupted reproduction picks up where it stopped. Returns the
+    same ``(summaries, counts)`` as :func:`run_grid`, for the runs of this grid.
+    """
+    from analysis.sweep import load_results, run_sweep
+    from models.stigmergy import StigmergyModel
+
+    grid = {"map": list(maps), "pheromone_radius": [float(r) for r in radii]}
+    grid.update({k: [v] for k, v in model_kwargs.items()})
+    rows = run_sweep(
+        StigmergyModel,
+        grid,
+        replications=runs,
+        seed=seed,
+        out=out,
+        workers=workers,
+        time_series=True,
+        progress=progress,
+    )
+    failed = rows[rows["status"] != "ok"]
+    if len(failed):
+        raise RuntimeError(f"{len(failed)} runs failed, first: {failed['error'].iloc[0]}")
+    keep = rows["map"].isin(maps) & rows["pheromone_radius"].isin(grid["pheromone_radius"])
+    keep &= rows["rep"] < runs
+    for key, value in model_kwargs.items():
+        keep &= rows[key] == value
+    summaries = rows[keep].reset_index(drop=True)
+    series = load_results(out, series=True)
+    series = series[series["run_id"].isin(summaries["run_id"])]
+    ends = summaries[["run_id", "time"]].rename(columns={"time": "end"})
+    series = series.merge(ends, on="run_id")
+    last = series.sort_values("time", kind="stable").groupby("run_id").tail(1).copy()
+    last["time"] = last["end"]  # the counts hold until the run ends
+    counts = pd.concat([series, last], ignore_index=True).drop(columns="end")
+    info = summaries[["run_id", "map", "pheromone_radius", "seed"]].rename(
+        columns={"pheromone_radius": "radius"}
+    )
+    counts = counts.merge(info, on="run_id").sort_values(["run_id", "time"], kind="stable")
+    return summaries, counts.reset_index(drop=True)
 
 
 def analyse(summaries: pd.DataFrame, counts: pd.DataFrame, step: float = 0.5) -> dict:
