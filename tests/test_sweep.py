@@ -147,6 +147,16 @@ def test_a_sweep_of_another_seed_refuses_the_folder(tmp_path):
         run_sweep("beacon-explorer", TINY, 1, 2, tmp_path, "serial", progress=False)
 
 
+def _ctrl_c_as_in_a_terminal() -> None:
+    """Give the child SIGINT's default disposition and an unblocked mask, as a shell does.
+
+    Earlier tests in the same pytest process (worker pools, Dask) can leave SIGINT ignored or
+    blocked, and a child inherits both, so it would never see the Ctrl-C this test sends.
+    """
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     out = tmp_path / "small"
     sweep_file = tmp_path / "small.toml"
@@ -157,7 +167,8 @@ def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     abm = "import sys; from analysis.cli import main; sys.exit(main())"
     cmd = [sys.executable, "-c", abm, "sweep", str(sweep_file), "--executor", "serial",
            "--out", str(out)]  # fmt: skip
-    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=_ctrl_c_as_in_a_terminal)  # fmt: skip
     deadline = time.monotonic() + 60
     while len(list((out / "runs").glob("*.parquet"))) < 2 and time.monotonic() < deadline:
         time.sleep(0.05)
