@@ -70,8 +70,6 @@ class ExplorerController:
         self.arena = arena
         self.beacons = beacons
         self.rng = rng
-        self.params = params
-        self.max_speed = max_speed
         self._version = -1
         self._signals = None
         physics.add_flyer_state("T", 2)
