@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import lmfit
 import numpy as np
 import pandas as pd
+from numba import njit
 
 from abm.errors import ConfigError, check_range
 
@@ -33,6 +34,7 @@ __all__ = [
     "mean_counts",
     "predict_from_lambdas",
     "recurrence",
+    "refine_lambdas",
     "rmsd",
 ]
 
@@ -55,18 +57,23 @@ def recurrence(
     """
     check_range("steps", steps, 0, integer=True)
     check_range("step", step, 0.0, low_open=True)
-    w = np.empty(steps + 1)
-    b = np.empty(steps + 1)
     a = a0 * np.power(alpha6, np.arange(steps + 1, dtype=float))
-    w[0], b[0] = w0, b0
-    wi, bi = float(w0), float(b0)
-    for t in range(1, steps + 1):
-        moved = a[t] * wi
-        wi = wi - moved + alpha5
-        bi = bi + moved
-        w[t], b[t] = wi, bi
+    w, b = _iterate(a, float(alpha5), float(w0), float(b0))
     idx = np.arange(steps + 1)
     return pd.DataFrame({"step": idx, "time": idx * step, "wander": w, "beacon": b, "a": a})
+
+
+@njit(cache=True)
+def _iterate(a: np.ndarray, alpha5: float, w0: float, b0: float) -> tuple[np.ndarray, np.ndarray]:
+    """w_t, b_t of the recurrence for the given a_t (a compiled loop: fits call it often)."""
+    w = np.empty(a.shape[0])
+    b = np.empty(a.shape[0])
+    w[0], b[0] = w0, b0
+    for t in range(1, a.shape[0]):
+        moved = a[t] * w[t - 1]
+        w[t] = w[t - 1] - moved + alpha5
+        b[t] = b[t - 1] + moved
+    return w, b
 
 
 def rmsd(predicted: np.ndarray, observed: np.ndarray) -> float:
@@ -321,3 +328,70 @@ def fit_lambdas(fits: pd.DataFrame) -> tuple[dict, dict]:
     lam.setdefault("l5", 0.0)
     err.setdefault("l5", float("nan"))
     return lam, err
+
+
+def refine_lambdas(
+    lambdas: dict,
+    curves: list[tuple[pd.DataFrame, float, float, float]],
+    alpha5: float = 0.01,
+    step: float = 0.5,
+) -> tuple[dict, dict]:
+    """Fit l0..l5 jointly to the observed count curves, starting from ``lambdas``.
+
+    :func:`fit_lambdas` regresses alpha6 and a0 in parameter space, where an error of 1e-4 in
+    alpha6 looks negligible but changes a_t = a0 alpha6^t by a factor exp(-1) after 10,000
+    steps. Here the same six lambdas are fitted to what they are judged on: the predicted
+    w and b of every (map, radius) against the observed means, each curve weighted by one
+    over its length (so the sum minimised is the sum of the curves' mean squared errors).
+    l4 (l5) stays fixed at its start value when every curve has the same entropy (size).
+
+    Args:
+        lambdas: start values l0..l5 (e.g. from :func:`fit_lambdas`).
+        curves: ``(observed, radius, entropy, envsize)`` per (map, radius); ``observed`` has
+            ``time``, ``wander``, ``beacon`` (e.g. :attr:`FitResult.observed`).
+        alpha5: robots added per step.
+        step: model step (s).
+
+    Returns:
+        ``(lambdas, stderr)`` dicts keyed l0..l5.
+
+    """
+    if not curves:
+        raise ConfigError("curves must hold at least one (observed, radius, entropy, envsize)")
+    prepared = []
+    for observed, radius, entropy, envsize in curves:
+        t = observed["time"].to_numpy(float)
+        idx = np.round(t / step).astype(np.int64)
+        weight = 1.0 / np.sqrt(2 * len(idx))
+        obs = np.concatenate([observed["wander"].to_numpy(float), observed["beacon"].to_numpy()])
+        prepared.append((idx, obs, float(radius), float(entropy), float(envsize), weight))
+    free = {
+        "l4": len({p[3] for p in prepared}) > 1,  # one entropy: l3 alone sets a0
+        "l5": len({p[4] for p in prepared}) > 1,
+    }
+    params = lmfit.Parameters()
+    for name in ("l0", "l1", "l2", "l3", "l4", "l5"):
+        params.add(name, value=float(lambdas[name]), vary=free.get(name, True))
+
+    def residual(p: lmfit.Parameters) -> np.ndarray:
+        lam = p.valuesdict()
+        out = []
+        for idx, obs, radius, entropy, envsize, weight in prepared:
+            raw = a0_from_lambdas(lam, entropy, envsize)
+            a0 = min(1.0, max(0.0, raw))
+            alpha6 = min(1.0, max(0.0, alpha6_from_lambdas(lam, radius)))
+            a = a0 * np.power(alpha6, np.arange(idx[-1] + 1, dtype=float))
+            w, b = _iterate(a, alpha5, 0.0, 1.0)
+            out.append(weight * (np.concatenate([w[idx], b[idx]]) - obs))
+            # a0 is a fraction: a penalty keeps it in [0, 1] (clipping alone would leave the
+            # lambdas behind a clipped a0 free to drift)
+            out.append(np.array([100.0 * (raw - a0)]))
+        return np.concatenate(out)
+
+    result = lmfit.minimize(residual, params, method="leastsq")
+    values = {k: float(v) for k, v in result.params.valuesdict().items()}
+    errors = {
+        k: float(v.stderr) if v.stderr is not None else float("nan")
+        for k, v in result.params.items()
+    }
+    return values, errors

@@ -9,6 +9,7 @@ from analysis.macro import (
     mean_counts,
     predict_from_lambdas,
     recurrence,
+    refine_lambdas,
     rmsd,
 )
 from models.stigmergy.params import PAPER_LAMBDAS, PAPER_TABLE1
@@ -97,6 +98,31 @@ def test_fit_lambdas_recovers_known():
     got, se = fit_lambdas(pd.DataFrame(rows))
     for k, v in lam.items():
         assert got[k] == pytest.approx(v, rel=1e-4, abs=1e-12)
+
+
+def test_refine_lambdas_fits_the_curves_it_is_judged_on():
+    true = dict(l0=1.0, l1=-3e-5, l2=-2e-6, l3=0.05, l4=0.02, l5=1e-6)
+    curves = []
+    for ent, size in ((0.24, 1e4), (0.19, 2e4), (0.46, 1e4)):
+        for r in (20, 30, 40):
+            obs = predict_from_lambdas(true, r, ent, size, 1500)
+            curves.append((obs[["time", "wander", "beacon"]], r, ent, size))
+    # a start a regression could give: alpha6 off by 1e-4, tiny in parameter space
+    start = dict(true, l0=1.0001, l3=0.06)
+
+    def mean_rmsd(lam):
+        out = []
+        for obs, r, ent, size in curves:
+            pred = predict_from_lambdas(lam, r, ent, size, 1500)
+            out.append(rmsd(pred["wander"], obs["wander"]) + rmsd(pred["beacon"], obs["beacon"]))
+        return np.mean(out)
+
+    got, se = refine_lambdas(start, curves)
+    assert mean_rmsd(got) < 0.01 < mean_rmsd(start)
+    assert got["l0"] == pytest.approx(1.0, abs=2e-6)
+    assert set(se) == set(true)
+    with pytest.raises(ConfigError, match="curves"):
+        refine_lambdas(start, [])
 
 
 def test_bad_input():
