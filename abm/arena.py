@@ -167,9 +167,8 @@ class Arena:
         run of free cells beyond it in that direction (precomputed per cell), capped at
         ``max_range``; 0 for a point inside a wall.
         """
-        points = np.ascontiguousarray(np.atleast_2d(np.asarray(points, dtype=float)))
         return gridkernels.cardinal_distances(
-            self.padded, self.runs, self.resolution, points, float(max_range)
+            self.padded, self.runs, self.resolution, _points(points), float(max_range)
         )
 
     def segment_crosses_wall(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -189,10 +188,13 @@ class Arena:
 
         -1 where no target qualifies; e.g. the beacon an explorer can communicate with.
         """
-        points = np.ascontiguousarray(np.atleast_2d(np.asarray(points, dtype=float)))
-        targets = np.ascontiguousarray(np.asarray(targets, dtype=float).reshape(-1, 2))
         return gridkernels.nearest_visible(
-            self.padded, self.walls_sat, self.resolution, points, targets, float(max_range)
+            self.padded,
+            self.walls_sat,
+            self.resolution,
+            _points(points),
+            _points(np.asarray(targets, dtype=float).reshape(-1, 2)),
+            float(max_range),
         )
 
     def line_of_sight(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -211,11 +213,14 @@ class Arena:
         )
 
 
+def _points(a: np.ndarray) -> np.ndarray:
+    """Points as a contiguous ``(n, 2)`` float array, as the kernels read them."""
+    return np.ascontiguousarray(np.atleast_2d(np.asarray(a, dtype=float)))
+
+
 def _point_pairs(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two ``(n, 2)`` float arrays, broadcast against each other and contiguous for the kernels."""
-    a = np.atleast_2d(np.asarray(a, dtype=float))
-    b = np.atleast_2d(np.asarray(b, dtype=float))
-    a, b = np.broadcast_arrays(a, b)
+    a, b = np.broadcast_arrays(_points(a), _points(b))
     return np.ascontiguousarray(a), np.ascontiguousarray(b)
 
 

@@ -34,6 +34,18 @@ def _free(padded: np.ndarray, ix: int, iy: int) -> bool:
     return padded[r, c]
 
 
+@njit(cache=True, inline="always")
+def _first_boundary(origin, direction, cell, res):
+    """Along one axis: ray length to the first cell boundary, and between boundaries (inf if
+    the ray does not move along this axis).
+    """
+    if direction == 0.0:
+        return math.inf, math.inf
+    inv = 1.0 / abs(direction)
+    edge = (cell + 1) * res - origin if direction > 0.0 else origin - cell * res
+    return edge * inv, res * inv
+
+
 @njit(cache=True)
 def _raycast(padded, res, ox, oy, dx, dy, max_range):
     """Distance from (ox, oy) along (dx, dy) to the first wall cell, capped at max_range."""
@@ -47,20 +59,8 @@ def _raycast(padded, res, ox, oy, dx, dy, max_range):
         return 0.0
     step_x = 1 if dx > 0.0 else -1
     step_y = 1 if dy > 0.0 else -1
-    if dx != 0.0:
-        inv_x = 1.0 / abs(dx)
-        t_max_x = ((ix + 1) * res - ox if dx > 0.0 else ox - ix * res) * inv_x
-    else:
-        inv_x = math.inf
-        t_max_x = math.inf
-    if dy != 0.0:
-        inv_y = 1.0 / abs(dy)
-        t_max_y = ((iy + 1) * res - oy if dy > 0.0 else oy - iy * res) * inv_y
-    else:
-        inv_y = math.inf
-        t_max_y = math.inf
-    t_delta_x = res * inv_x
-    t_delta_y = res * inv_y
+    t_max_x, t_delta_x = _first_boundary(ox, dx, ix, res)
+    t_max_y, t_delta_y = _first_boundary(oy, dy, iy, res)
     for _ in range(int(math.ceil(max_range / res)) * 2 + 2):
         if t_max_x < t_max_y:
             t_here = t_max_x

@@ -23,6 +23,7 @@ __all__ = [
     "distance_sensors",
     "measured_relative",
     "noisy_reading",
+    "ray_sensors",
     "relative_positions",
 ]
 
@@ -100,7 +101,25 @@ def distance_sensors(
 
     A sensor that sees nothing within range reads ``max_range``.
     """
-    true = arena.cardinal_distances(points, max_range)
+    return _with_noise(arena.cardinal_distances(points, max_range), rng, max_range, noise)
+
+
+def ray_sensors(
+    arena: Arena,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    rng: np.random.Generator,
+    max_range: float = 3.5,
+    noise: float = 0.05,
+) -> np.ndarray:
+    """Noisy wall distances ``(n,)`` along arbitrary rays: the distance sensors' model."""
+    true = arena.raycast(origins, directions, max_range)
+    return _with_noise(true[:, None], rng, max_range, noise)[:, 0]
+
+
+def _with_noise(
+    true: np.ndarray, rng: np.random.Generator, max_range: float, noise: float
+) -> np.ndarray:
     if noise <= 0:
         return true
     return _noisy_readings(true, rng.standard_normal(true.shape), float(noise), float(max_range))

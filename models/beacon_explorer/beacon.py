@@ -26,7 +26,7 @@ import numpy as np
 
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
-from abm.sensors import distance_sensors, relative_positions
+from abm.sensors import distance_sensors, ray_sensors, relative_positions
 from models.beacon_explorer.params import BeaconExplorerParams
 
 __all__ = ["Beacon", "BeaconNetwork", "NORTH", "EAST", "SOUTH", "WEST", "NO_DIRECTION"]
@@ -34,8 +34,14 @@ __all__ = ["Beacon", "BeaconNetwork", "NORTH", "EAST", "SOUTH", "WEST", "NO_DIRE
 NORTH, EAST, SOUTH, WEST = 0, 1, 2, 3
 NO_DIRECTION = -1
 DIRECTIONS = (NORTH, EAST, SOUTH, WEST)  # clockwise from North
-#: Compass bearings (deg, clockwise from North) of the rays probing the NE, SE, SW, NW quadrants.
-QUADRANT_RAYS = tuple(q * 90 + a for q in range(4) for a in (15, 30, 45, 60, 75))
+#: Unit vectors of the rays probing the NE, SE, SW and NW quadrants, five per quadrant at
+#: compass bearings 15 to 75 degrees past its first cardinal (clockwise from North).
+QUADRANT_RAYS = np.array(
+    [
+        [np.sin(a), np.cos(a)]
+        for a in np.radians([q * 90 + b for q in range(4) for b in (15, 30, 45, 60, 75)])
+    ]
+)
 
 
 def opposite(direction: int) -> int:
@@ -196,11 +202,9 @@ class BeaconNetwork:
         # Five rays into each quadrant (NE, SE, SW, NW; 15 to 75 degrees from its first
         # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
         # corner can run 3.5 m up the side branch and pass for open space.
-        rays = np.array([[np.sin(a), np.cos(a)] for a in np.radians(QUADRANT_RAYS)])
-        reach = self.arena.raycast(
-            np.repeat(position[None], len(rays), axis=0), rays, p.sensor_range
+        reach = ray_sensors(
+            self.arena, position, QUADRANT_RAYS, self.rng, p.sensor_range, p.sensor_noise
         )
-        reach = reach + self.rng.normal(0.0, p.sensor_noise, len(reach)) * (reach < p.sensor_range)
         quadrant_clear = (reach > p.open_diagonal).reshape(4, -1).all(axis=1)
         open_quadrant = any(
             not walls[d] and not walls[(d + 1) % 4] and quadrant_clear[d] for d in DIRECTIONS
