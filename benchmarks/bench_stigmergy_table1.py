@@ -8,7 +8,9 @@ Usage:
 Runs go through :func:`analysis.sweep.run_sweep` on all cores: a progress bar, each finished
 run written at once to ``<out>/runs`` and ``<out>/series`` (Parquet), and a restarted
 benchmark skips the runs already there (so the wall time printed is that of this session's
-runs only; use a fresh ``--out`` to time the whole reproduction). Prints the machine's load
+runs only; use a fresh ``--out`` to time the whole reproduction). Runs are keyed by their
+parameters, which name a map but do not pin its walls: stored runs whose ``map_digest`` is not
+the current map's (or that have none) are deleted first and run again. Prints the machine's load
 before and after (the machine may be shared), our Table 1 beside the paper's, the mean RMSDs
 beside the paper's Table 2, and writes ``<out>/table1.csv`` and the HTML fit report.
 """
@@ -30,6 +32,25 @@ PAPER_MAPS = {"hall100": 1, "hall100x200": 2, "divided": 3, "complex": 4}
 def _load() -> str:
     one, five, fifteen = os.getloadavg()
     return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
+
+
+def _drop_stale(out: Path, maps: list[str]) -> int:
+    """Delete stored runs of ``maps`` made on other walls than today's; returns how many."""
+    from abm.worlds import builtin_map, map_digest
+    from analysis.sweep import load_results
+
+    if not (out / "runs").is_dir():
+        return 0
+    rows = load_results(out, failed=False)
+    if rows.empty:
+        return 0
+    digest = rows["map_digest"] if "map_digest" in rows else pd.Series(None, index=rows.index)
+    current = {m: map_digest(builtin_map(m)) for m in maps}
+    stale = rows["map"].isin(maps) & (digest != rows["map"].map(current))
+    for run_id in rows.loc[stale, "run_id"]:
+        for sub in ("runs", "series"):
+            (out / sub / f"{run_id}.parquet").unlink(missing_ok=True)
+    return int(stale.sum())
 
 
 def _table(result: dict) -> pd.DataFrame:
@@ -74,6 +95,9 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("out/stigmergy_table1"))
     args = parser.parse_args()
 
+    stale = _drop_stale(args.out, args.maps)
+    if stale:
+        print(f"deleted {stale} stored runs made on other map walls; they run again")
     print(f"before: {_load()}", flush=True)
     start = time.perf_counter()
     summaries, counts = sweep_grid(

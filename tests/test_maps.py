@@ -65,3 +65,28 @@ def test_bad_maps(tmp_path):
         load_map("atlantis")
     with pytest.raises(MapError, match="boolean"):
         map_entropy(np.zeros((3, 3)))
+
+
+def test_complex_map_openings_are_wide_enough():
+    """Paper map 4: every door, gap and corridor at least 8 m wide (> sqrt(2) r_u), so the
+    wanders' range beams do not turn them back from any opening: a body of radius 3.5 m
+    (pixels 4 m or more from every wall) can reach every part of the map."""
+    from scipy import ndimage
+
+    from abm.worlds.bitmap import COMPLEX_MIN_OPENING
+
+    free = MAPS["complex"].build()
+    core = ndimage.distance_transform_edt(free) >= COMPLEX_MIN_OPENING / 2
+    assert ndimage.label(core)[1] == 1
+    assert ndimage.distance_transform_edt(~core)[free].max() <= 6.0
+    assert round(map_entropy(free), 4) == 0.4639
+
+
+def test_map_digest_tells_walls_apart():
+    from abm.worlds import map_digest
+
+    free = MAPS["complex"].build()
+    other = free.copy()
+    other[50, 50] = not other[50, 50]
+    assert map_digest(free) == map_digest(builtin_map("complex")) != map_digest(other)
+    assert map_digest(Arena(free, resolution=2.0)) != map_digest(free)

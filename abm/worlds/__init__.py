@@ -33,8 +33,17 @@ from abm.worlds.bitmap import (  # noqa: E402
     MapInfo,
     builtin_map,
     load_map,
+    map_digest,
     map_entropy,
     write_builtin_maps,
 )
 
-__all__ += ["MAPS", "MapInfo", "builtin_map", "load_map", "map_entropy", "write_builtin_maps"]
+__all__ += [
+    "MAPS",
+    "MapInfo",
+    "builtin_map",
+    "load_map",
+    "map_digest",
+    "map_entropy",
+    "write_builtin_maps",
+]

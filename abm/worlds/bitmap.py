@@ -9,6 +9,7 @@ reproducible; :func:`write_builtin_maps` writes them as PNGs (the copies shipped
 ``abm/worlds/maps/``).
 """
 
+import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,6 +24,7 @@ __all__ = [
     "MapInfo",
     "builtin_map",
     "load_map",
+    "map_digest",
     "map_entropy",
     "write_builtin_maps",
     "MAPS_DIR",
@@ -57,6 +59,19 @@ def map_entropy(free: np.ndarray | Arena) -> float:
     return float(-(p * np.log2(p)).sum() + 0.0)
 
 
+def map_digest(free: np.ndarray | Arena) -> str:
+    """A short fingerprint of a map's walls (and of its resolution, for an arena).
+
+    Two maps of the same name and entropy can differ; result caches key their runs by it.
+    """
+    resolution = 1.0
+    if isinstance(free, Arena):
+        free, resolution = free.free, free.resolution
+    free = np.asarray(free, dtype=bool)
+    text = f"{free.shape}|{resolution!r}|".encode() + np.packbits(free).tobytes()
+    return hashlib.sha256(text).hexdigest()[:12]
+
+
 # ---------------------------------------------------------------------- built-in maps
 def _hall(rows: int, cols: int) -> np.ndarray:
     free = np.zeros((rows, cols), dtype=bool)
@@ -79,9 +94,21 @@ def _divided() -> np.ndarray:
     return _walls(_hall(100, 100), [(50, 1, 50, 98)], [(50, 45, 50, 49)])
 
 
+#: Narrowest opening of the complex map (m): wider than sqrt(2) r_u = 7.1 m, so a robot on an
+#: opening's centre line detects neither side with any of its eight 5 m range beams.
+COMPLEX_MIN_OPENING = 8
+
+
 def _complex() -> np.ndarray:
-    # Paper map 4: a 100 x 100 hall with walls and corridors; 588 wall pixels inside the
-    # perimeter give the paper's entropy 0.4639.
+    # Paper map 4, "a complex 100x100m hall, with multiple walls and corridors" (Table 1), "the
+    # labyrinth" (Fig 4); the image is not published. 588 wall pixels inside the perimeter give
+    # the paper's entropy 0.4639. Every door, gap and corridor is at least 8 m wide: the paper's
+    # maps have "navigable areas ... [large] enough so that navigation and avoidance of obstacles
+    # is developed effectively" (Sect. "Experimentation"), with walls spread evenly ("similar
+    # areas distributed with the same density"). Our first reconstruction had 4-6 m gaps in
+    # corners, narrower than sqrt(2) r_u: the obstacle term f2 (weight 0.4, twice f1's) turned
+    # wanders back at each one, and at C_rb = 40 m the two north-east rooms behind three such
+    # gaps were never entered in 17 of 30 runs (see models/stigmergy/README.md).
     free = _hall(100, 100)
     segments = [
         (20, 1, 20, 98),  # west corridor (x 1-19) holding the launch point
@@ -91,32 +118,40 @@ def _complex() -> np.ndarray:
         (21, 25, 80, 25),
         (60, 1, 60, 24),
         (80, 26, 80, 40),
-        (45, 75, 65, 75),
-        (75, 70, 98, 70),
-        (30, 8, 45, 8),
-        (85, 8, 85, 20),
-        (30, 40, 75, 40),
-        (45, 60, 65, 60),
-        (85, 75, 85, 98),
-        (5, 20, 15, 20),
-        (90, 26, 90, 45),
-        (25, 60, 35, 60),
-        (55, 85, 65, 85),
+        (49, 75, 61, 75),
+        (79, 70, 98, 70),
+        (30, 9, 45, 9),
+        (45, 9, 45, 16),
+        (85, 9, 85, 16),
+        (69, 9, 76, 9),
+        (30, 40, 46, 40),
+        (55, 40, 71, 40),
+        (49, 60, 61, 60),
+        (85, 79, 85, 98),
+        (1, 20, 11, 20),
+        (90, 26, 90, 41),
+        (21, 60, 31, 60),
+        (21, 80, 31, 80),
+        (51, 85, 61, 85),
         (10, 40, 19, 40),
-        (65, 8, 80, 8),
-        (45, 12, 45, 22),
-        (75, 30, 75, 45),
+        (10, 1, 10, 8),
+        (10, 49, 10, 74),
+        (85, 62, 85, 69),
+        (71, 60, 76, 60),
+        (60, 26, 60, 31),
+        (70, 26, 70, 31),
+        (40, 34, 40, 39),
+        (55, 61, 55, 66),
     ]
     doors = [
-        (20, 85, 20, 90),
-        (20, 30, 20, 35),
-        (55, 50, 60, 50),
-        (85, 50, 90, 50),
-        (40, 70, 40, 75),
-        (70, 88, 70, 93),
-        (30, 25, 35, 25),
-        (60, 10, 60, 15),
-        (50, 40, 54, 40),
+        (20, 84, 20, 91),
+        (20, 29, 20, 36),
+        (54, 50, 61, 50),
+        (84, 50, 91, 50),
+        (40, 69, 40, 76),
+        (70, 86, 70, 93),
+        (29, 25, 36, 25),
+        (60, 9, 60, 16),
     ]
     return _walls(free, segments, doors)
 

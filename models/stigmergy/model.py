@@ -20,7 +20,7 @@ from abm.model import SwarmModel
 from abm.pheromone import PheromoneField, disc_offsets
 from abm.physics import FlightParams
 from abm.robot import Robot
-from abm.worlds.bitmap import MAPS, load_map, map_entropy
+from abm.worlds.bitmap import MAPS, load_map, map_digest, map_entropy
 from models.stigmergy.params import DEFAULTS
 from models.stigmergy.wander import WanderController, nearest_distance
 
@@ -299,6 +299,7 @@ class StigmergyModel(SwarmModel):
             "cb": 100.0 * self.cb(),
             "entropy": self.entropy,
             "envsize": self.envsize,
+            "map_digest": map_digest(self.arena),
             "wall_collisions": self.physics.wall_collisions,
             "robot_collisions": self.physics.robot_collisions,
         }
