@@ -193,3 +193,54 @@ def test_malformed_map_file_raises_map_error(tmp_path):
         BeaconExplorerModel(world=str(bad))
     with pytest.raises(MapError, match="does not exist"):
         BeaconExplorerModel(world=str(tmp_path / "nowhere.png"))
+
+
+def settled_network(cells, base, others, seed=0):
+    """A model on a world of 3 m ``cells`` with beacons attached by hand at ``others`` (m),
+    run until the beacons' decisions have settled (no explorer takes off meanwhile)."""
+    from abm.arena import Arena
+    from abm.worlds import World
+
+    arena = Arena.from_cells(cells, cell_size=3.0)
+    world = World(arena, np.array(base), "bitmap", "high", np.array(cells), None)
+    model = BeaconExplorerModel(
+        world=world, n_robots=len(others), launch_period=1e4, seed=seed, trace_interval=None
+    )
+    robots = [r for r in model.robots.values() if r.state == "ground"]
+    for robot, position in zip(robots, others, strict=True):
+        model.beacons.attach(robot.unique_id, np.array(position))
+    model.run(until=20.0)
+    assert model.beacons.quiescent
+    return model, [r.unique_id for r in robots]
+
+
+def test_a_corridor_beacon_does_not_advertise_a_way_another_beacon_fills():
+    """The T-junction of a stalled run (seed 4980620767783090268, 24 s): a beacon that drifted to
+    the side branch's edge saw the branch as empty although a branch beacon 2.4 m from that spot
+    (not its lattice neighbour) covered it; explorers shuttled between the two beacons' targets
+    until the time limit. Its noisy relative-positioning sensor must label the branch "beacon"
+    (about 95 % of single readings here; the old code: never) and never its own corridor west."""
+    corridor = [(ix, 2) for ix in range(5)] + [(2, 1), (2, 0)]  # west-east, branch south at 2
+    junction, branch, west_edge = (11.99, 10.64), (11.6, 7.6), (9.2, 10.62)
+    model, (_j, b, w) = settled_network(corridor, (15.0, 10.6), [junction, branch, west_edge])
+    beacon = model.beacons.beacons[w]
+    assert beacon.corridor
+    assert b not in beacon.neighbour_dirs.values()  # not lattice-linked: the old blind spot
+    readings = [model.beacons._sense_beacons(w)[1] for _ in range(400)]
+    assert np.mean([2 in taken for taken in readings]) > 0.9  # south: the branch beacon's
+    assert not any(3 in taken for taken in readings)  # west: free corridor, still empty
+    assert beacon.desired == 3
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_beacon_does_not_advertise_a_spot_nearer_another_beacon(seed):
+    """In an irregular lattice a free direction's spot can lie well inside another beacon's share
+    of the room; an explorer there follows that beacon, never attaches, and hovers for ever."""
+    room = [(ix, iy) for ix in range(5) for iy in range(5)]
+    base = (10.5, 10.5)
+    north, off_lattice = (12.0, 13.0), (13.7, 11.7)  # off_lattice: 1.2 m from base's east spot
+    model, (n, o) = settled_network(room, base, [north, off_lattice], seed)
+    me = model.beacons.beacons[model.base.unique_id]
+    assert not me.corridor
+    assert o not in me.neighbour_dirs.values()
+    assert me.desired != 1  # east's spot (13.5, 10.5) is off_lattice's

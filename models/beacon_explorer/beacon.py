@@ -3,9 +3,10 @@
 Each beacon, whenever something it can sense changes (a neighbour attaches or detaches, a hop
 count or a neighbour's desired direction changes), runs the flowchart:
 
-1. Sensing: label N, E, S, W as beacon / obstacle / empty; in corridors remember a direction as
-   searched when the neighbour there has a higher forwards hop count and signals a desired
-   direction pointing back; searched and obstacle directions are blocked.
+1. Sensing: label N, E, S, W as beacon / obstacle / empty (a direction is "beacon" when a
+   lattice neighbour holds it or another sensed beacon fills its spot); in corridors remember a
+   direction as searched when the neighbour there has a higher forwards hop count and signals a
+   desired direction pointing back; searched and obstacle directions are blocked.
 2. Behaviour: corridor beacons enter the redeployment phase in a dead end (enclosed, every
    neighbour lower) or when every higher-forwards neighbour is blocked, i.e. when each direction
    is blocked or holds a lower neighbour; open-space beacons when their reverse hop count is 0.
@@ -211,21 +212,43 @@ class BeaconNetwork:
         )
         return walls, opposing or not open_quadrant
 
-    def _neighbour_directions(self, robot: int) -> dict[int, int]:
-        """Direction -> nearest neighbour beacon there, from noisy relative positioning."""
+    def _sense_beacons(self, robot: int) -> tuple[dict[int, int], set[int]]:
+        """What the relative-positioning sensor tells a beacon about the beacons around it.
+
+        Returns the lattice neighbour in each direction (direction -> nearest linked lattice
+        neighbour there) and the directions labelled "beacon" although no lattice neighbour
+        holds them (Fig. 3's labels come from this sensor, which sees every beacon in range):
+
+        - a direction whose lattice spot (I_r away) lies inside another beacon's share of the
+          plane: an explorer flying there finds that beacon nearest and follows its signal
+          instead of attaching, so advertising the spot as empty keeps explorers shuttling
+          between two targets for ever. In corridors, one beacon wide, any sensed beacon nearer
+          the spot than I_r has it (at a T-junction a beacon that had drifted to the side
+          branch's edge advertised the branch while a branch beacon 2.4 m from the spot, not
+          its lattice neighbour, covered it: 2 of 1800 corridor runs ran to the time limit).
+          In open space a diagonal neighbour that drifted in range would hide a free spot that
+          way, so the spot must be within ``spot_taken`` (< I_r) of the other beacon (room
+          corners of mixed worlds, where the lattice is irregular, stalled 6 of 600 runs).
+        """
         me = self.beacons[robot]
-        found: dict[int, tuple[float, int]] = {}
-        others = self.lattice_neighbours(robot)
+        others = self.comms.neighbours(robot)
         if not others:
-            return {}
+            return {}, set()
         rel = np.array([self.beacons[n].position - me.position for n in others])
         measured = relative_positions(rel, self.rng)
         direction = np.argmax(measured @ CARDINALS.T, axis=1)
         dist = np.hypot(measured[:, 0], measured[:, 1])
+        linked = set(self.lattice_neighbours(robot))
+        found: dict[int, tuple[float, int]] = {}
         for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
-            if d not in found or r < found[d][0]:
+            if n in linked and (d not in found or r < found[d][0]):
                 found[d] = (r, n)
-        return {d: n for d, (_r, n) in found.items()}
+        spots = CARDINALS * self.params.interspace
+        gaps = np.hypot(*(spots[:, None, :] - measured[None, :, :]).transpose(2, 0, 1))
+        reach = self.params.interspace if me.corridor else self.params.spot_taken
+        taken = {d for d in DIRECTIONS if (gaps[d] < reach).any()}
+        neighbours = {d: n for d, (_r, n) in found.items()}
+        return neighbours, taken - neighbours.keys()
 
     # ------------------------------------------------------------------ the flowchart
     def wake(self, robot: int) -> None:
@@ -241,7 +264,7 @@ class BeaconNetwork:
         beacon = self.beacons.get(robot)
         if beacon is None:
             return
-        beacon.neighbour_dirs = self._neighbour_directions(robot)
+        beacon.neighbour_dirs, taken = self._sense_beacons(robot)
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
         if not all(
@@ -269,15 +292,16 @@ class BeaconNetwork:
         empty = [
             d
             for d in DIRECTIONS
-            if d not in nb and not beacon.walls[d] and d not in beacon.searched
+            if d not in nb and d not in taken and not beacon.walls[d] and d not in beacon.searched
         ]
         # Behaviour: deployment or redeployment phase.
         if beacon.corridor:
             # Dead end (enclosed, all neighbours lower) or every way onward searched: each
             # direction is blocked or holds a lower neighbour. A neighbour with an equal hop
-            # count (a diagonal link across a junction) is a way onward, not a dead end.
+            # count (a diagonal link across a junction) is a way onward, not a dead end; a way
+            # taken by a beacon off our lattice is that beacon's to search, not ours.
             redeploying = not empty and all(
-                blocked(d) or (d in nb and fwd(nb[d]) < me_f) for d in DIRECTIONS
+                blocked(d) or d in taken or (d in nb and fwd(nb[d]) < me_f) for d in DIRECTIONS
             )
         else:
             redeploying = not empty and rev(robot) == 0

@@ -40,6 +40,9 @@ class BeaconExplorerParams:
         open_diagonal: five rays into the quadrant between two free cardinal directions all
             reading more than this (nothing sensed within noise) mean open space (m; ours, see
             README).
+        spot_taken: a beacon labels a direction "beacon" when another beacon it senses is
+            closer than this to the lattice spot I_r away in that direction (m; ours: I_r less a
+            margin for lattice drift, so a drifted diagonal neighbour does not hide a free spot).
         attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
             ``filter_time`` (m; ours).
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
@@ -63,6 +66,7 @@ class BeaconExplorerParams:
     corridor_width: float = 3.0
     obstacle_threshold: float = 3.0
     open_diagonal: float = 3.45
+    spot_taken: float = 2.2
     attach_eps: float = 0.15
     attach_speed: float = 0.2
     filter_time: float = 0.3
