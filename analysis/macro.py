@@ -335,14 +335,24 @@ def refine_lambdas(
     curves: list[tuple[pd.DataFrame, float, float, float]],
     alpha5: float = 0.01,
     step: float = 0.5,
+    objective: str = "rmsd",
 ) -> tuple[dict, dict]:
     """Fit l0..l5 jointly to the observed count curves, starting from ``lambdas``.
 
     :func:`fit_lambdas` regresses alpha6 and a0 in parameter space, where an error of 1e-4 in
     alpha6 looks negligible but changes a_t = a0 alpha6^t by a factor exp(-1) after 10,000
     steps. Here the same six lambdas are fitted to what they are judged on: the predicted
-    w and b of every (map, radius) against the observed means, each curve weighted by one
-    over its length (so the sum minimised is the sum of the curves' mean squared errors).
+    w and b of every (map, radius) against the observed means.
+
+    ``objective="rmsd"`` (default) minimises ``sum over curves of (RMSD_w + RMSD_b)``: the
+    paper's Table 2 figure, the mean RMSD of w and of b over maps and radii, times the number
+    of curves (least squares on the residuals ``sqrt(RMSD)``, one per curve and state, after
+    a start on the ``"mse"`` objective). ``objective="mse"`` minimises ``sum over curves of
+    (MSE_w + MSE_b) / 2``, which lets the curves with the largest errors (long runs, many
+    robots) decide the fit at the expense of the mean RMSD.
+
+    a0 and alpha6 are fractions: a squared penalty keeps every curve's a0 and alpha6 in
+    [0, 1] (clipping alone would leave the lambdas behind a clipped value free to drift).
     l4 (l5) stays fixed at its start value when every curve has the same entropy (size).
 
     Args:
@@ -351,6 +361,7 @@ def refine_lambdas(
             ``time``, ``wander``, ``beacon`` (e.g. :attr:`FitResult.observed`).
         alpha5: robots added per step.
         step: model step (s).
+        objective: ``"rmsd"`` or ``"mse"``.
 
     Returns:
         ``(lambdas, stderr)`` dicts keyed l0..l5.
@@ -358,40 +369,93 @@ def refine_lambdas(
     """
     if not curves:
         raise ConfigError("curves must hold at least one (observed, radius, entropy, envsize)")
+    if objective not in ("rmsd", "mse"):
+        raise ConfigError(f"objective must be 'rmsd' or 'mse', got {objective!r}")
     prepared = []
     for observed, radius, entropy, envsize in curves:
         t = observed["time"].to_numpy(float)
         idx = np.round(t / step).astype(np.int64)
-        weight = 1.0 / np.sqrt(2 * len(idx))
-        obs = np.concatenate([observed["wander"].to_numpy(float), observed["beacon"].to_numpy()])
-        prepared.append((idx, obs, float(radius), float(entropy), float(envsize), weight))
+        w_obs = observed["wander"].to_numpy(float)
+        b_obs = observed["beacon"].to_numpy(float)
+        prepared.append((idx, w_obs, b_obs, float(radius), float(entropy), float(envsize)))
     free = {
-        "l4": len({p[3] for p in prepared}) > 1,  # one entropy: l3 alone sets a0
-        "l5": len({p[4] for p in prepared}) > 1,
+        "l4": len({p[4] for p in prepared}) > 1,  # one entropy: l3 alone sets a0
+        "l5": len({p[5] for p in prepared}) > 1,
     }
     params = lmfit.Parameters()
     for name in ("l0", "l1", "l2", "l3", "l4", "l5"):
         params.add(name, value=float(lambdas[name]), vary=free.get(name, True))
 
-    def residual(p: lmfit.Parameters) -> np.ndarray:
+    def residual(p: lmfit.Parameters, kind: str) -> np.ndarray:
         lam = p.valuesdict()
         out = []
-        for idx, obs, radius, entropy, envsize, weight in prepared:
-            raw = a0_from_lambdas(lam, entropy, envsize)
-            a0 = min(1.0, max(0.0, raw))
-            alpha6 = min(1.0, max(0.0, alpha6_from_lambdas(lam, radius)))
+        for idx, w_obs, b_obs, radius, entropy, envsize in prepared:
+            raw_a0 = a0_from_lambdas(lam, entropy, envsize)
+            raw_alpha6 = alpha6_from_lambdas(lam, radius)
+            a0 = min(1.0, max(0.0, raw_a0))
+            alpha6 = min(1.0, max(0.0, raw_alpha6))
             a = a0 * np.power(alpha6, np.arange(idx[-1] + 1, dtype=float))
             w, b = _iterate(a, alpha5, 0.0, 1.0)
-            out.append(weight * (np.concatenate([w[idx], b[idx]]) - obs))
-            # a0 is a fraction: a penalty keeps it in [0, 1] (clipping alone would leave the
-            # lambdas behind a clipped a0 free to drift)
-            out.append(np.array([100.0 * (raw - a0)]))
+            dw, db = w[idx] - w_obs, b[idx] - b_obs
+            if kind == "mse":
+                weight = 1.0 / np.sqrt(2 * len(idx))
+                out += [weight * dw, weight * db]
+            else:
+                out.append(np.sqrt([np.sqrt(np.mean(dw**2)), np.sqrt(np.mean(db**2))]))
+            out.append(np.array([100.0 * (raw_a0 - a0), 1e4 * (raw_alpha6 - alpha6)]))
         return np.concatenate(out)
 
-    result = lmfit.minimize(residual, params, method="leastsq")
+    result = lmfit.minimize(residual, params, method="leastsq", args=("mse",))
+    if objective == "rmsd":
+        result = _polish(residual, lmfit.minimize(residual, result.params, args=("rmsd",)))
     values = {k: float(v) for k, v in result.params.valuesdict().items()}
     errors = {
         k: float(v.stderr) if v.stderr is not None else float("nan")
         for k, v in result.params.items()
     }
     return values, errors
+
+
+def _polish(residual, result):
+    """Nelder-Mead on the sum of squared ``residual(p, "rmsd")`` from an lmfit result (the
+    sum of RMSDs has several valleys, Levenberg-Marquardt stops in the first); then
+    Levenberg-Marquardt again from the better point, for the standard errors. Returns the
+    lmfit result with the lowest objective.
+    """
+    from scipy.optimize import minimize
+
+    names = [n for n, v in result.params.items() if v.vary]
+    start = np.array([result.params[n].value for n in names])
+    # steps of the simplex: a relative 1 % for l3..l5, and for l0..l2 what moves alpha6 by
+    # about 1e-5 at C_rb = 40 m (alpha6 differences of that size matter over 10^4 steps)
+    scale = {"l0": 1e-5, "l1": 2.5e-7, "l2": 6e-9}
+    steps = np.array([scale.get(n, 0.01 * max(abs(result.params[n].value), 1e-6)) for n in names])
+    trial = result.params.copy()
+
+    def cost(z: np.ndarray) -> float:
+        for name, value in zip(names, start + z * steps, strict=True):
+            trial[name].value = float(value)
+        return float(np.sum(residual(trial, "rmsd") ** 2))
+
+    best = result
+    best_cost = float(np.sum(result.residual**2))
+    z = np.zeros(len(names))
+    for _ in range(2):  # restarts: a fresh simplex around the last point
+        nm = minimize(cost, z, method="Nelder-Mead", options={"maxiter": 2000, "fatol": 1e-7})
+        if nm.fun >= best_cost - 1e-9:
+            break
+        z = nm.x
+        params = result.params.copy()
+        for name, value in zip(names, start + z * steps, strict=True):
+            params[name].value = float(value)
+        again = lmfit.minimize(residual, params, method="leastsq", args=("rmsd",))
+        again_cost = float(np.sum(again.residual**2))
+        if again_cost <= nm.fun:
+            best, best_cost = again, again_cost
+            z = (np.array([again.params[n].value for n in names]) - start) / steps
+        else:
+            # keep the Nelder-Mead point; the Levenberg-Marquardt run still gives errors there
+            for name, value in zip(names, start + z * steps, strict=True):
+                again.params[name].value = float(value)
+            best, best_cost = again, float(nm.fun)
+    return best
