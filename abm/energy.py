@@ -157,7 +157,13 @@ class Battery:
         self.on_empty = on_empty
         self._generation: dict[int, int] = defaultdict(int)
         self.depleted: set[int] = set()
+        self._exempt: set[int] = set()
         ledger.on_mode_change(self._reschedule)
+
+    def exempt(self, robot_id: int) -> None:
+        """Give one robot no battery limit (e.g. a powered base station)."""
+        self._exempt.add(robot_id)
+        self._generation[robot_id] += 1  # any depletion already scheduled is void
 
     def charge(self, robot_id: int) -> float:
         """Charge left (J)."""
@@ -166,7 +172,7 @@ class Battery:
     def _reschedule(self, robot_id: int, mode: str) -> None:
         self._generation[robot_id] += 1
         power = self.ledger.powers[mode]
-        if power <= 0 or robot_id in self.depleted:
+        if power <= 0 or robot_id in self.depleted or robot_id in self._exempt:
             return
         delay = self.charge(robot_id) / power
         generation = self._generation[robot_id]

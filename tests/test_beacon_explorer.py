@@ -179,6 +179,8 @@ def test_bitmap_world_runs(tmp_path):
         ({"world": "mixed", "complexity": "high"}, "complexity"),
         ({"seed": "abc"}, "seed must be an integer"),
         ({"max_speed": 0}, "max_speed"),
+        ({"battery_capacity": 0.0}, r"battery_capacity must be in \(0"),
+        ({"battery_capacity": -5e3}, r"battery_capacity must be in \(0"),
     ],
 )
 def test_bad_parameters_raise_config_errors(kwargs, match):
@@ -244,3 +246,50 @@ def test_a_beacon_does_not_advertise_a_spot_nearer_another_beacon(seed):
     assert not me.corridor
     assert o not in me.neighbour_dirs.values()
     assert me.desired != 1  # east's spot (13.5, 10.5) is off_lattice's
+
+
+@settings(max_examples=6, deadline=None)
+@given(
+    st.integers(0, 1000),
+    st.sampled_from(["corridor", "open", "mixed"]),
+    st.floats(3_000.0, 20_000.0),
+)
+def test_a_flat_battery_fails_the_robot_after_exactly_its_charge(seed, world, capacity):
+    """Battery depletion is a SimPy event: a robot fails the moment the integral of its power
+    reaches the capacity, leaves the air or the network, and is counted as failed."""
+    model = BeaconExplorerModel(
+        world=world, seed=seed, battery_capacity=capacity, trace_interval=None, time_limit=1500
+    )
+    model.run()
+    used = model.ledger.frame().groupby("robot").energy.sum()
+    failed = [r.unique_id for r in model.robots.values() if r.state == "failed"]
+    assert model.base.unique_id not in failed  # the base is not battery-limited
+    for rid in failed:
+        assert used[rid] == pytest.approx(capacity, rel=1e-9)
+        assert rid not in model.beacons.beacons and rid not in model.physics.ids
+        assert rid not in model.comms.graph
+    others = used.drop([*failed, model.base.unique_id])
+    assert (others < capacity + 1e-6).all()
+    counts = model.state_counts()
+    assert list(counts.columns) == ["time", "ground", "explorer", "beacon", "failed"]
+    assert (
+        counts[["ground", "explorer", "beacon", "failed"]].sum(axis=1) == model.n_robots + 1
+    ).all()
+    assert model.summary()["n_failed"] == len(failed)
+    logged = model.events().query("event == 'battery_empty'")
+    assert sorted(logged.robot.astype(int)) == sorted(failed)
+
+
+def test_small_batteries_fail_robots_and_shrink_the_search():
+    """With 8 kJ each (about a minute of flight), explorers fail; with no limit none do."""
+    runs = {
+        cap: BeaconExplorerModel(
+            world="corridor", complexity="high", seed=3, battery_capacity=cap, trace_interval=None
+        ).run()
+        for cap in (None, 8_000.0)
+    }
+    assert runs[None].summary()["n_failed"] == 0
+    assert "failed" not in runs[None].state_counts().columns
+    limited = runs[8_000.0].summary()
+    assert limited["n_failed"] > 0
+    assert limited["coverage_area"] < runs[None].summary()["coverage_area"]

@@ -20,6 +20,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--hover-beacons", action="store_true")
     parser.add_argument("--time-limit", type=float, default=3600.0, help="(s)")
+    parser.add_argument(
+        "--battery-capacity",
+        type=float,
+        default=None,
+        help="charge of each explorer's battery (J); default: unlimited, as in the paper",
+    )
     parser.add_argument("--out", type=Path, default=Path("out/run"), help="output folder")
 
 
@@ -36,6 +42,7 @@ def main(args: argparse.Namespace) -> int:
         seed=args.seed,
         hover_beacons=args.hover_beacons,
         time_limit=args.time_limit,
+        battery_capacity=args.battery_capacity,
     )
     model.run()
     summary = model.summary()

@@ -130,10 +130,15 @@ class BeaconNetwork:
         self.version += 1
         return beacon
 
-    def detach(self, robot: int) -> None:
-        """A beacon let go of the ceiling: it leaves the network."""
+    def detach(self, robot: int, searched: bool = True) -> None:
+        """A beacon let go of the ceiling: it leaves the network.
+
+        A beacon detaches to redeploy only once the area beyond it is searched, so its
+        neighbours remember its direction as searched; a beacon that failed (battery flat,
+        ``searched=False``) says nothing about the area beyond it.
+        """
         beacon = self.beacons.pop(robot)
-        for other in self.beacons.values():
+        for other in self.beacons.values() if searched else ():
             for d, n in other.neighbour_dirs.items():
                 if n == robot:
                     other.searched.add(d)

@@ -10,9 +10,11 @@ redeploy and no explorer can be placed), or at the time limit.
 from pathlib import Path
 
 import numpy as np
+import simpy
 
 from abm.arena import Arena
 from abm.coverage import CoverageRaster
+from abm.energy import Battery
 from abm.errors import ConfigError, check_choice, check_range
 from abm.model import SwarmModel
 from abm.physics import FlightParams
@@ -44,6 +46,11 @@ class BeaconExplorerModel(SwarmModel):
         map_resolution: metres per pixel of a bitmap ``world``.
         start: base position (m) for a bitmap world; default: the centre of the first free cell.
         trace_interval: how often robot positions are sampled for rendering (s); None: never.
+        battery_capacity: charge of each explorer's battery (J); None (the paper's experiments):
+            unlimited. A robot whose battery runs flat fails where it is: a flyer drops out of
+            the air, a beacon leaves the network (its neighbours do not take the area beyond it
+            as searched), and the robot is counted in the extra state ``failed``. The base
+            beacon is pre-deployed at the entrance and is not battery-limited.
         params: the algorithm's constants (see :class:`BeaconExplorerParams`).
 
     """
@@ -64,6 +71,7 @@ class BeaconExplorerModel(SwarmModel):
         map_resolution: float = 1.0,
         start: tuple[float, float] | None = None,
         trace_interval: float | None = 1.0,
+        battery_capacity: float | None = None,
         params: BeaconExplorerParams = DEFAULTS,
     ) -> None:
         if complexity is None:
@@ -75,6 +83,10 @@ class BeaconExplorerModel(SwarmModel):
             raise ConfigError(f"hover_beacons must be True or False, got {hover_beacons!r}")
         if n_robots is not None:
             check_range("n_robots", n_robots, 1, 10_000, integer=True)
+        if battery_capacity is not None:
+            check_range("battery_capacity", battery_capacity, 0.0, low_open=True)
+            self.STATES = (*type(self).STATES, "failed")
+        self.battery_capacity = battery_capacity
         self.world: World | None = None
 
         def build_world(rng: np.random.Generator) -> Arena:
@@ -107,6 +119,11 @@ class BeaconExplorerModel(SwarmModel):
         )
         self.robots: dict[int, Robot] = {}
         self._detach_wanted: dict[int, object] = {}
+        self.battery = (
+            None
+            if battery_capacity is None
+            else Battery(self.ledger, battery_capacity, self._battery_empty)
+        )
         self._build_swarm()
         self.env.process(self._monitor())
 
@@ -140,6 +157,8 @@ class BeaconExplorerModel(SwarmModel):
     def _build_swarm(self) -> None:
         start = self.world.start
         base = Robot(self, start, "beacon", self._beacon_mode())
+        if self.battery is not None:
+            self.battery.exempt(base.unique_id)  # see ``battery_capacity``
         self.base = base
         self.robots[base.unique_id] = base
         self.recorder.log("attach", base.unique_id, x=start[0], y=start[1])
@@ -155,7 +174,16 @@ class BeaconExplorerModel(SwarmModel):
 
     # ------------------------------------------------------------------ behaviour
     def _explorer_life(self, robot: Robot, index: int):
-        """One robot's story (Fig. 4): wait, take off, follow beacons, attach, maybe redeploy."""
+        """One robot's story (Fig. 4): wait, take off, follow beacons, attach, maybe redeploy.
+
+        A flat battery ends it wherever it is (see :meth:`_battery_empty`).
+        """
+        try:
+            yield from self._explore(robot, index)
+        except simpy.Interrupt:
+            return
+
+    def _explore(self, robot: Robot, index: int):
         yield self.env.timeout(index * self.launch_period)
         robot.set_state("explorer")
         robot.set_mode("flight")
@@ -195,6 +223,20 @@ class BeaconExplorerModel(SwarmModel):
             if beacon.may_detach and not self._explorer_near(beacon.position):
                 del self._detach_wanted[rid]
                 return
+
+    def _battery_empty(self, robot_id: int) -> None:
+        """A battery ran flat: the robot fails where it is, whatever it was doing."""
+        robot = self.robots[robot_id]
+        if robot_id in self.physics.ids:
+            self.physics.stop(robot_id)
+        if robot_id in self.beacons.beacons:
+            self.beacons.detach(robot_id, searched=False)
+        self._detach_wanted.pop(robot_id, None)
+        if robot.process is not None and robot.process.is_alive:
+            robot.process.interrupt("battery empty")
+        robot.set_state("failed")
+        robot.set_mode("off")
+        self.recorder.log("battery_empty", robot_id)
 
     def _may_detach(self, robot: int) -> None:
         wanted = self._detach_wanted.get(robot)
@@ -265,6 +307,7 @@ class BeaconExplorerModel(SwarmModel):
             "energy_ground": ground_energy,
             "energy_total": flight_energy + beacon_energy + ground_energy,
             "n_beacons_final": counts["beacon"],
+            "n_failed": counts.get("failed", 0),
             "branches": self.world.branches,
         }
 
