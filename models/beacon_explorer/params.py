@@ -44,7 +44,13 @@ class BeaconExplorerParams:
             closer than this to the lattice spot I_r away in that direction (m; ours: I_r less a
             margin for lattice drift, so a drifted diagonal neighbour does not hide a free spot).
         attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
-            ``filter_time`` (m; ours).
+            ``filter_time`` (m; ours, calibrated: the paper gives no value). It sets how long an
+            explorer takes to settle at its spot (the filtered noise of T is about 7 cm), and so
+            how explorers queue at the frontier when they launch close together (the paper: more
+            concurrent flyers, more unnecessary flight and collisions). With 0.15 m explorers
+            settled at once, and 24 s instead of 6 s saved only 15 % of the flight in
+            high-complexity corridors and no energy (+2.5 %); with 0.05 m: -27 % and -12 %
+            (paper -41.5 / -30.8 %). See the README, "Reproduction".
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
         filter_time: time constant of the explorer's filter of its noisy T (s; ours).
         avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
@@ -67,7 +73,7 @@ class BeaconExplorerParams:
     obstacle_threshold: float = 3.0
     open_diagonal: float = 3.45
     spot_taken: float = 2.2
-    attach_eps: float = 0.15
+    attach_eps: float = 0.05
     attach_speed: float = 0.2
     filter_time: float = 0.3
     avoid_gain: float = 0.5
