@@ -21,6 +21,7 @@ compiled (:func:`abm.gridkernels.flight_step`): with tens of flyers, numpy's per
 not arithmetic, would set the speed.
 """
 
+import math
 from collections.abc import Callable
 from typing import Protocol
 
@@ -276,14 +277,7 @@ class Physics:
         if len(i) == 0:
             self._pairs_in_contact = set()
             return
-        normal = self.pos[i] - self.pos[j]
-        dist = np.maximum(np.hypot(normal[:, 0], normal[:, 1]), 1e-9)
-        normal /= dist[:, None]
-        closing = np.einsum("ij,ij->i", self.vel[i] - self.vel[j], normal)
-        approaching = closing < 0
-        impulse = (closing * approaching)[:, None] * normal
-        np.add.at(self.vel, i, -impulse)
-        np.add.at(self.vel, j, impulse)
+        _bounce(self.pos, self.vel, i, j)
         ids_i, ids_j = self.ids[i], self.ids[j]
         now = {(min(a, b), max(a, b)) for a, b in zip(ids_i.tolist(), ids_j.tolist(), strict=True)}
         new = now - self._pairs_in_contact
@@ -306,3 +300,31 @@ def _close_pairs(pos: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]
                 first.append(i)
                 second.append(j)
     return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+
+
+@njit(cache=True)
+def _bounce(pos: np.ndarray, vel: np.ndarray, first: np.ndarray, second: np.ndarray) -> None:
+    """Elastic impulses (equal masses) for touching pairs that approach, applied in place.
+
+    All impulses come from the velocities before this tick's contacts, as one simultaneous
+    exchange; a robot touching two others gets both.
+    """
+    m = first.shape[0]
+    impulse = np.zeros((m, 2))
+    for k in range(m):
+        i, j = first[k], second[k]
+        nx = pos[i, 0] - pos[j, 0]
+        ny = pos[i, 1] - pos[j, 1]
+        dist = max(math.hypot(nx, ny), 1e-9)
+        nx /= dist
+        ny /= dist
+        closing = (vel[i, 0] - vel[j, 0]) * nx + (vel[i, 1] - vel[j, 1]) * ny
+        if closing < 0:
+            impulse[k, 0] = closing * nx
+            impulse[k, 1] = closing * ny
+    for k in range(m):
+        vel[first[k], 0] -= impulse[k, 0]
+        vel[first[k], 1] -= impulse[k, 1]
+    for k in range(m):
+        vel[second[k], 0] += impulse[k, 0]
+        vel[second[k], 1] += impulse[k, 1]
