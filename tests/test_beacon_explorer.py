@@ -293,3 +293,30 @@ def test_small_batteries_fail_robots_and_shrink_the_search():
     limited = runs[8_000.0].summary()
     assert limited["n_failed"] > 0
     assert limited["coverage_area"] < runs[None].summary()["coverage_area"]
+
+
+def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
+    """A stalled run of the open-room sweep (medium density, 12 s): following the plain nearest
+    beacon, an explorer flipped between two beacons whose signals pointed to different spots
+    and never attached. With hysteresis in the choice of beacon the run ends by itself."""
+    from dataclasses import replace
+
+    from models.beacon_explorer.params import DEFAULTS
+
+    def end(hysteresis: float) -> str:
+        return (
+            BeaconExplorerModel(
+                world="open",
+                complexity="medium",
+                launch_period=12.0,
+                seed=7118335672433552142,
+                time_limit=1000.0,
+                trace_interval=None,
+                params=replace(DEFAULTS, guide_hysteresis=hysteresis),
+            )
+            .run()
+            .end_reason
+        )
+
+    assert end(0.0) == "time limit"  # the paper's rule, in this lattice
+    assert end(DEFAULTS.guide_hysteresis) == "complete"

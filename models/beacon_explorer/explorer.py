@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import CARDINALS, Arena
-from abm.gridkernels import cardinal_distances, nearest_visible
+from abm.gridkernels import _segment_crosses, cardinal_distances, nearest_visible
 from abm.physics import Physics
 from abm.sensors import (
     BEARING_NOISE,
@@ -44,6 +44,7 @@ class _Constants(NamedTuple):
     interspace: float
     gain: float  # of the low-pass filter on T, per tick
     max_speed: float
+    guide_hysteresis: float
 
 
 class ExplorerController:
@@ -73,6 +74,7 @@ class ExplorerController:
         self._version = -1
         self._signals = None
         physics.add_flyer_state("T", 2)
+        physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         self._constants = _Constants(
             params.comm_range,
             params.sensor_range,
@@ -84,6 +86,7 @@ class ExplorerController:
             params.interspace,
             min(1.0, physics.dt / params.filter_time),
             max_speed,
+            params.guide_hysteresis,
         )
 
     def _current_signals(self):
@@ -95,7 +98,7 @@ class ExplorerController:
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and which of them attach now."""
         n = physics.n_flying
-        _ids, beacon_pos, desired_vec, to_empty = self._current_signals()
+        ids, beacon_pos, desired_vec, to_empty = self._current_signals()
         if len(beacon_pos) == 0:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
         arena = self.arena
@@ -107,6 +110,8 @@ class ExplorerController:
             physics.pos,
             physics.vel,
             physics.flyer_state["T"],
+            physics.flyer_state["guide"],
+            ids,
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
             to_empty,
@@ -116,12 +121,28 @@ class ExplorerController:
 
 
 @njit(cache=True)
-def _steer(padded, runs, sat, res, pos, vel, T, beacon_pos, desired_vec, to_empty, z, p):  # noqa: N803
+def _steer(
+    padded,
+    runs,
+    sat,
+    res,
+    pos,
+    vel,
+    T,  # noqa: N803 (the paper's symbol)
+    guide,
+    ids,
+    beacon_pos,
+    desired_vec,
+    to_empty,
+    z,
+    p,
+):
     """Fig. 4 for every flyer: T = L + C with L = N + D; attach when |T| <= eps.
 
     ``z`` holds six standard normal draws per flyer: two for the relative-positioning sensor,
-    four for the distance sensors. ``T`` (the low-pass filtered translation vector) is updated
-    in place. Returns desired velocities and the attach mask.
+    four for the distance sensors. ``T`` (the low-pass filtered translation vector) and
+    ``guide`` (the beacon each flyer follows) are updated in place. Returns desired velocities
+    and the attach mask.
     """
     n = pos.shape[0]
     desired = np.zeros((n, 2))
@@ -131,6 +152,9 @@ def _steer(padded, runs, sat, res, pos, vel, T, beacon_pos, desired_vec, to_empt
     for i in range(n):
         lost = nearest[i] < 0  # out of touch with every beacon: hover and wait
         k = max(nearest[i], 0)
+        if not lost:
+            k = _keep_guide(padded, sat, res, pos[i], guide[i, 0], ids, beacon_pos, k, p)
+            guide[i, 0] = ids[k]
         # N: measured vector to the nearest beacon; D: its desired direction (length I_r).
         nx, ny = measured_relative(
             beacon_pos[k, 0] - pos[i, 0],
@@ -167,3 +191,27 @@ def _steer(padded, runs, sat, res, pos, vel, T, beacon_pos, desired_vec, to_empt
             and math.hypot(nx, ny) > p.interspace / 2
         )
     return desired, attach
+
+
+@njit(cache=True)
+def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, nearest, p):
+    """The beacon a flyer follows: the nearest one, unless the one it followed is still in
+    touch and less than ``guide_hysteresis`` farther away.
+
+    The paper's explorer follows its nearest beacon. Where an advertised spot lies nearly as
+    close to another beacon, the nearest one flips on the way there, the two beacons' signals
+    point to different spots, and the explorer shuttles between them for ever (the stalled runs).
+    """
+    g = -1
+    for j in range(ids.shape[0]):
+        if ids[j] == guide_id:
+            g = j
+    if g < 0 or g == nearest:
+        return nearest
+    to_guide = math.hypot(beacon_pos[g, 0] - point[0], beacon_pos[g, 1] - point[1])
+    to_nearest = math.hypot(beacon_pos[nearest, 0] - point[0], beacon_pos[nearest, 1] - point[1])
+    if to_guide > p.comm_range or to_guide >= to_nearest + p.guide_hysteresis:
+        return nearest
+    if _segment_crosses(padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]):
+        return nearest
+    return g

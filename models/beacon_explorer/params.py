@@ -52,6 +52,9 @@ class BeaconExplorerParams:
             high-complexity corridors and no energy (+2.5 %); with 0.05 m: -27 % and -12 %
             (paper -41.5 / -30.8 %). See the README, "Reproduction".
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
+        guide_hysteresis: an explorer keeps following its beacon until another in touch is
+            nearer by more than this (m; ours: 0 is the paper's plain nearest beacon, which let
+            explorers shuttle for ever between two beacons' spots in 0.3 % of runs).
         filter_time: time constant of the explorer's filter of its noisy T (s; ours).
         avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
         slow_radius: inside this |T| the flight controller slows proportionally (m; ours).
@@ -75,6 +78,7 @@ class BeaconExplorerParams:
     spot_taken: float = 2.2
     attach_eps: float = 0.05
     attach_speed: float = 0.2
+    guide_hysteresis: float = 0.5
     filter_time: float = 0.3
     avoid_gain: float = 0.5
     slow_radius: float = 1.0
