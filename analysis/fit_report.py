@@ -9,6 +9,7 @@ self-contained HTML page (figures embedded as PNG).
 
 import base64
 import io
+import multiprocessing
 import time
 from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
@@ -68,7 +69,10 @@ def run_grid(
     for t in tasks:
         t.pop("_run")
     own = executor is None
-    executor = executor or ProcessPoolExecutor(max_workers=workers)
+    # forkserver, as the sweeps: forking a process with numba's threads running can deadlock
+    executor = executor or ProcessPoolExecutor(
+        max_workers=workers, mp_context=multiprocessing.get_context("forkserver")
+    )
     try:
         results = executor.map(run_stigmergy, tasks)
         if progress:
