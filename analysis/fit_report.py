@@ -9,9 +9,8 @@ self-contained HTML page (figures embedded as PNG).
 
 import base64
 import io
-import multiprocessing
 import time
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +23,7 @@ from analysis.macro import (
     refine_lambdas,
     rmsd,
 )
+from analysis.pools import process_pool
 
 __all__ = ["analyse", "run_grid", "run_stigmergy", "sweep_grid", "write_report"]
 
@@ -69,10 +69,7 @@ def run_grid(
     for t in tasks:
         t.pop("_run")
     own = executor is None
-    # forkserver, as the sweeps: forking a process with numba's threads running can deadlock
-    executor = executor or ProcessPoolExecutor(
-        max_workers=workers, mp_context=multiprocessing.get_context("forkserver")
-    )
+    executor = executor or process_pool(workers)
     try:
         results = executor.map(run_stigmergy, tasks)
         if progress:

@@ -34,7 +34,6 @@ import importlib
 import inspect
 import itertools
 import json
-import multiprocessing
 import os
 import signal
 import socket
@@ -52,6 +51,7 @@ import numpy as np
 import pandas as pd
 
 from abm.errors import ABMError, ConfigError
+from analysis.pools import process_pool
 
 __all__ = [
     "MODELS",
@@ -472,11 +472,7 @@ class _Executors:
         elif executor == "serial":
             self.pool = None
         elif executor == "processes":
-            self.pool = cf.ProcessPoolExecutor(
-                max_workers=workers or os.cpu_count() or 1,
-                mp_context=multiprocessing.get_context("forkserver"),
-                initializer=_ignore_sigint,
-            )
+            self.pool = process_pool(workers or os.cpu_count() or 1, initializer=_ignore_sigint)
             self.closers.append(self.pool)
         elif executor == "dask":
             from dask.distributed import Client, LocalCluster

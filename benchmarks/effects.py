@@ -7,10 +7,10 @@ paper's. Usage: python benchmarks/effects.py --seeds 30 [--hover] [--coverage]
 
 import argparse
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 import pandas as pd
 
+from analysis.pools import process_pool
 from models.beacon_explorer import BeaconExplorerModel
 
 PAPER_24_VS_6 = {
@@ -30,7 +30,7 @@ def one_run(kwargs: dict) -> dict:
 
 
 def run_all(jobs: list[dict], workers: int) -> pd.DataFrame:
-    with ProcessPoolExecutor(workers) as pool:
+    with process_pool(workers) as pool:
         return pd.DataFrame(list(pool.map(one_run, jobs, chunksize=2)))
 
 

@@ -6,12 +6,10 @@ energy (mixed, 6 s). We assert the directions, with a margin (30 seeds: -33.6 / 
 +117.6 / -19.7 % when this was written).
 """
 
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
-
 import pandas as pd
 import pytest
 
+from analysis.pools import process_pool
 from models.beacon_explorer import BeaconExplorerModel
 
 SEEDS = range(1, 31)
@@ -23,8 +21,7 @@ def summary(kwargs: dict) -> dict:
 
 
 def run_many(jobs: list[dict]) -> pd.DataFrame:
-    # forkserver: forking this multi-threaded process (numba) could deadlock a child
-    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("forkserver")) as pool:
+    with process_pool(2) as pool:
         return pd.DataFrame(list(pool.map(summary, jobs, chunksize=3)))
 
 
