@@ -111,7 +111,7 @@ def cardinal_distances(padded, runs, res, points, max_range):
 
 
 @njit(cache=True)
-def _segment_crosses(padded, sat, res, x0, y0, x1, y1):
+def segment_crosses(padded, sat, res, x0, y0, x1, y1):
     """Tell whether the segment (x0, y0) -> (x1, y1) enters a wall cell anywhere."""
     sx = int(math.floor(x0 / res))
     sy = int(math.floor(y0 / res))
@@ -138,7 +138,7 @@ def segments_cross(padded, sat, res, starts, ends):
     n = starts.shape[0]
     out = np.empty(n, dtype=np.bool_)
     for k in range(n):
-        out[k] = _segment_crosses(
+        out[k] = segment_crosses(
             padded, sat, res, starts[k, 0], starts[k, 1], ends[k, 0], ends[k, 1]
         )
     return out
@@ -157,7 +157,7 @@ def nearest_visible(padded, sat, res, points, targets, max_range):
         for j in np.argsort(dist):
             if dist[j] > max_range:
                 break
-            if not _segment_crosses(
+            if not segment_crosses(
                 padded, sat, res, points[k, 0], points[k, 1], targets[j, 0], targets[j, 1]
             ):
                 out[k] = j

@@ -1,7 +1,8 @@
 """The explorer controller of Stirling et al. (2010), Sect. 3.4.1 and Fig. 4, for all flyers.
 
-Every control step each explorer measures N, the vector to its nearest beacon (relative
-positioning, noisy), reads that beacon's desired direction D (length I_r), forms L = N + D, adds
+Every control step each explorer measures N, the vector to the beacon it follows (its nearest,
+kept until another is ``guide_hysteresis`` nearer; relative positioning, noisy), reads that
+beacon's desired direction D (length I_r), forms L = N + D, adds
 the collision-avoidance vector C (away from walls sensed by the four distance sensors, magnitude
 growing as 1/distance) and flies along T = L + C. When |T| <= eps at a spot where a beacon is
 required, it ascends and attaches. All of this is one compiled loop over the flyers
@@ -16,7 +17,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import CARDINALS, Arena
-from abm.gridkernels import _segment_crosses, cardinal_distances, nearest_visible
+from abm.gridkernels import cardinal_distances, nearest_visible, segment_crosses
 from abm.physics import Physics
 from abm.sensors import (
     BEARING_NOISE,
@@ -212,6 +213,6 @@ def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, nearest, p):
     to_nearest = math.hypot(beacon_pos[nearest, 0] - point[0], beacon_pos[nearest, 1] - point[1])
     if to_guide > p.comm_range or to_guide >= to_nearest + p.guide_hysteresis:
         return nearest
-    if _segment_crosses(padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]):
+    if segment_crosses(padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]):
         return nearest
     return g

@@ -49,8 +49,9 @@ class BeaconExplorerParams:
             how explorers queue at the frontier when they launch close together (the paper: more
             concurrent flyers, more unnecessary flight and collisions). With 0.15 m explorers
             settled at once, and 24 s instead of 6 s saved only 15 % of the flight in
-            high-complexity corridors and no energy (+2.5 %); with 0.05 m: -27 % and -12 %
-            (paper -41.5 / -30.8 %). See the README, "Reproduction".
+            high-complexity corridors and no energy (+2.5 %); with 0.05 m (and, later, the
+            guide hysteresis): -28.1 % and -13.6 % (paper -41.5 / -30.8 %). See the README,
+            "Reproduction".
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
         guide_hysteresis: an explorer keeps following its beacon until another in touch is
             nearer by more than this (m; ours: 0 is the paper's plain nearest beacon, which let
