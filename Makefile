@@ -30,7 +30,7 @@ viz: $(VIZ_STAMP)
 	$(VENV)/bin/abm viz beacon-explorer
 
 demo: $(STAMP)
-	$(PY) examples/beacon_explorer_demo.py
+	$(PY) examples/beacon_explorer.py
 
 test: $(VIZ_STAMP)
 	$(PY) -m pytest

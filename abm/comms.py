@@ -1,11 +1,11 @@
 """The communication network: a networkx graph of robots in range and line of sight, message
 delivery as SimPy events, and hop-count gradient floods.
 
-Links exist between nodes closer than the communication range C_r with a clear line of sight
-(Stirling et al. 2010: reliable within C_r = 4.0 m, nothing beyond). A message takes ``latency``
-seconds (one 10 Hz control period by default). With a loss probability ``loss`` each attempt may
-be lost; because the papers' robots re-send continually, a lost message arrives on a later
-attempt, so loss shows up as extra delay (a geometric number of periods), never as a silent gap.
+Links exist between nodes closer than the communication range with a clear line of sight
+(reliable within range, nothing beyond). A message takes ``latency`` seconds. With a loss
+probability ``loss`` each attempt may be lost; because the papers' robots re-send continually,
+a lost message arrives on a later attempt, so loss shows up as extra delay (a geometric number
+of periods), never as a silent gap.
 """
 
 from collections.abc import Callable, Hashable, Iterable
@@ -29,7 +29,7 @@ class CommNetwork:
         env: the SimPy environment.
         arena: walls block links.
         rng: the model's random generator (message loss).
-        comm_range: C_r (m).
+        comm_range: the range within which nodes in line of sight are linked (m).
         latency: delay of one message (s).
         loss: probability that one transmission attempt is lost.
 
@@ -40,8 +40,8 @@ class CommNetwork:
         env: simpy.Environment,
         arena: Arena,
         rng: np.random.Generator,
-        comm_range: float = 4.0,
-        latency: float = 0.1,
+        comm_range: float,
+        latency: float,
         loss: float = 0.0,
     ) -> None:
         check_range("comm_range", comm_range, 0.0, low_open=True)

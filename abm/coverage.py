@@ -1,127 +1,158 @@
-"""Coverage rasters: which free area has been inside a robot's sensor disc.
+"""Coverage rasters: which free area has been inside a robot's sensor disc, and since when.
 
-Stirling et al. (2010) Sect. 3.5: coverage area is the percentage of the free area that was
-within the sensor radius S_r of at least one beacon at least once. Walls block the view: a pixel
-counts only if the straight line from the sensor to the pixel centre stays in free space.
+A :class:`CoverageRaster` splits the arena's grid into square pixels and marks a free pixel
+covered once a sensor sees it: its centre lies within the sensor radius and, with line of
+sight, the straight segment from the sensor to the centre enters no wall cell. It keeps the
+time each pixel was first covered, so the area covered at any earlier time (a replay, a
+coverage curve) follows without re-running the model. Every model that covers uses this one
+implementation; the work over sensors x pixels is a compiled loop.
+
+Two disc conventions, both in use in the papers' metrics:
+
+- ``around="point"``: pixels whose centre lies within ``radius`` of the sensor itself;
+- ``around="cell"``: pixels whose centre lies within ``radius`` of the centre of the sensor's
+  own pixel (a disc fixed on the grid, as a sensor that reports whole cells).
 """
+
+import math
 
 import numpy as np
 from numba import njit
 
 from abm.arena import Arena
-from abm.errors import check_range
+from abm.discs import disc_offsets
+from abm.errors import check_choice, check_range
 
-__all__ = ["CoverageRaster", "visible_cells"]
-
-
-def visible_cells(
-    arena: Arena,
-    points: np.ndarray,
-    dy: np.ndarray,
-    dx: np.ndarray,
-    skip: np.ndarray | None = None,
-    line_of_sight: bool = True,
-) -> np.ndarray:
-    """Row-major indices of the free arena cells sensors at ``points`` see (with repeats).
-
-    A sensor sees the cells at offsets ``(dy, dx)`` from its own cell (e.g. a disc from
-    :func:`abm.pheromone.disc_offsets`) that are free, not already True in ``skip`` (a
-    boolean grid, e.g. what was seen before) and, with ``line_of_sight``, reached by the
-    straight line from the sensor to the cell's centre without entering a wall.
-    """
-    points = np.ascontiguousarray(np.atleast_2d(points), dtype=float)
-    skip = np.zeros_like(arena.free) if skip is None else skip
-    cells, rows = _disc_cells(
-        arena.free, skip, points, arena.resolution, dy.astype(np.int64), dx.astype(np.int64)
-    )
-    if line_of_sight and len(cells):
-        iy, ix = np.divmod(cells, arena.cols)
-        ends = (np.stack([ix, iy], axis=1) + 0.5) * arena.resolution
-        cells = cells[~arena.segment_crosses_wall(points[rows], ends)]
-    return cells
-
-
-@njit(cache=True)
-def _disc_cells(free, skip, points, res, dy, dx):
-    """Free, not skipped cells at the offsets around each point's cell, and the point's row."""
-    rows, cols = free.shape
-    cells = np.empty(points.shape[0] * dy.shape[0], dtype=np.int64)
-    owner = np.empty_like(cells)
-    m = 0
-    for i in range(points.shape[0]):
-        ix = int(np.floor(points[i, 0] / res))
-        iy = int(np.floor(points[i, 1] / res))
-        for k in range(dy.shape[0]):
-            cx = ix + dx[k]
-            cy = iy + dy[k]
-            if 0 <= cx < cols and 0 <= cy < rows and free[cy, cx] and not skip[cy, cx]:
-                cells[m] = cy * cols + cx
-                owner[m] = i
-                m += 1
-    return cells[:m], owner[:m]
+__all__ = ["CoverageRaster"]
 
 
 class CoverageRaster:
-    """A fine raster over the arena marking free pixels ever seen.
+    """A raster over the arena marking the free pixels sensors have seen.
 
     Args:
         arena: the world.
-        radius: sensing radius (m), S_r.
+        radius: sensing radius (m).
         pixel: raster pixel side (m); the arena's resolution is split into whole pixels.
+            None: the arena's resolution.
         line_of_sight: walls block the view.
+        around: ``"point"`` or ``"cell"``, the centre of the sensing disc (see the module).
 
     """
 
     def __init__(
-        self, arena: Arena, radius: float = 3.5, pixel: float = 0.25, line_of_sight: bool = True
+        self,
+        arena: Arena,
+        radius: float,
+        pixel: float | None = None,
+        line_of_sight: bool = True,
+        around: str = "point",
     ) -> None:
         check_range("radius", radius, 0.0, low_open=True)
+        check_choice("around", around, ("point", "cell"))
+        pixel = arena.resolution if pixel is None else pixel
         check_range("pixel", pixel, 0.0, low_open=True)
         self.arena = arena
         self.radius = float(radius)
         self.subdivision = max(1, int(round(arena.resolution / pixel)))
         self.pixel = arena.resolution / self.subdivision
-        self.line_of_sight = line_of_sight
-        self.free = np.repeat(
-            np.repeat(arena.free, self.subdivision, axis=0), self.subdivision, axis=1
+        self.line_of_sight = bool(line_of_sight)
+        self.around = around
+        self.free = np.ascontiguousarray(
+            np.repeat(np.repeat(arena.free, self.subdivision, axis=0), self.subdivision, axis=1)
         )
         self.covered = np.zeros_like(self.free)
+        #: Simulated time (s) each pixel was first covered; inf where it never was.
+        self.first_covered = np.full(self.free.shape, np.inf)
         self._n_free = int(self.free.sum())
-        r = int(np.ceil(self.radius / self.pixel))
-        dy, dx = np.mgrid[-r : r + 1, -r : r + 1]
-        self._window = np.stack([dx.ravel(), dy.ravel()], axis=1)
+        self._n_covered = 0
+        if around == "cell":
+            dy, dx = disc_offsets(self.radius, self.pixel)
+        else:
+            r = int(np.ceil(self.radius / self.pixel))
+            dy, dx = (a.ravel() for a in np.mgrid[-r : r + 1, -r : r + 1])
+        self._dy = np.ascontiguousarray(dy, dtype=np.int64)
+        self._dx = np.ascontiguousarray(dx, dtype=np.int64)
 
     @property
     def fraction(self) -> float:
         """Fraction of free pixels covered, in [0, 1]."""
-        return float(self.covered.sum()) / self._n_free
+        return self._n_covered / self._n_free
 
     @property
     def area(self) -> float:
         """Covered free area (m^2)."""
-        return float(self.covered.sum()) * self.pixel**2
+        return self._n_covered * self.pixel**2
 
-    def visible_pixels(self, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Row and column indices of the free pixels a sensor at ``point`` sees."""
-        point = np.asarray(point, dtype=float)
-        centre = np.floor(point / self.pixel).astype(int)
-        idx = self._window + centre
-        rows, cols = self.free.shape
-        inside = (idx[:, 0] >= 0) & (idx[:, 0] < cols) & (idx[:, 1] >= 0) & (idx[:, 1] < rows)
-        idx = idx[inside]
-        idx = idx[self.free[idx[:, 1], idx[:, 0]]]
-        centres = (idx + 0.5) * self.pixel
-        near = np.hypot(*(centres - point).T) <= self.radius
-        idx, centres = idx[near], centres[near]
-        if self.line_of_sight and len(idx):
-            seen = self.arena.line_of_sight(np.broadcast_to(point, centres.shape), centres)
-            idx = idx[seen]
-        return idx[:, 1], idx[:, 0]
+    def visible(self, points: np.ndarray, skip: np.ndarray | None = None) -> np.ndarray:
+        """Row-major indices of the free pixels sensors at ``points`` see (with repeats).
 
-    def stamp(self, points: np.ndarray) -> float:
-        """Mark what sensors at ``points`` see; return the newly covered area (m^2)."""
-        before = self.covered.sum()
-        for point in np.atleast_2d(points):
-            rows, cols = self.visible_pixels(point)
-            self.covered[rows, cols] = True
-        return float(self.covered.sum() - before) * self.pixel**2
+        Args:
+            points: ``(n, 2)`` sensor positions (m).
+            skip: boolean raster of pixels not to test (e.g. those already covered).
+
+        """
+        points = np.ascontiguousarray(np.atleast_2d(np.asarray(points, dtype=float)))
+        if len(points) == 0:
+            return np.zeros(0, dtype=np.int64)
+        skip = np.zeros_like(self.free) if skip is None else skip
+        cells, owners = _disc_pixels(
+            self.free,
+            skip,
+            points,
+            self.pixel,
+            self._dy,
+            self._dx,
+            self.radius,
+            self.around == "point",
+        )
+        if self.line_of_sight and len(cells):
+            iy, ix = np.divmod(cells, self.free.shape[1])
+            ends = (np.stack([ix, iy], axis=1) + 0.5) * self.pixel
+            cells = cells[~self.arena.segment_crosses_wall(points[owners], ends)]
+        return cells
+
+    def seen_fraction(self, points: np.ndarray) -> float:
+        """Fraction of the free area sensors at ``points`` see now (covered or not)."""
+        return len(np.unique(self.visible(points))) / self._n_free
+
+    def stamp(self, points: np.ndarray, time: float = 0.0) -> float:
+        """Mark what sensors at ``points`` see at simulated ``time`` (s); return the newly
+        covered area (m^2).
+        """
+        cells = np.unique(self.visible(points, skip=self.covered))
+        self.covered.ravel()[cells] = True
+        self.first_covered.ravel()[cells] = time
+        self._n_covered += len(cells)
+        return len(cells) * self.pixel**2
+
+    def covered_at(self, time: float) -> np.ndarray:
+        """Boolean raster of the pixels covered at or before ``time`` (s)."""
+        return self.first_covered <= time
+
+
+@njit(cache=True)
+def _disc_pixels(free, skip, points, pixel, dy, dx, radius, around_point):
+    """Free, not skipped pixels at the offsets around each point's pixel that lie within
+    ``radius`` (of the point, or of its pixel's centre), and the point's row for each.
+    """
+    rows, cols = free.shape
+    cells = np.empty(points.shape[0] * dy.shape[0], dtype=np.int64)
+    owner = np.empty_like(cells)
+    m = 0
+    for i in range(points.shape[0]):
+        ix = int(np.floor(points[i, 0] / pixel))
+        iy = int(np.floor(points[i, 1] / pixel))
+        for k in range(dy.shape[0]):
+            cx = ix + dx[k]
+            cy = iy + dy[k]
+            if not (0 <= cx < cols and 0 <= cy < rows) or not free[cy, cx] or skip[cy, cx]:
+                continue
+            if around_point:
+                ex = (cx + 0.5) * pixel - points[i, 0]
+                ey = (cy + 0.5) * pixel - points[i, 1]
+                if math.hypot(ex, ey) > radius:
+                    continue
+            cells[m] = cy * cols + cx
+            owner[m] = i
+            m += 1
+    return cells[:m], owner[:m]

@@ -1,8 +1,8 @@
 """A PNG of a swarm model's current state, drawn with the same scene code as the live page.
 
-Walls, covered area, comm links, robots by state and (when the model defines ``arrows()``)
-arrows such as the beacons' desired directions: :class:`abm.viz.scene.SceneView` draws them for
-the SolaraViz page and ``abm render`` alike; this module only puts one view in a figure file.
+Walls, covered area, comm links, robots by state (in the model's declared styles) and the
+model's arrows: :class:`abm.viz.scene.SceneView` draws them for the SolaraViz page and
+``abm render`` alike; this module only puts one view in a figure file.
 """
 
 from pathlib import Path
@@ -12,24 +12,16 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from abm.viz.scene import STATE_COLOURS, SceneView, model_coverage, scene_of  # noqa: E402
+from abm.viz.scene import SceneView, scene_of, view_of  # noqa: E402
 
-__all__ = ["draw_swarm", "save_swarm_png", "STATE_COLOURS"]
+__all__ = ["draw_swarm", "save_swarm_png"]
 
 
 def draw_swarm(model, ax=None, title: str | None = None) -> SceneView:
     """Draw the arena, the covered area, comm links and robots of ``model`` on ``ax``."""
     if ax is None:
         _fig, ax = plt.subplots(figsize=(7, 7))
-    coverage = model_coverage(model)
-    view = SceneView(
-        ax,
-        model.arena.free,
-        model.arena.resolution,
-        model.STATES,
-        pixel=None if coverage is None else coverage[1],
-        arrows_label="beacon's desired direction" if hasattr(model, "arrows") else None,
-    )
+    view = view_of(model, ax)
     view.update(scene_of(model))
     ax.legend(
         handles=view.legend_handles(),

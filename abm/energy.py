@@ -2,43 +2,45 @@
 
 Power is piecewise constant: a robot draws the power of its current mode until the mode
 changes. The ledger therefore integrates exactly: energy = sum over mode segments of
-P(mode) * duration (Stirling et al. 2010, App. C).
+P(mode) * duration. The power of each mode is the model's (its params); a model without an
+energy model still names modes, and the ledger then keeps only their durations.
 """
 
 from collections import defaultdict
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import pandas as pd
 import simpy
 
 from abm.errors import ConfigError, check_range
 
-__all__ = ["PowerModes", "EnergyLedger", "Battery", "STIRLING_POWER"]
-
-#: Stirling et al. (2010) App. C: motors 110 W; electronics high 10 W (flying), medium 5 W
-#: (beacon), low 0.5 W (waiting on the ground). A hovering beacon runs its motors and the
-#: medium-rate electronics (our reading of the paper's hover-vs-attach comparison).
-STIRLING_POWER = {
-    "ground": 0.5,
-    "flight": 110.0 + 10.0,
-    "beacon": 5.0,
-    "hover": 110.0 + 5.0,
-    "off": 0.0,
-}
+__all__ = ["PowerModes", "EnergyLedger", "Battery"]
 
 
 @dataclass(frozen=True)
 class PowerModes:
-    """Power (W) drawn in each named mode."""
+    """Power (W) drawn in each named mode; ``watts=None``: no energy model (every mode 0 W).
 
-    watts: Mapping[str, float] = field(default_factory=lambda: dict(STIRLING_POWER))
+    Attributes:
+        watts: mode name -> power (W), or None.
+
+    """
+
+    watts: Mapping[str, float] | None = None
 
     def __post_init__(self) -> None:
-        for mode, power in self.watts.items():
+        for mode, power in (self.watts or {}).items():
             check_range(f"power[{mode!r}]", power, 0.0)
 
+    @property
+    def declared(self) -> bool:
+        """True when the model gave powers (it has an energy model)."""
+        return self.watts is not None
+
     def __getitem__(self, mode: str) -> float:
+        if self.watts is None:
+            return 0.0
         try:
             return self.watts[mode]
         except KeyError:
@@ -65,6 +67,11 @@ class EnergyLedger:
         self.timeline: list[tuple[float, int, str]] = []
         self._listeners: list[Callable[[int, str], None]] = []
 
+    @property
+    def has_powers(self) -> bool:
+        """True when energies mean something (the model declared its powers)."""
+        return self.powers.declared
+
     def on_mode_change(self, listener: Callable[[int, str], None]) -> None:
         """Call ``listener(robot_id, new_mode)`` after every mode change (batteries use it)."""
         self._listeners.append(listener)
@@ -87,6 +94,13 @@ class EnergyLedger:
         self._energy[robot_id, mode] += self.powers[mode] * dt
         self._duration[robot_id, mode] += dt
         self._since[robot_id] = now
+
+    def retire(self, robot_id: int) -> None:
+        """Close a robot's last segment: it left the model and draws nothing more."""
+        if robot_id in self._mode:
+            self._close(robot_id, self.env.now)
+            del self._mode[robot_id]
+            del self._since[robot_id]
 
     def mode(self, robot_id: int) -> str:
         """The robot's current mode."""
@@ -152,6 +166,8 @@ class Battery:
         self, ledger: EnergyLedger, capacity: float, on_empty: Callable[[int], None]
     ) -> None:
         check_range("battery_capacity", capacity, 0.0, low_open=True)
+        if not ledger.has_powers:
+            raise ConfigError("batteries need an energy model: the model declares no powers")
         self.ledger = ledger
         self.capacity = float(capacity)
         self.on_empty = on_empty

@@ -5,7 +5,7 @@ parameter, the value it got and the rule it broke, so a user can fix the call wi
 the source.
 """
 
-__all__ = ["ABMError", "ConfigError", "MapError", "check_choice", "check_range"]
+__all__ = ["ABMError", "ConfigError", "ContractError", "MapError", "check_choice", "check_range"]
 
 
 class ABMError(Exception):
@@ -18,6 +18,10 @@ class ConfigError(ABMError, ValueError):
 
 class MapError(ABMError, ValueError):
     """A map (cell list, bitmap file or array) cannot be turned into an arena."""
+
+
+class ContractError(ABMError, TypeError):
+    """A model class does not keep the model contract (see ``docs/adding-a-model.md``)."""
 
 
 def check_range(

@@ -1,12 +1,19 @@
-"""SwarmModel: the Mesa model whose clock is a SimPy environment.
+"""SwarmModel: the Mesa model whose clock is a SimPy environment, and the model contract's hooks.
 
 The model owns everything a swarm needs: the SimPy environment (the only clock), a Mesa
-continuous space, the arena, the comm network, the physics process, the energy ledger and the
-recorder. ``step()`` runs the environment for a fixed slice of simulated time so that
-``mesa.batch_run`` and SolaraViz drive it unchanged; ``run()`` runs to completion.
+continuous space, the arena, the comm network, the physics process, the energy ledger, the
+recorder and (when the model covers an area) the coverage raster. ``step()`` runs the
+environment for a fixed slice of simulated time so that ``mesa.batch_run`` and SolaraViz drive
+it unchanged; ``run()`` runs to completion.
+
+A model is a subclass that declares its ``Params`` dataclass, its ``STATES`` and the optional
+hooks below; every tool of the project reads those and nothing else (see
+``docs/adding-a-model.md``).
 """
 
-from collections.abc import Callable, Mapping
+import inspect
+from collections.abc import Callable, Mapping, Sequence
+from typing import ClassVar
 
 import mesa
 import numpy as np
@@ -16,10 +23,14 @@ from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
 from abm.comms import CommNetwork
-from abm.energy import STIRLING_POWER, EnergyLedger, PowerModes
-from abm.errors import ConfigError, check_range
+from abm.coverage import CoverageRaster
+from abm.energy import EnergyLedger, PowerModes
+from abm.errors import ConfigError
+from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
+from abm.published import MacroSpec, Published, ReportLayout
 from abm.record import Recorder
+from abm.styles import StateStyle, resolve_styles
 
 __all__ = ["SwarmModel"]
 
@@ -27,64 +38,91 @@ __all__ = ["SwarmModel"]
 class SwarmModel(mesa.Model):
     """Base class of every swarm model.
 
-    Subclasses set ``STATES``, build robots and their behaviours, call :meth:`finish` when the
-    run is over and implement :meth:`summary`.
+    Class attributes a model declares (the contract; checked by :func:`abm.contract.check_model`):
+
+    - ``Params``: its frozen parameters dataclass (a :class:`~abm.params.SwarmParams`
+      subclass). Every field is also a keyword of the constructor, which takes nothing else
+      but ``seed``.
+    - ``STATES``: the robot states, counted by the recorder in this order.
+    - ``STATE_STYLES``: optional :class:`~abm.styles.StateStyle` per state.
+    - ``MACRO``: optional :class:`~abm.published.MacroSpec`: the two counted states (moving,
+      settled) the macroscopic recurrence describes, for ``abm fit``, and the paper's fits.
+    - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
+    - ``PUBLISHED`` / ``REPORT``: the paper's numbers and figure layout for ``abm report``
+      (usually imported from the model's ``published.py``).
+    - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
+      with sliders for its numeric parameters.
+
+    What every model instance offers the tools: ``params``, ``coverage`` (a
+    :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
+    :meth:`common_summary` plus the model's :meth:`metrics`), :meth:`state_counts`,
+    :meth:`events`, :meth:`positions` and :meth:`arrows`.
 
     Args:
+        params: the validated parameters (see :meth:`make_params`).
         arena: the world, or a function ``f(rng) -> Arena`` that builds it from the model's
             random generator (so a seed fixes the world too).
         seed: seed of the model's single random generator ``model.rng`` (None = fresh entropy).
-        step_duration: simulated seconds per ``step()`` (s).
-        time_limit: the run ends at this simulated time at the latest (s).
-        comm_range: C_r (m).
-        latency: message latency (s).
-        message_loss: probability a transmission attempt is lost.
-        powers: power (W) per mode.
-        flight: flight dynamics.
-        dt: physics tick (s).
-        controller: the vectorised flight controller (may be set later as ``physics.controller``).
+        comm_range: range of the comm network (m).
+        powers: power (W) drawn in each mode; None when the model has no energy model.
+        flight: flight dynamics of the flyers.
+        controller: the vectorised flight controller (may be set later as
+            ``physics.controller``).
 
     """
 
-    STATES: tuple[str, ...] = ()
+    Params: ClassVar[type[SwarmParams]] = SwarmParams
+    STATES: ClassVar[tuple[str, ...]] = ()
+    STATE_STYLES: ClassVar[Mapping[str, StateStyle]] = {}
+    MACRO: ClassVar[MacroSpec | None] = None
+    ARROWS_LABEL: ClassVar[str | None] = None
+    PUBLISHED: ClassVar[Sequence[Published]] = ()
+    REPORT: ClassVar[ReportLayout | None] = None
+    APP: ClassVar[str | None] = None
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.__signature__ = _signature(cls.Params)
 
     def __init__(
         self,
+        params: SwarmParams,
         arena: Arena | Callable[[np.random.Generator], Arena],
         *,
         seed: int | None = None,
-        step_duration: float = 1.0,
-        time_limit: float = 3600.0,
-        comm_range: float = 4.0,
-        latency: float = 0.1,
-        message_loss: float = 0.0,
+        comm_range: float = 1.0,
         powers: Mapping[str, float] | None = None,
         flight: FlightParams | None = None,
-        dt: float = 0.1,
         controller: Controller | None = None,
-        trace_interval: float | None = 1.0,
     ) -> None:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
             raise ConfigError(f"seed must be an integer or None, got {seed!r}")
-        check_range("step_duration", step_duration, 0.0, low_open=True)
-        check_range("time_limit", time_limit, 0.0, low_open=True)
+        if not isinstance(params, self.Params):
+            raise ConfigError(
+                f"params must be a {self.Params.__name__}, got {type(params).__name__}"
+            )
         super().__init__(rng=seed)
         # Mesa replaces ``self.step`` by its own scheduler wrapper; our clock is SimPy, so the
         # class's step() (which runs SimPy for one slice) must be what batch_run and SolaraViz call.
         del self.step
+        self.params = params
         self.seed = seed
         self.env = simpy.Environment()
         if not isinstance(arena, Arena):
             arena = arena(self.rng)
         self.arena = arena
-        self.step_duration = float(step_duration)
-        self.time_limit = float(time_limit)
+        self.step_duration = params.step_duration
+        self.time_limit = params.time_limit
         self.space = ContinuousSpace(
             [[0.0, arena.width], [0.0, arena.height]], torus=False, random=self.random
         )
-        self.comms = CommNetwork(self.env, arena, self.rng, comm_range, latency, message_loss)
-        self.ledger = EnergyLedger(self.env, PowerModes({**STIRLING_POWER, **(powers or {})}))
+        self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
+        self.comms = CommNetwork(
+            self.env, arena, self.rng, comm_range, params.latency, params.message_loss
+        )
+        self.ledger = EnergyLedger(self.env, PowerModes(powers))
         self.recorder = Recorder(self.env, self.STATES)
+        self.coverage: CoverageRaster | None = None
         self.physics = Physics(
             self.env,
             arena,
@@ -92,17 +130,40 @@ class SwarmModel(mesa.Model):
             controller=controller,
             positions_out=self._write_positions,
             params=flight,
-            dt=dt,
+            dt=params.dt,
             on_collision=self._log_collision,
         )
         self.done = self.env.event()
         self.end_reason: str | None = None
         limit = self.env.timeout(self.time_limit)
         limit.callbacks.append(lambda _ev: self.finish("time limit"))
-        self.datacollector = mesa.DataCollector(model_reporters=self.reporters())
-        if trace_interval is not None:
-            check_range("trace_interval", trace_interval, 0.0, low_open=True)
-            self.env.process(self._trace(trace_interval))
+        self._datacollector: mesa.DataCollector | None = None
+        if params.trace_interval is not None:
+            self.env.process(self._trace(params.trace_interval))
+
+    @classmethod
+    def make_params(cls, **kwargs: object) -> SwarmParams:
+        """Validated ``Params`` from constructor keywords: the one place keywords are mapped."""
+        return make_params(cls.Params, kwargs)
+
+    @classmethod
+    def from_params(cls, params: SwarmParams, seed: int | None = None) -> "SwarmModel":
+        """A model built from a ready params instance."""
+        return cls(seed=seed, **params.as_dict())
+
+    @property
+    def datacollector(self) -> mesa.DataCollector:
+        """Mesa's DataCollector of :meth:`reporters` (made on first use, once the model is
+        built).
+        """
+        if self._datacollector is None:
+            self._datacollector = mesa.DataCollector(model_reporters=self.reporters())
+        return self._datacollector
+
+    @property
+    def state_styles(self) -> dict[str, StateStyle]:
+        """A style for every state of this run (declared or from the palette)."""
+        return resolve_styles(self.STATES, self.STATE_STYLES)
 
     # ------------------------------------------------------------------ time
     @property
@@ -129,11 +190,16 @@ class SwarmModel(mesa.Model):
             self.running = False
 
     def run(self, until: float | None = None) -> "SwarmModel":
-        """Run to the end of the search (or to simulated time ``until``); returns self."""
+        """Run to the end (or to simulated time ``until``, s); returns self."""
         if until is None:
             stop = self.done
         else:
-            check_range("until", until, self.env.now)
+            if isinstance(until, bool) or not isinstance(until, int | float):
+                raise ConfigError(f"until must be a number of seconds, got {until!r}")
+            if until < self.env.now:
+                raise ConfigError(
+                    f"until must be >= the current time {self.env.now:g}, got {until}"
+                )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
             self.env.run(until=stop)
@@ -149,10 +215,52 @@ class SwarmModel(mesa.Model):
             self.recorder.log("end", reason=reason)
             self.done.succeed(reason)
 
-    # ------------------------------------------------------------------ data
+    # ------------------------------------------------------------------ hooks
+    def metrics(self) -> dict:
+        """The model's own results, added to the common summary keys (override)."""
+        return {}
+
+    def arrows(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
+        return None
+
     def reporters(self) -> dict:
-        """Mesa DataCollector model reporters: robots per state (override to add more)."""
-        return {state: (lambda m, s=state: m.recorder.counts[s]) for state in self.STATES}
+        """Mesa DataCollector model reporters: robots per state, ``coverage`` (% of the free
+        area, when the model covers) and ``energy`` (J, when it has an energy model).
+        """
+        out = {state: (lambda m, s=state: m.recorder.counts[s]) for state in self.STATES}
+        if self.coverage is not None:
+            out["coverage"] = lambda m: 100.0 * m.coverage.fraction
+        if self.ledger.has_powers:
+            out["energy"] = lambda m: m.ledger.energy()
+        return out
+
+    # ------------------------------------------------------------------ data
+    def common_summary(self) -> dict:
+        """The keys every model's summary has.
+
+        ``time`` (s) and ``end_reason`` always; ``collisions`` (wall contacts plus two per
+        robot-robot contact), ``wall_collisions`` and ``robot_collisions``; ``coverage_area``
+        (% of the free area) when the model covers; ``energy_total`` (J) when it has an energy
+        model.
+        """
+        physics = self.physics
+        out = {
+            "time": float(self.env.now),
+            "end_reason": self.end_reason or "running",
+            "collisions": physics.wall_collisions + physics.robot_collisions,
+            "wall_collisions": physics.wall_collisions,
+            "robot_collisions": physics.robot_collisions,
+        }
+        if self.coverage is not None:
+            out["coverage_area"] = 100.0 * self.coverage.fraction
+        if self.ledger.has_powers:
+            out["energy_total"] = self.ledger.energy()
+        return out
+
+    def summary(self) -> dict:
+        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`."""
+        return {**self.common_summary(), **self.metrics()}
 
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: ``time`` plus one column per state."""
@@ -162,28 +270,54 @@ class SwarmModel(mesa.Model):
         """The run's event log."""
         return self.recorder.events()
 
-    def summary(self) -> dict:
-        """A flat dict of the run's metrics (subclasses define it)."""
-        raise NotImplementedError
-
     def positions(self) -> pd.DataFrame:
-        """Sampled robot positions (time, robot, x, y, state), every ``trace_interval`` s."""
+        """Sampled robot positions (time, robot, x, y, state, comm), every ``trace_interval`` s.
+
+        ``comm`` says whether the robot was a node of the comm network then.
+        """
         return self.recorder.positions()
+
+    # ------------------------------------------------------------------ robots in the space
+    def _robot_added(self, robot_id: int) -> None:
+        """A robot joined the space as its last row."""
+        row = len(self.space.active_agents) - 1
+        if robot_id >= len(self._row_of):
+            grown = np.full(max(2 * len(self._row_of), robot_id + 1), -1, dtype=np.int64)
+            grown[: len(self._row_of)] = self._row_of
+            self._row_of = grown
+        self._row_of[robot_id] = row
+
+    def _robots_reindexed(self) -> None:
+        """Rows shift when a robot leaves the space: rebuild the id -> row table."""
+        self._row_of[:] = -1
+        for row, agent in enumerate(self.space.active_agents):
+            self._row_of[agent.unique_id] = row
 
     # ------------------------------------------------------------------ plumbing
     def _trace(self, interval: float):
         while True:
             agents = self.space.active_agents
             if agents:
+                graph = self.comms.graph
                 self.recorder.snapshot(
                     np.array([a.unique_id for a in agents]),
                     self.space.agent_positions.copy(),
                     [a.state for a in agents],
+                    [a.unique_id in graph for a in agents],
                 )
             yield self.env.timeout(interval)
 
-    def _write_positions(self, rows: np.ndarray, positions: np.ndarray) -> None:
-        self.space.agent_positions[rows] = positions
+    def _write_positions(self, ids: np.ndarray, positions: np.ndarray) -> None:
+        self.space.agent_positions[self._row_of[ids]] = positions
 
     def _log_collision(self, kind: str, a: int, b: int | None) -> None:
         self.recorder.log("collision", a, against=kind, other=b)
+
+
+def _signature(params_cls: type[SwarmParams]) -> inspect.Signature:
+    """``(*, seed=None, <every field of params_cls>=default)``: what Mesa, help() and tools see."""
+    kw = inspect.Parameter.KEYWORD_ONLY
+    parameters = [inspect.Parameter("seed", kw, default=None, annotation=int | None)]
+    for f in param_fields(params_cls):
+        parameters.append(inspect.Parameter(f.name, kw, default=f.default, annotation=f.type))
+    return inspect.Signature(parameters)

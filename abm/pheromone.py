@@ -15,25 +15,11 @@ disc, so no bounds checks), walked by compiled (numba) loops over robots x offse
 import numpy as np
 from numba import njit
 
+from abm.discs import disc_offsets
 from abm.errors import ConfigError, check_range
 from abm.visibility import cached_disc_visibility
 
 __all__ = ["PheromoneField", "disc_offsets"]
-
-
-def disc_offsets(
-    radius: float, resolution: float = 1.0, stride: int = 1
-) -> tuple[np.ndarray, np.ndarray]:
-    """Integer cell offsets ``(dy, dx)`` of the cells whose centres lie within ``radius`` (m),
-    on a lattice of every ``stride``-th cell (a coarser sensor).
-    """
-    check_range("radius", radius, 0.0)
-    check_range("stride", stride, 1, integer=True)
-    r = int(np.floor(radius / resolution))
-    r -= r % stride
-    dy, dx = np.mgrid[-r : r + 1 : stride, -r : r + 1 : stride]
-    inside = np.hypot(dx, dy) * resolution <= radius + 1e-9
-    return dy[inside].ravel(), dx[inside].ravel()
 
 
 _NO_TABLE = np.zeros((1, 1), dtype=np.uint8)

@@ -10,7 +10,7 @@ simulated time jumps straight to the next event.
 Dynamics per flyer (point mass m): F = F_c + F_d, with the flight controller's force
 F_c = m (v_desired - v) / tau (magnitude capped at ``max_force``) and quadratic drag
 F_d = -1/2 rho |v|^2 A C_d v_hat; the body is jostled by Gaussian noise of std ``body_noise``
-per tick (the paper's 2.5 cm) and the speed is capped at ``max_speed``.
+per tick and the speed is capped at ``max_speed``.
 
 Walls: a robot's body is an axis-aligned square of half-width ``body_radius``; moves are applied
 one axis at a time and each axis move is shorter than a grid pixel, so a body can never pass
@@ -22,7 +22,8 @@ not arithmetic, would set the speed.
 """
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
@@ -45,10 +46,12 @@ class Controller(Protocol):
         ...
 
 
+@dataclass(frozen=True)
 class FlightParams:
-    """Flight-dynamics constants (SI units) with the values we use for the papers' robots.
+    """Flight-dynamics constants (SI units); the defaults are a generic small multirotor, not
+    any paper's robot (models pass their own).
 
-    Args:
+    Attributes:
         mass: m (kg).
         max_speed: speed cap (m/s).
         max_force: cap on the control force (N).
@@ -61,31 +64,21 @@ class FlightParams:
 
     """
 
-    def __init__(
-        self,
-        mass: float = 0.5,
-        max_speed: float = 1.0,
-        max_force: float = 2.0,
-        tau: float = 0.5,
-        rho: float = 1.2,
-        area: float = 0.03,
-        drag_coefficient: float = 1.0,
-        body_noise: float = 0.025,
-        body_radius: float = 0.2,
-    ) -> None:
+    mass: float = 0.5
+    max_speed: float = 1.0
+    max_force: float = 2.0
+    tau: float = 0.5
+    rho: float = 1.2
+    area: float = 0.03
+    drag_coefficient: float = 1.0
+    body_noise: float = 0.0
+    body_radius: float = 0.2
+
+    def __post_init__(self) -> None:
         for name in ("mass", "max_speed", "max_force", "tau", "body_radius"):
-            check_range(name, locals()[name], 0.0, low_open=True)
+            check_range(name, getattr(self, name), 0.0, low_open=True)
         for name in ("rho", "area", "drag_coefficient", "body_noise"):
-            check_range(name, locals()[name], 0.0)
-        self.mass = mass
-        self.max_speed = max_speed
-        self.max_force = max_force
-        self.tau = tau
-        self.rho = rho
-        self.area = area
-        self.drag_coefficient = drag_coefficient
-        self.body_noise = body_noise
-        self.body_radius = body_radius
+            check_range(name, getattr(self, name), 0.0)
 
 
 class Physics:
@@ -96,10 +89,10 @@ class Physics:
         arena: walls.
         rng: the model's generator (body noise).
         controller: the model's vectorised flight controller.
-        positions_out: called with (space indices, positions) after each tick so the Mesa
-            space mirrors the flyers.
+        positions_out: called with (robot ids, positions) after each tick so the Mesa space
+            mirrors the flyers.
         params: flight dynamics.
-        dt: tick length (s); 0.1 s is the papers' 10 Hz control rate.
+        dt: tick length (s).
         on_collision: called as ``on_collision(kind, robot_a, robot_b)`` for each new contact.
 
     """
@@ -136,7 +129,6 @@ class Physics:
         self.dt = float(dt)
         self.on_collision = on_collision
         self.ids = np.empty(0, dtype=np.int64)
-        self.space_index = np.empty(0, dtype=np.int64)
         self.pos = np.empty((0, 2))
         self.vel = np.empty((0, 2))
         self._arrivals: list[simpy.Event] = []
@@ -164,13 +156,14 @@ class Physics:
         """Number of robots currently flying."""
         return len(self.ids)
 
-    def fly(self, robot_id: int, space_index: int, position: np.ndarray) -> simpy.Event:
-        """Start moving a robot; the returned event fires when the controller says it is done."""
+    def fly(self, robot_id: int, position: np.ndarray) -> simpy.Event:
+        """Start moving a robot; the returned event fires when its flight is done (the
+        controller's done mask, or :meth:`finish`).
+        """
         if robot_id in self.ids:
             raise ValueError(f"robot {robot_id} is already flying")
         arrived = self.env.event()
         self.ids = np.append(self.ids, robot_id)
-        self.space_index = np.append(self.space_index, space_index)
         self.pos = np.vstack([self.pos, np.asarray(position, dtype=float)[None, :]])
         self.vel = np.vstack([self.vel, np.zeros((1, 2))])
         self._wall_contact = np.append(self._wall_contact, False)
@@ -182,11 +175,29 @@ class Physics:
         return arrived
 
     def stop(self, robot_id: int) -> np.ndarray:
-        """Take a robot out of the air (landed, attached, failed); returns its last position."""
-        (where,) = np.nonzero(self.ids == robot_id)
-        if len(where) == 0:
-            raise ValueError(f"robot {robot_id} is not flying")
-        return self._remove(np.array([where[0]]))[0]
+        """Take a robot out of the air without ending its flight event (a robot that failed);
+        returns its last position.
+        """
+        return self._remove(self._rows([robot_id]))[0]
+
+    def finish(self, robot_ids: Iterable[int]) -> np.ndarray:
+        """End these robots' flights now (they landed, attached, ...): each one's event from
+        :meth:`fly` fires. Returns their last positions ``(k, 2)``.
+        """
+        rows = self._rows(robot_ids)
+        finished = [self._arrivals[i] for i in rows]
+        last = self._remove(rows)
+        for event in finished:
+            event.succeed()
+        return last
+
+    def _rows(self, robot_ids: Iterable[int]) -> np.ndarray:
+        wanted = np.asarray(list(robot_ids), dtype=np.int64)
+        rows = np.nonzero(np.isin(self.ids, wanted))[0]
+        if len(rows) != len(np.unique(wanted)):
+            missing = sorted(set(wanted.tolist()) - set(self.ids.tolist()))
+            raise ValueError(f"robots {missing} are not flying")
+        return rows
 
     def _remove(self, rows: np.ndarray) -> np.ndarray:
         keep = np.ones(len(self.ids), dtype=bool)
@@ -195,7 +206,6 @@ class Physics:
         gone = set(self.ids[rows].tolist())
         self._pairs_in_contact = {p for p in self._pairs_in_contact if not (gone & set(p))}
         self.ids = self.ids[keep]
-        self.space_index = self.space_index[keep]
         self.pos = self.pos[keep]
         self.vel = self.vel[keep]
         self._wall_contact = self._wall_contact[keep]
@@ -244,13 +254,9 @@ class Physics:
         if self.trace is not None:
             self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
         if self.positions_out is not None:
-            self.positions_out(self.space_index, self.pos)
+            self.positions_out(self.ids, self.pos)
         if done.any():
-            rows = np.nonzero(done)[0]
-            finished = [self._arrivals[i] for i in rows]
-            self._remove(rows)
-            for event in finished:
-                event.succeed()
+            self.finish(self.ids[done])
 
     def _count_wall_contacts(self, contact: np.ndarray) -> None:
         """A body that touches a wall now and did not last tick is a new wall collision."""

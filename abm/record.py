@@ -27,32 +27,37 @@ class Recorder:
         self.counts = dict.fromkeys(self.states, 0)
         self._events: list[dict] = []
         self._series: list[tuple] = []
-        self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str]]] = []
+        self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str], list[bool]]] = []
 
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
         """Append an event at ``env.now``."""
         self._events.append({"time": self.env.now, "event": kind, "robot": robot, **fields})
 
-    def move(self, old: str | None, new: str) -> None:
-        """One robot changed state from ``old`` (None when it appears) to ``new``."""
+    def move(self, old: str | None, new: str | None) -> None:
+        """One robot changed state from ``old`` (None when it appears) to ``new`` (None when
+        it leaves the model).
+        """
         if old is not None:
             self.counts[old] -= 1
-        self.counts[new] += 1
+        if new is not None:
+            self.counts[new] += 1
         row = (self.env.now, *(self.counts[s] for s in self.states))
         if self._series and self._series[-1][0] == self.env.now:
             self._series[-1] = row
         else:
             self._series.append(row)
 
-    def snapshot(self, robots: np.ndarray, positions: np.ndarray, states: list[str]) -> None:
-        """Record where every robot is and what it is at ``env.now``."""
-        self._positions.append((self.env.now, robots, positions, list(states)))
+    def snapshot(
+        self, robots: np.ndarray, positions: np.ndarray, states: list[str], comm: list[bool]
+    ) -> None:
+        """Record where every robot is, what it is and whether it is a comm node at ``env.now``."""
+        self._positions.append((self.env.now, robots, positions, list(states), list(comm)))
 
     def positions(self) -> pd.DataFrame:
-        """Sampled positions: one row per robot and sample (time, robot, x, y, state)."""
+        """Sampled positions: one row per robot and sample (time, robot, x, y, state, comm)."""
         if not self._positions:
-            return pd.DataFrame(columns=["time", "robot", "x", "y", "state"])
-        times, robots, positions, states = zip(*self._positions, strict=True)
+            return pd.DataFrame(columns=["time", "robot", "x", "y", "state", "comm"])
+        times, robots, positions, states, comm = zip(*self._positions, strict=True)
         xy = np.concatenate(positions)
         return pd.DataFrame(
             {
@@ -61,6 +66,7 @@ class Recorder:
                 "x": xy[:, 0],
                 "y": xy[:, 1],
                 "state": [s for sample in states for s in sample],
+                "comm": np.array([c for sample in comm for c in sample], dtype=bool),
             }
         )
 

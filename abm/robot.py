@@ -31,10 +31,8 @@ class Robot(ContinuousSpaceAgent):
 
     def __init__(self, model: "SwarmModel", position: np.ndarray, state: str, mode: str) -> None:
         super().__init__(model.space, model)
+        model._robot_added(self.unique_id)
         self.position = np.asarray(position, dtype=float)
-        # Row of this robot in space.agent_positions: robots are never removed from the space,
-        # so the row is fixed and the physics can write all flyers' rows in one assignment.
-        self.space_index = model.space._agent_to_index[self]
         self.state: str | None = None
         self.process: simpy.Process | None = None
         self.set_state(state)
@@ -66,3 +64,20 @@ class Robot(ContinuousSpaceAgent):
         """Run ``behaviour`` as this robot's SimPy process."""
         self.process = self.env.process(behaviour)
         return self.process
+
+    def remove(self) -> None:
+        """Take the robot out of the model: out of the air, out of the counts, the energy
+        ledger and the space (the other robots' rows in the space move up).
+
+        The model's own structures (e.g. a beacon network) are the model's to update first.
+        """
+        model = self.model
+        if self.unique_id in model.physics.ids:
+            model.physics.stop(self.unique_id)
+        if self.process is not None and self.process.is_alive:
+            self.process.interrupt("removed")
+        model.recorder.move(self.state, None)
+        model.recorder.log("removed", self.unique_id)
+        model.ledger.retire(self.unique_id)
+        super().remove()
+        model._robots_reindexed()

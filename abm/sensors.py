@@ -1,8 +1,11 @@
-"""Noisy sensor models of the papers, vectorised over robots.
+"""Noisy sensor models, vectorised over robots; every constant comes from the caller (a
+model's params), so the same models serve any paper's robot.
 
-Stirling et al. (2010) Sect. 3.1 and App. B: four cardinal infrared distance sensors with range
-S_r = 3.5 m and Gaussian noise of 5 cm; a relative-positioning sensor with range std 17 cm and
-bearing std 6.1 deg at 3 m (Pugh et al. 2009). We scale the range noise linearly with range.
+- distance sensors: the distance to the first wall along a ray, with Gaussian noise, clipped
+  to the sensor's range (a sensor that sees nothing reads its range);
+- relative positioning: the vector to another robot measured with a range error whose std
+  grows linearly with range (``range_noise`` at ``reference_range``) and a constant bearing
+  error.
 
 The per-reading models are compiled scalar functions (:func:`noisy_reading`,
 :func:`measured_relative`) so that compiled controllers apply exactly the same models as the
@@ -17,21 +20,12 @@ from numba import njit
 from abm.arena import Arena
 
 __all__ = [
-    "BEARING_NOISE",
-    "RANGE_NOISE",
-    "REFERENCE_RANGE",
     "distance_sensors",
     "measured_relative",
     "noisy_reading",
     "ray_sensors",
     "relative_positions",
 ]
-
-#: Relative positioning (Pugh et al. 2009): range std (m) and bearing std (rad) at
-#: ``REFERENCE_RANGE`` m.
-RANGE_NOISE = 0.17
-BEARING_NOISE = math.radians(6.1)
-REFERENCE_RANGE = 3.0
 
 
 @njit(cache=True, inline="always")
@@ -94,8 +88,8 @@ def distance_sensors(
     arena: Arena,
     points: np.ndarray,
     rng: np.random.Generator,
-    max_range: float = 3.5,
-    noise: float = 0.05,
+    max_range: float,
+    noise: float,
 ) -> np.ndarray:
     """Noisy N/E/S/W wall distances ``(n, 4)`` (m), clipped to ``[0, max_range]``.
 
@@ -109,8 +103,8 @@ def ray_sensors(
     origins: np.ndarray,
     directions: np.ndarray,
     rng: np.random.Generator,
-    max_range: float = 3.5,
-    noise: float = 0.05,
+    max_range: float,
+    noise: float,
 ) -> np.ndarray:
     """Noisy wall distances ``(n,)`` along arbitrary rays: the distance sensors' model."""
     true = arena.raycast(origins, directions, max_range)
@@ -128,9 +122,9 @@ def _with_noise(
 def relative_positions(
     vectors: np.ndarray,
     rng: np.random.Generator,
-    range_noise: float = RANGE_NOISE,
-    bearing_noise: float = BEARING_NOISE,
-    reference_range: float = REFERENCE_RANGE,
+    range_noise: float,
+    bearing_noise: float,
+    reference_range: float,
 ) -> np.ndarray:
     """Noisy measurement of relative position vectors ``(n, 2)``.
 

@@ -47,8 +47,12 @@ def recurrence(
     w0: float = 0.0,
     b0: float = 1.0,
     step: float = 0.5,
+    supply: float = np.inf,
 ) -> pd.DataFrame:
     """Iterate the recurrence for ``steps`` model steps.
+
+    ``supply`` (our extension, for swarms of a fixed size such as beacon/explorer): robots stop
+    arriving once ``supply`` have arrived in all; the paper's recurrence has no limit (inf).
 
     Returns:
         DataFrame with ``step`` (0..steps), ``time`` (s), ``wander`` (w_t), ``beacon`` (b_t),
@@ -58,20 +62,27 @@ def recurrence(
     check_range("steps", steps, 0, integer=True)
     check_range("step", step, 0.0, low_open=True)
     a = a0 * np.power(alpha6, np.arange(steps + 1, dtype=float))
-    w, b = _iterate(a, float(alpha5), float(w0), float(b0))
+    w, b = _iterate(a, float(alpha5), float(w0), float(b0), float(supply))
     idx = np.arange(steps + 1)
     return pd.DataFrame({"step": idx, "time": idx * step, "wander": w, "beacon": b, "a": a})
 
 
 @njit(cache=True)
-def _iterate(a: np.ndarray, alpha5: float, w0: float, b0: float) -> tuple[np.ndarray, np.ndarray]:
-    """w_t, b_t of the recurrence for the given a_t (a compiled loop: fits call it often)."""
+def _iterate(
+    a: np.ndarray, alpha5: float, w0: float, b0: float, supply: float = np.inf
+) -> tuple[np.ndarray, np.ndarray]:
+    """w_t, b_t of the recurrence for the given a_t (a compiled loop: fits call it often);
+    arrivals stop once ``supply`` robots have arrived.
+    """
     w = np.empty(a.shape[0])
     b = np.empty(a.shape[0])
     w[0], b[0] = w0, b0
+    arrived = 0.0
     for t in range(1, a.shape[0]):
         moved = a[t] * w[t - 1]
-        w[t] = w[t - 1] - moved + alpha5
+        arriving = min(alpha5, max(0.0, supply - arrived))
+        arrived += arriving
+        w[t] = w[t - 1] - moved + arriving
         b[t] = b[t - 1] + moved
     return w, b
 
@@ -161,8 +172,8 @@ class FitResult:
     lmfit: object = field(repr=False, default=None)
 
 
-def _predict(p: dict, steps: int, step: float) -> pd.DataFrame:
-    return recurrence(p["a0"], p["alpha6"], p["alpha5"], steps, p["w0"], p["b0"], step)
+def _predict(p: dict, steps: int, step: float, supply: float = np.inf) -> pd.DataFrame:
+    return recurrence(p["a0"], p["alpha6"], p["alpha5"], steps, p["w0"], p["b0"], step, supply)
 
 
 def fit_recurrence(
@@ -174,6 +185,7 @@ def fit_recurrence(
     a0: float = 0.05,
     alpha6: float = 0.999,
     min_share: float = 0.5,
+    supply: float | None = None,
 ) -> FitResult:
     """Fit a0 and alpha6 of the recurrence to the mean counts of one or more runs (lmfit).
 
@@ -187,6 +199,8 @@ def fit_recurrence(
         a0: starting value, bounded to [0, 1].
         alpha6: starting value, bounded to [0.9, 1].
         min_share: see :func:`mean_counts`.
+        supply: robots that can arrive in all, counting those at t = 0 (a swarm of fixed
+            size); None: no limit (the paper's recurrence).
 
     Returns:
         A :class:`FitResult`; w0 and b0 are the mean observed counts at t = 0, rounded.
@@ -202,6 +216,7 @@ def fit_recurrence(
     if alpha5 is None:
         total = w_obs + b_obs
         alpha5 = float(np.polyfit(t, total, 1)[0] * step)
+    limit = np.inf if supply is None else float(supply) - np.round(w_obs[0] + b_obs[0])
     steps = int(round(t[-1] / step))
     idx = np.round(t / step).astype(int)
     params = lmfit.Parameters()
@@ -212,7 +227,7 @@ def fit_recurrence(
     params.add("b0", value=float(np.round(b_obs[0])), vary=False)
 
     def residual(p: lmfit.Parameters) -> np.ndarray:
-        pred = _predict(p.valuesdict(), steps, step)
+        pred = _predict(p.valuesdict(), steps, step, limit)
         return np.concatenate(
             [pred["wander"].to_numpy()[idx] - w_obs, pred["beacon"].to_numpy()[idx] - b_obs]
         )
@@ -232,7 +247,7 @@ def fit_recurrence(
         k: (float(v.stderr) if v.stderr is not None else float("nan"))
         for k, v in result.params.items()
     }
-    pred = _predict(values, steps, step).iloc[idx].reset_index(drop=True)
+    pred = _predict(values, steps, step, limit).iloc[idx].reset_index(drop=True)
     predicted = pd.DataFrame(
         {"time": t, "wander": pred["wander"].to_numpy(), "beacon": pred["beacon"].to_numpy()}
     )

@@ -1,17 +1,19 @@
 """Pictures of a saved run, rebuilt from its recorded files without re-running the model.
 
-At time t the picture shows what the run folder (see :mod:`analysis.runio`) records:
+At time t the picture shows what the run folder (see :mod:`analysis.runio`) records, for any
+model:
 
 - walls: the saved arena grid;
-- robots and their states: the latest position sample at or before t;
-- comm links: between beacons within the comm range and in line of sight (as
-  :class:`abm.comms.CommNetwork` links them);
-- covered area: the coverage raster stamped at every ``attach`` event up to t (as the model
-  stamps it), so the last frame matches the model's own final raster;
-- the beacons' desired-direction arrows are not recorded, so renders leave them out (the live
-  ``abm viz`` page shows them).
+- robots and their states, in the model's styles: the latest position sample at or before t;
+- comm links: between the robots that were comm-network nodes at that sample, within the comm
+  range and in line of sight (as :class:`abm.comms.CommNetwork` links them);
+- covered area: the pixels first covered at or before t (the model's own raster records when),
+  so the last frame is the model's final raster;
+- arrows (e.g. beacons' desired directions) are not recorded, so renders leave them out (the
+  live ``abm viz`` page shows them).
 
-Beside the arena: robots per state and coverage over the whole run, with a cursor at t.
+Beside the arena: robots per state and, for a model that covers, coverage over the whole run,
+with a cursor at t.
 """
 
 import shutil
@@ -24,19 +26,15 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from tqdm import tqdm
 
-from abm.coverage import CoverageRaster
 from abm.errors import ABMError, ConfigError
-from abm.viz.scene import COVERED_COLOUR, Scene, SceneView, state_colour
+from abm.viz.scene import COVERED_COLOUR, Scene, SceneView
 from analysis.runio import SavedRun
 
 __all__ = ["RunReplay", "RunFigure", "render_animation", "render_snapshots", "snapshot_times"]
 
-#: Robot states whose robots are nodes of the comm network.
-LINK_STATES = ("beacon",)
-
 
 class RunReplay:
-    """Rebuilds the scene of a saved run at any time; fastest when times increase.
+    """Rebuilds the scene of a saved run at any time.
 
     Args:
         run: the loaded run folder.
@@ -49,66 +47,43 @@ class RunReplay:
         self._times = positions["time"].to_numpy(float)
         self._xy = positions[["x", "y"]].to_numpy(float)
         self._states = positions["state"].to_numpy(object)
+        self._comm = positions["comm"].to_numpy(bool)
         self.sample_times = np.unique(self._times)
-        self.comm_range = float(run.meta.get("comm_range", 4.0))
-        radius, pixel = run.meta.get("coverage_radius"), run.meta.get("coverage_pixel")
-        self.raster = None
-        self._stamps: list[tuple[np.ndarray, np.ndarray]] = []
-        self._stamp_times = np.zeros(0)
-        if radius is not None and pixel is not None:
-            self.raster = CoverageRaster(
-                run.arena, radius, pixel, bool(run.meta.get("coverage_line_of_sight", True))
-            )
-            events = run.events
-            attach = events[events["event"] == "attach"].sort_values("time", kind="stable")
-            self._stamp_times = attach["time"].to_numpy(float)
-            points = attach[["x", "y"]].to_numpy(float)
-            self._stamps = [self.raster.visible_pixels(p) for p in points]
-        self._applied = 0
+        self.comm_range = float(run.meta["comm_range"])
+        self.first_covered = run.first_covered
+        self._n_free = None
+        if self.first_covered is not None:
+            fine = run.first_covered.shape[0] // run.arena.rows
+            free = np.repeat(np.repeat(run.arena.free, fine, axis=0), fine, axis=1)
+            self._n_free = int(free.sum())
 
     @property
     def pixel(self) -> float | None:
         """Side of a coverage pixel (m), or None without coverage."""
-        return None if self.raster is None else self.raster.pixel
+        return self.run.coverage_pixel
 
     def coverage_history(self) -> tuple[np.ndarray, np.ndarray]:
-        """Coverage (% of free area) after each attach event: ``(times, percent)``."""
-        if self.raster is None:
+        """Coverage (% of free area) after each time a pixel was first covered."""
+        if self.first_covered is None:
             return np.zeros(0), np.zeros(0)
-        covered = np.zeros_like(self.raster.covered)
-        percent = []
-        n_free = self.raster.free.sum()
-        for rows, cols in self._stamps:
-            covered[rows, cols] = True
-            percent.append(100.0 * covered.sum() / n_free)
-        return self._stamp_times.copy(), np.array(percent)
-
-    def _covered_at(self, time: float) -> np.ndarray | None:
-        if self.raster is None:
-            return None
-        upto = int(np.searchsorted(self._stamp_times, time, side="right"))
-        if upto < self._applied:
-            self.raster.covered[:] = False
-            self._applied = 0
-        for rows, cols in self._stamps[self._applied : upto]:
-            self.raster.covered[rows, cols] = True
-        self._applied = upto
-        return self.raster.covered.copy()
+        times = np.sort(self.first_covered[np.isfinite(self.first_covered)])
+        changes = np.nonzero(np.append(np.diff(times) > 0, True))[0]
+        return times[changes], 100.0 * (changes + 1) / self._n_free
 
     def scene_at(self, time: float) -> Scene:
         """The scene at simulated time ``time`` (s)."""
         k = int(np.searchsorted(self.sample_times, time, side="right")) - 1
         if k >= 0:
             rows = self._times == self.sample_times[k]
-            xy, states = self._xy[rows], self._states[rows]
+            xy, states, comm = self._xy[rows], self._states[rows], self._comm[rows]
         else:
-            xy, states = np.zeros((0, 2)), np.zeros(0, dtype=object)
+            xy, states, comm = np.zeros((0, 2)), np.zeros(0, dtype=object), np.zeros(0, bool)
         return Scene(
             time=float(time),
             positions=xy,
             states=states,
-            links=self._links(xy[np.isin(states, LINK_STATES)]),
-            covered=self._covered_at(time),
+            links=self._links(xy[comm]),
+            covered=None if self.first_covered is None else self.first_covered <= time,
         )
 
     def _links(self, nodes: np.ndarray) -> np.ndarray:
@@ -143,16 +118,11 @@ class RunFigure:
         ax_cover = self.fig.add_subplot(grid[1, 1], sharex=ax_counts)
         arena = run.arena
         self.view = SceneView(
-            self.ax_map,
-            arena.free,
-            arena.resolution,
-            run.states,
-            pixel=self.replay.pixel,
-            arrows_label=None,
+            self.ax_map, arena.free, arena.resolution, run.styles, pixel=self.replay.pixel
         )
         end = max(run.end_time, 1.0)
         counts = run.state_counts
-        for state in run.states:
+        for state, style in run.styles.items():
             t = np.append(counts["time"].to_numpy(float), run.end_time)
             y = counts[state].to_numpy(float)
             if len(y):
@@ -161,8 +131,8 @@ class RunFigure:
                     np.append(y, y[-1]),
                     where="post",
                     lw=2,
-                    color=state_colour(state, run.states),
-                    label=state,
+                    color=style.colour,
+                    label=style.label or state,
                 )
         ax_counts.set_ylabel("robots")
         ax_counts.set_title("robots per state", fontsize=10)
@@ -201,15 +171,10 @@ class RunFigure:
         self._legend = None
 
     def _headline(self, time: float) -> str:
-        s = self.run.summary
-        model = str(self.run.meta.get("model", "")).rpartition(":")[2]
-        parts = [model]
-        if "world" in s:
-            parts.append(f"{s['world']} world ({s.get('complexity', '')})")
-        if "launch_period" in s:
-            parts.append(f"launch period {float(s['launch_period']):g} s")
-        if s.get("seed") is not None:
-            parts.append(f"seed {s['seed']}")
+        meta = self.run.meta
+        parts = [str(meta["model"]), self.run.arena.name]
+        if meta.get("seed") is not None:
+            parts.append(f"seed {meta['seed']}")
         return ", ".join(parts) + f"  |  t = {time:.0f} s of {self.run.end_time:.0f} s"
 
     def draw(self, time: float) -> None:

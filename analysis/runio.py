@@ -2,16 +2,20 @@
 
 A run folder holds:
 
-- ``events.parquet``: the event log (attach rows carry the beacon's x, y in m);
-- ``positions.parquet``: robot positions sampled every trace interval (time, robot, x, y, state);
+- ``events.parquet``: the event log;
+- ``positions.parquet``: robot positions sampled every trace interval (time, robot, x, y, state,
+  comm: whether the robot was a node of the comm network);
 - ``state_counts.parquet``: robots per state after every change;
 - ``summary.parquet``: the model's one-row summary;
-- ``arena.npz``: the arena's free grid, its resolution (m) and the final coverage raster;
-- ``run.json``: the model class, its states, the constructor parameters, comm range (m),
-  coverage radius and pixel (m) and the end time (s).
+- ``arena.npz``: the arena's free grid, its resolution (m) and, for a model that covers, the
+  time (s) each coverage pixel was first covered (inf: never), which gives the covered area at
+  any time;
+- ``run.json``: the model (name and class), its states and their styles, its parameters and
+  seed, the comm range (m), the coverage raster's settings and the end time (s).
+
+Everything a picture needs is in the folder: drawing a run imports no model code.
 """
 
-import inspect
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +25,7 @@ import pandas as pd
 
 from abm.arena import Arena
 from abm.errors import ABMError
+from abm.styles import StateStyle
 
 __all__ = ["RUN_FILES", "RunFolderError", "SavedRun", "load_run", "save_run"]
 
@@ -47,11 +52,12 @@ class SavedRun:
         folder: where it was loaded from.
         arena: the world (walls).
         events: event log.
-        positions: sampled positions (time, robot, x, y, state).
+        positions: sampled positions (time, robot, x, y, state, comm).
         state_counts: robots per state after every change.
         summary: the model's summary.
         meta: the contents of run.json.
-        covered_final: the coverage raster at the end of the run, if the model kept one.
+        first_covered: per coverage pixel, when it was first covered (s; inf: never), or None
+            for a model that does not cover.
 
     """
 
@@ -62,7 +68,7 @@ class SavedRun:
     state_counts: pd.DataFrame
     summary: dict
     meta: dict
-    covered_final: np.ndarray | None
+    first_covered: np.ndarray | None
 
     @property
     def states(self) -> tuple[str, ...]:
@@ -70,42 +76,32 @@ class SavedRun:
         return tuple(self.meta["states"])
 
     @property
+    def styles(self) -> dict[str, StateStyle]:
+        """Each state's style, as the model declared it."""
+        return {state: StateStyle(**style) for state, style in self.meta["styles"].items()}
+
+    @property
     def end_time(self) -> float:
         """Simulated time at the end of the run (s)."""
         return float(self.meta["end_time"])
 
-
-def _plain(value):
-    """``value`` if it is JSON-friendly (number, string, bool, None), else None."""
-    if isinstance(value, np.generic):
-        value = value.item()
-    if value is None or isinstance(value, bool | int | float | str):
-        return value
-    return None
-
-
-def _parameters(model, summary: dict) -> dict:
-    """The constructor parameters of ``model`` that have a plain value."""
-    params = {}
-    for name in inspect.signature(type(model).__init__).parameters:
-        if name == "self":
-            continue
-        value = _plain(getattr(model, name, None))
-        if value is None and name in summary:
-            value = _plain(summary[name])
-        if value is not None or hasattr(model, name):
-            params[name] = value
-    return params
+    @property
+    def coverage_pixel(self) -> float | None:
+        """Side of a coverage pixel (m), or None without coverage."""
+        coverage = self.meta.get("coverage")
+        return None if coverage is None else float(coverage["pixel"])
 
 
 def save_run(model, out_dir: str | Path) -> list[Path]:
     """Write everything ``abm render`` needs about a finished SwarmModel run; return the paths.
 
     Args:
-        model: a SwarmModel after ``run()`` (must implement ``summary()``).
+        model: a SwarmModel after ``run()``.
         out_dir: the run folder (created if missing).
 
     """
+    from abm.registry import name_of
+
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     summary = model.summary()
@@ -120,25 +116,34 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
     parquet(model.positions(), "positions.parquet")
     parquet(model.state_counts(), "state_counts.parquet")
     parquet(pd.DataFrame([summary]), "summary.parquet")
-    coverage = getattr(model, "coverage", None)
+    coverage = model.coverage
     arrays = {
         "free": model.arena.free,
         "resolution": np.float64(model.arena.resolution),
         "name": np.str_(model.arena.name),
     }
     if coverage is not None:
-        arrays["covered"] = coverage.covered
+        arrays["first_covered"] = coverage.first_covered
     arena_path = out / "arena.npz"
     np.savez_compressed(arena_path, **arrays)
     written.append(arena_path)
+    cls = type(model)
     meta = {
-        "model": f"{type(model).__module__}:{type(model).__name__}",
+        "model": name_of(cls) or f"{cls.__module__}:{cls.__qualname__}",
+        "target": f"{cls.__module__}:{cls.__qualname__}",
+        "seed": model.seed,
         "states": list(model.STATES),
-        "parameters": _parameters(model, summary),
+        "styles": {state: style.as_dict() for state, style in model.state_styles.items()},
+        "parameters": model.params.plain(),
         "comm_range": float(model.comms.comm_range),
-        "coverage_radius": None if coverage is None else float(coverage.radius),
-        "coverage_pixel": None if coverage is None else float(coverage.pixel),
-        "coverage_line_of_sight": None if coverage is None else bool(coverage.line_of_sight),
+        "coverage": None
+        if coverage is None
+        else {
+            "radius": coverage.radius,
+            "pixel": coverage.pixel,
+            "line_of_sight": coverage.line_of_sight,
+            "around": coverage.around,
+        },
         "end_time": float(model.time),
         "end_reason": model.end_reason,
     }
@@ -158,18 +163,24 @@ def load_run(out_dir: str | Path) -> SavedRun:
     folder = Path(out_dir)
     if not folder.is_dir():
         raise RunFolderError(
-            f"run folder {str(folder)!r} does not exist; make one with `abm run --out {folder}`"
+            f"run folder {str(folder)!r} does not exist; make one with "
+            f"`abm run MODEL --out {folder}`"
         )
     missing = [name for name in RUN_FILES if not (folder / name).is_file()]
     if missing:
         raise RunFolderError(
             f"run folder {str(folder)!r} lacks {', '.join(missing)}; "
-            f"re-run it with `abm run --out {folder}` (which saves them)"
+            f"re-run it with `abm run MODEL --out {folder}` (which saves them)"
         )
     meta = json.loads((folder / "run.json").read_text())
+    if "styles" not in meta:
+        raise RunFolderError(
+            f"run folder {str(folder)!r} was saved by an older version (no state styles); "
+            f"re-run it with `abm run MODEL --out {folder}`"
+        )
     with np.load(folder / "arena.npz", allow_pickle=False) as data:
         arena = Arena(data["free"].astype(bool), float(data["resolution"]), name=str(data["name"]))
-        covered = data["covered"].astype(bool) if "covered" in data.files else None
+        first = data["first_covered"] if "first_covered" in data.files else None
     summary = pd.read_parquet(folder / "summary.parquet").iloc[0].to_dict()
     return SavedRun(
         folder=folder,
@@ -179,5 +190,5 @@ def load_run(out_dir: str | Path) -> SavedRun:
         state_counts=pd.read_parquet(folder / "state_counts.parquet"),
         summary=summary,
         meta=meta,
-        covered_final=covered,
+        first_covered=first,
     )

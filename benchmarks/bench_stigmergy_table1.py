@@ -5,14 +5,15 @@ Usage:
     python benchmarks/bench_stigmergy_table1.py --runs 3        # a quick look
     python benchmarks/bench_stigmergy_table1.py --maps hall100 --radii 20 30 40 --runs 10
 
-Runs go through :func:`analysis.sweep.run_sweep` on all cores: a progress bar, each finished
-run written at once to ``<out>/runs`` and ``<out>/series`` (Parquet), and a restarted
-benchmark skips the runs already there (so the wall time printed is that of this session's
-runs only; use a fresh ``--out`` to time the whole reproduction). Runs are keyed by their
-parameters, which name a map but do not pin its walls: stored runs whose ``map_digest`` is not
-the current map's (or that have none) are deleted first and run again. Prints the machine's load
-before and after (the machine may be shared), our Table 1 beside the paper's, the mean RMSDs
-beside the paper's Table 2, and writes ``<out>/table1.csv`` and the HTML fit report.
+Runs go through :func:`analysis.fit.fit_runs` (a resumable sweep on all cores): a progress
+bar, each finished run written at once to ``<out>/runs`` and ``<out>/series`` (Parquet), and a
+restarted benchmark skips the runs already there (so the wall time printed is that of this
+session's runs only; use a fresh ``--out`` to time the whole reproduction). Runs are keyed by
+their parameters, which name a map but do not pin its walls: stored runs whose ``map_digest``
+is not the current map's (or that have none) are deleted first and run again. Prints the
+machine's load before and after, our Table 1 beside the paper's, the mean RMSDs beside the
+paper's Table 2, and writes ``<out>/table1.csv`` and the HTML fit report. The same table comes
+from ``abm fit stigmergy --read <out>``.
 """
 
 import argparse
@@ -22,11 +23,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from analysis.fit_report import analyse, sweep_grid, write_report
-from models.stigmergy.params import PAPER_TABLE1, PAPER_TABLE2
+from analysis.fit import analyse, fit_runs, write_fit_report
+from models.stigmergy.published import MACRO, MAP_OF_ID, TABLE1, TABLE1_COLUMNS, TABLE2
 
-#: Our reconstructions of the paper's Table 1 maps, by the paper's map id.
-PAPER_MAPS = {"hall100": 1, "hall100x200": 2, "divided": 3, "complex": 4}
+#: Our reconstructions of the paper's Table 1 maps, in the paper's order.
+PAPER_MAPS = [MAP_OF_ID[i] for i in sorted(MAP_OF_ID)]
+ID_OF_MAP = {name: i for i, name in MAP_OF_ID.items()}
 
 
 def _load() -> str:
@@ -53,41 +55,45 @@ def _drop_stale(out: Path, maps: list[str]) -> int:
     return int(stale.sum())
 
 
-def _table(result: dict) -> pd.DataFrame:
-    """Our Table 1 rows with the paper's numbers beside them (``p_`` columns)."""
-    t1 = result["table1"]
+def _table(result: dict, summaries: pd.DataFrame) -> pd.DataFrame:
+    """Our Table 1 rows (with ca, cb) and the paper's numbers beside them (``p_`` columns)."""
+    t1 = result["table"]
     rows = []
-    for r in t1.itertuples():
+    for r in t1.to_dict("records"):
+        runs = summaries[
+            (summaries["map"] == r["map"])
+            & (summaries["pheromone_radius"] == r["pheromone_radius"])
+        ]
         row = {
-            "map": r.map,
-            "id": PAPER_MAPS.get(r.map),
-            "C_rb": r.radius,
-            "runs": r.runs,
-            "w": r.w,
-            "b": r.b,
-            "w_hat": getattr(r, "w_hat", float("nan")),
-            "b_hat": getattr(r, "b_hat", float("nan")),
-            "t": r.t,
-            "ca": r.ca,
-            "cb": r.cb,
-            "rmsd_w": getattr(r, "rmsd_w", float("nan")),
-            "rmsd_b": getattr(r, "rmsd_b", float("nan")),
-            "rmsd_w_reg": getattr(r, "rmsd_w_reg", float("nan")),
-            "rmsd_b_reg": getattr(r, "rmsd_b_reg", float("nan")),
-            "rmsd_w_fit": r.rmsd_w_fit,
-            "rmsd_b_fit": r.rmsd_b_fit,
+            "map": r["map"],
+            "id": ID_OF_MAP.get(r["map"]),
+            "C_rb": r["pheromone_radius"],
+            "runs": r["runs"],
+            **{k: r.get(k, float("nan")) for k in ("w", "b", "w_hat", "b_hat", "t")},
+            "ca": runs["ca"].mean(),
+            "cb": runs["cb"].mean(),
+            **{
+                k: r.get(k, float("nan"))
+                for k in (
+                    "rmsd_w",
+                    "rmsd_b",
+                    "rmsd_w_reg",
+                    "rmsd_b_reg",
+                    "rmsd_w_fit",
+                    "rmsd_b_fit",
+                )
+            },  # fmt: skip
         }
-        paper = PAPER_TABLE1.get((row["id"], int(r.radius)))
+        paper = TABLE1.get((row["id"], int(r["pheromone_radius"])))
         if paper is not None:
-            names = ("w", "b", "w_hat", "b_hat", "t", "ca", "cb", "rmsd_w", "rmsd_b")
-            row.update({f"p_{n}": v for n, v in zip(names, paper, strict=True)})
+            row.update({f"p_{n}": v for n, v in zip(TABLE1_COLUMNS, paper, strict=True)})
         rows.append(row)
     return pd.DataFrame(rows)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--maps", nargs="+", default=list(PAPER_MAPS))
+    parser.add_argument("--maps", nargs="+", default=PAPER_MAPS)
     parser.add_argument("--radii", nargs="+", type=float, default=[10.0, 20.0, 30.0, 40.0])
     parser.add_argument("--runs", type=int, default=30, help="runs per map and radius")
     parser.add_argument("--seed", type=int, default=2018, help="root seed of the sweep")
@@ -100,8 +106,9 @@ def main() -> None:
         print(f"deleted {stale} stored runs made on other map walls; they run again")
     print(f"before: {_load()}", flush=True)
     start = time.perf_counter()
-    summaries, counts = sweep_grid(
-        args.maps, args.radii, args.runs, args.out, seed=args.seed, workers=args.workers
+    grid = {"map": args.maps, "pheromone_radius": args.radii}
+    summaries, counts, conditions = fit_runs(
+        "stigmergy", grid, args.runs, args.out, seed=args.seed, workers=args.workers
     )
     elapsed = time.perf_counter() - start
     print(f"after:  {_load()}")
@@ -117,8 +124,8 @@ def main() -> None:
         print("runs ending before ca reached the target (share ended by coverage):")
         print(ended[ended < 1].round(2).to_string())
 
-    result = analyse(summaries, counts)
-    table = _table(result)
+    result = analyse(summaries, counts, MACRO, conditions)
+    table = _table(result, summaries)
     order = {m: i for i, m in enumerate(PAPER_MAPS)}
     table = table.sort_values(["map", "C_rb"], key=lambda c: c.map(order) if c.name == "map" else c)
     table.to_csv(args.out / "table1.csv", index=False)
@@ -134,31 +141,27 @@ def main() -> None:
         ("a0, alpha6 per curve", "rmsd_w_fit", "rmsd_b_fit"),
     ):
         print(f"  {label:27s} w {table[w].mean():.4g}  b {table[b].mean():.4g}")
-    paper_w = [
-        PAPER_TABLE1[(PAPER_MAPS[m], int(r))][7]
-        for m, r in zip(table["map"], table["C_rb"], strict=True)
-        if (PAPER_MAPS.get(m), int(r)) in PAPER_TABLE1
-    ]
-    paper_b = [
-        PAPER_TABLE1[(PAPER_MAPS[m], int(r))][8]
-        for m, r in zip(table["map"], table["C_rb"], strict=True)
-        if (PAPER_MAPS.get(m), int(r)) in PAPER_TABLE1
-    ]
+    paper_w = table["p_rmsd_w"].dropna().tolist() if "p_rmsd_w" in table else []
+    paper_b = table["p_rmsd_b"].dropna().tolist() if "p_rmsd_b" in table else []
     if paper_w:
         print(
             f"  {'paper, these Table 1 rows':27s} w {sum(paper_w) / len(paper_w):.4g}  "
             f"b {sum(paper_b) / len(paper_b):.4g}"
         )
     print(
-        f"  {'paper, Table 2 (10 maps)':27s} w {PAPER_TABLE2['rmsd_w'][0]:.4g}  "
-        f"b {PAPER_TABLE2['rmsd_b'][0]:.4g}"
+        f"  {'paper, Table 2 (10 maps)':27s} w {TABLE2['rmsd_w'][0]:.4g}  "
+        f"b {TABLE2['rmsd_b'][0]:.4g}"
     )
     if result.get("lambdas") is not None:
         lam, _ = result["lambdas"]
         print("lambdas: " + ", ".join(f"{k}={v:.4g}" for k, v in lam.items()))
-    meta = f"benchmark: {len(summaries)} runs, {elapsed:.0f} s wall this session; {_load()}"
+    meta = [
+        ("model", "stigmergy"),
+        ("runs", f"{len(summaries)} in {args.out}"),
+        ("wall time", f"{elapsed:.0f} s this session; {_load()}"),
+    ]
     print(f"wrote {args.out / 'table1.csv'}")
-    print(f"wrote {write_report(result, summaries, args.out, meta)}")
+    print(f"wrote {write_fit_report(result, summaries, MACRO, args.out, meta)}")
 
 
 if __name__ == "__main__":

@@ -7,7 +7,6 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from abm.energy import STIRLING_POWER
 from abm.errors import ConfigError, MapError
 from models.beacon_explorer import BeaconExplorerModel
 
@@ -69,10 +68,13 @@ def test_no_robot_ever_crosses_a_wall(corridor_run):
 def test_energy_ledger_equals_integral_of_each_robots_power(corridor_run):
     ledger = corridor_run.ledger
     end = corridor_run.env.now
+    p = corridor_run.params  # App. C: the paper's powers, model parameters
+    power = {"ground": p.power_ground, "flight": p.power_flight, "beacon": p.power_beacon}
+    assert power == {"ground": 0.5, "flight": 120.0, "beacon": 5.0}
     total = 0.0
     for robot in corridor_run.robots:
         segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
-        expected = sum(STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
+        expected = sum(power[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
         assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12)
         total += expected
     assert corridor_run.summary()["energy_total"] == pytest.approx(total, rel=1e-12)
@@ -181,6 +183,12 @@ def test_bitmap_world_runs(tmp_path):
         ({"max_speed": 0}, "max_speed"),
         ({"battery_capacity": 0.0}, r"battery_capacity must be in \(0"),
         ({"battery_capacity": -5e3}, r"battery_capacity must be in \(0"),
+        ({"start": (1.5, 1.5)}, "start applies to map-file worlds only"),
+        ({"world": "open", "map_resolution": 0.5}, "map_resolution applies to map-file worlds"),
+        ({"attach_eps": 0.0}, r"attach_eps must be in \(0"),
+        ({"hover_beacons": 1}, "hover_beacons must be True or False"),
+        ({"launch_periods": 6.0}, "unknown parameter 'launch_periods' .did you mean 'launch_p"),
+        ({"params": {}}, "unknown parameter 'params'"),
     ],
 )
 def test_bad_parameters_raise_config_errors(kwargs, match):
@@ -299,8 +307,6 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
     """A stalled run of the open-room sweep (medium density, 12 s): following the plain nearest
     beacon, an explorer flipped between two beacons whose signals pointed to different spots
     and never attached. With hysteresis in the choice of beacon the run ends by itself."""
-    from dataclasses import replace
-
     from models.beacon_explorer.params import DEFAULTS
 
     def end(hysteresis: float) -> str:
@@ -312,7 +318,7 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
                 seed=7118335672433552142,
                 time_limit=1000.0,
                 trace_interval=None,
-                params=replace(DEFAULTS, guide_hysteresis=hysteresis),
+                guide_hysteresis=hysteresis,
             )
             .run()
             .end_reason
@@ -320,3 +326,21 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
 
     assert end(0.0) == "time limit"  # the paper's rule, in this lattice
     assert end(DEFAULTS.guide_hysteresis) == "complete"
+
+
+@settings(max_examples=40, deadline=None)
+@given(width=st.sampled_from([1, 2]), x=st.floats(4.0, 26.0), across=st.floats(0.15, 0.85))
+def test_two_opposing_walls_closer_than_3_m_make_a_corridor_beacon(width, x, across):
+    """The paper's corridor test (Sect. 3.3.1) holds without code of its own: opposing walls
+    within the obstacle threshold leave no open quadrant."""
+    from abm.arena import Arena
+    from abm.worlds import World
+
+    free = np.zeros((width + 2, 30), dtype=bool)
+    free[1:-1, 1:-1] = True  # an east-west corridor, width m wide, 1 m pixels
+    arena = Arena(free, 1.0)
+    start = np.array([2.5, 1.5])
+    world = World(arena, start, "bitmap", "high", np.argwhere(free)[:, ::-1], None)
+    model = BeaconExplorerModel(world=world, n_robots=1, seed=int(x * 100), trace_interval=None)
+    walls, corridor = model.beacons._sense_walls(np.array([x, 1.0 + across * width]))
+    assert corridor and walls[0] and walls[2]

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from analysis.cli import _load_verbs, main
+from analysis.cli import VERB_MODULES, _load_verbs, main
 from analysis.runio import RUN_FILES, save_run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,7 +24,7 @@ def test_help_lists_every_verb_with_an_example(capsys):
     assert exit_.value.code == 0
     out = capsys.readouterr().out
     verbs = _load_verbs()
-    assert {"run", "render", "viz"} <= {v.VERB for v in verbs}
+    assert [v.VERB for v in verbs] == list(VERB_MODULES)
     for verb in verbs:
         assert verb.EXAMPLE.startswith(f"abm {verb.VERB}")
         assert verb.EXAMPLE in out
@@ -40,7 +40,10 @@ def test_no_verb_prints_help(capsys):
 
 def test_run_saves_what_render_needs(tmp_path, capsys):
     out = tmp_path / "run"
-    rc = main(["run", "--n-robots", "3", "--time-limit", "30", "--seed", "2", "--out", str(out)])
+    rc = main(
+        ["run", "beacon-explorer", "--n-robots", "3", "--time-limit", "30", "--seed", "2",
+         "--out", str(out)]
+    )  # fmt: skip
     assert rc == 0
     written = _wrote(capsys.readouterr().out)
     assert written and all(path.exists() for path in written)
@@ -104,30 +107,56 @@ def test_viz_refuses_a_busy_port_in_one_line(capsys):
     assert len(err) == 1 and err[0].startswith("abm viz: error:")
 
 
-def test_viz_lists_its_models(capsys):
+def test_an_unknown_model_is_one_line_naming_the_known_ones(capsys):
+    for verb in ("run", "viz", "fit"):
+        assert main([verb, "no-such-model"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "unknown model 'no-such-model'" in err[0]
+        assert "beacon-explorer" in err[0] and "stigmergy" in err[0]
+
+
+def test_run_flags_come_from_the_params_with_their_help(capsys):
     with pytest.raises(SystemExit):
-        main(["viz", "no-such-model"])
-    assert "beacon-explorer" in capsys.readouterr().err
+        main(["run", "beacon-explorer", "--help"])
+    out = capsys.readouterr().out
+    for flag in ("--attach-eps", "--guide-hysteresis", "--message-loss", "--latency"):
+        assert flag in out
+    assert "the paper gives no value" in out  # attach_eps's docstring text
+    assert main(["run", "beacon-explorer", "--attach-eps", "-1"]) == 2
+    assert "attach_eps must be in (0" in capsys.readouterr().err
 
 
-# ---------------------------------------------------------------- verbs written by others
+def test_run_of_a_mixed_world_needs_no_complexity(tmp_path, capsys):
+    out = tmp_path / "mixed"
+    args = ["run", "beacon-explorer", "--world", "mixed", "--time-limit", "20", "--out", str(out)]
+    assert main(args) == 0
+    assert "medium" in capsys.readouterr().out
+
+
 def test_sweep_then_report(tmp_path, capsys):
-    pytest.importorskip("analysis.cli.sweep")
     out = tmp_path / "sweep"
     smoke = ROOT / "experiments" / "smoke.toml"
     args = ["sweep", str(smoke), "--executor", "serial", "--replications", "1", "--out", str(out)]
     assert main(args) == 0
     assert all(p.exists() for p in _wrote(capsys.readouterr().out))
-    pytest.importorskip("analysis.cli.report")
     assert main(["report", str(out)]) == 0
     written = _wrote(capsys.readouterr().out)
     assert written and all(p.exists() for p in written)
 
 
-def test_fit(tmp_path, capsys):
-    pytest.importorskip("analysis.cli.fit")
+def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
+    """Two maps x three radii: the lambda regression (it needs 3 radii) and the held-out check
+    (it needs 2 maps) both run and reach the report."""
     out = tmp_path / "fit"
-    args = ["fit", "--maps", "hall100", "--radii", "20", "--runs", "1", "--time-limit", "200"]
-    assert main([*args, "--workers", "1", "--out", str(out)]) == 0
-    written = _wrote(capsys.readouterr().out)
+    args = ["fit", "stigmergy", "--grid", "map=hall100,divided",
+            "--grid", "pheromone_radius=20,30,40", "--set", "time_limit=400", "--runs", "2",
+            "--workers", "1", "--out", str(out)]  # fmt: skip
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    written = _wrote(printed)
     assert written and all(p.exists() for p in written)
+    assert "w_hat" in printed and "rmsd_w" in printed
+    html = (out / "fit_report.html").read_text()
+    assert "Fitted lambdas" in html and "Held-out conditions" in html
+    assert main(["fit", "stigmergy", "--read", str(out), "--out", str(tmp_path / "again")]) == 0
+    assert capsys.readouterr().out.splitlines()[:8] == printed.splitlines()[:8]

@@ -5,8 +5,10 @@ import simpy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abm.energy import STIRLING_POWER, Battery, EnergyLedger, PowerModes
+from abm.energy import Battery, EnergyLedger, PowerModes
 from abm.errors import ConfigError
+
+POWER = {"ground": 0.5, "flight": 120.0, "beacon": 5.0, "hover": 115.0, "off": 0.0}
 
 MODES = ["ground", "flight", "beacon", "hover"]
 
@@ -19,7 +21,7 @@ MODES = ["ground", "flight", "beacon", "hover"]
 )
 def test_ledger_equals_integral_of_power_over_mode_timeline(changes):
     env = simpy.Environment()
-    ledger = EnergyLedger(env, PowerModes())
+    ledger = EnergyLedger(env, PowerModes(POWER))
     for robot in range(4):
         ledger.set_mode(robot, "ground")
     for robot, mode, wait in changes:
@@ -31,14 +33,14 @@ def test_ledger_equals_integral_of_power_over_mode_timeline(changes):
     # integrate each robot's piecewise-constant power from the recorded timeline
     for robot in range(4):
         segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
-        expected = sum(STIRLING_POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
+        expected = sum(POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
         assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12, abs=1e-9)
     assert ledger.energy() == pytest.approx(sum(ledger.frame().energy))
 
 
 def test_battery_runs_flat_exactly_when_its_charge_is_used():
     env = simpy.Environment()
-    ledger = EnergyLedger(env, PowerModes())
+    ledger = EnergyLedger(env, PowerModes(POWER))
     flat = []
     Battery(ledger, capacity=1200.0, on_empty=lambda r: flat.append((r, env.now)))
     ledger.set_mode(7, "ground")  # 0.5 W
@@ -53,6 +55,27 @@ def test_bad_power_and_unknown_mode_are_rejected():
     with pytest.raises(ConfigError, match="power"):
         PowerModes({"flight": -1.0})
     env = simpy.Environment()
-    ledger = EnergyLedger(env, PowerModes())
+    ledger = EnergyLedger(env, PowerModes(POWER))
     with pytest.raises(ConfigError, match="unknown power mode 'warp'"):
         ledger.set_mode(1, "warp")
+
+
+def test_a_model_without_powers_keeps_durations_and_has_no_batteries():
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes(None))
+    ledger.set_mode(1, "anything")
+    env.run(until=4.0)
+    assert not ledger.has_powers
+    assert ledger.duration("anything") == 4.0 and ledger.energy() == 0.0
+    with pytest.raises(ConfigError, match="batteries need an energy model"):
+        Battery(ledger, capacity=10.0, on_empty=lambda r: None)
+
+
+def test_a_retired_robot_draws_no_more_power():
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes(POWER))
+    ledger.set_mode(3, "flight")
+    env.run(until=2.0)
+    ledger.retire(3)
+    env.run(until=10.0)
+    assert ledger.energy(3) == pytest.approx(240.0)

@@ -14,7 +14,7 @@ from analysis.macro import (
     refine_lambdas,
     rmsd,
 )
-from models.stigmergy.params import PAPER_LAMBDAS, PAPER_TABLE1
+from models.stigmergy.published import LAMBDAS, TABLE1, TABLE1_COLUMNS
 
 
 def test_recurrence_conserves_robots():
@@ -27,10 +27,10 @@ def test_recurrence_conserves_robots():
 def test_paper_lambdas_reproduce_table1_map1_large_radii():
     # With l1, l2 < 0 (signs restored) the published lambdas give Table 1's predictions.
     for radius in (30, 40):
-        row = PAPER_TABLE1[(1, radius)]
-        end = predict_from_lambdas(PAPER_LAMBDAS, radius, 0.2405, 1e4, int(row[4] / 0.5))
-        assert end["wander"].iloc[-1] == pytest.approx(row[2], abs=0.5)
-        assert end["beacon"].iloc[-1] == pytest.approx(row[3], abs=0.5)
+        row = dict(zip(TABLE1_COLUMNS, TABLE1[(1, radius)], strict=True))
+        end = predict_from_lambdas(LAMBDAS, radius, 0.2405, 1e4, int(row["t"] / 0.5))
+        assert end["wander"].iloc[-1] == pytest.approx(row["w_hat"], abs=0.5)
+        assert end["beacon"].iloc[-1] == pytest.approx(row["b_hat"], abs=0.5)
 
 
 def _synthetic(a0, alpha6, seeds=3, steps=3000, noise=0.3):

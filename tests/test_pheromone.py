@@ -3,8 +3,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from abm.discs import disc_offsets
 from abm.errors import ConfigError
-from abm.pheromone import PheromoneField, disc_offsets
+from abm.pheromone import PheromoneField
 
 
 def test_disc_offsets_count_matches_area():

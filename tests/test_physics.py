@@ -38,7 +38,7 @@ def test_robots_never_pass_through_walls(seed, resolution, n):
     physics.trace = []
     starts = arena.free_cell_centres()[rng.integers(0, free.sum(), n)]
     for i, p in enumerate(starts):
-        physics.fly(i, i, p)
+        physics.fly(i, p)
     env.run(until=30.0)
     r = physics.params.body_radius
     for (_t0, ids0, p0), (_t1, ids1, p1) in pairwise(physics.trace):
@@ -58,8 +58,8 @@ def test_a_robot_robot_contact_counts_two_collisions():
 
     params = FlightParams(body_noise=0.0)
     physics = Physics(env, arena, np.random.default_rng(0), Towards(), params=params)
-    physics.fly(1, 0, [3.0, 2.5])
-    physics.fly(2, 1, [7.0, 2.5])
+    physics.fly(1, [3.0, 2.5])
+    physics.fly(2, [7.0, 2.5])
     while physics.robot_collisions == 0 and env.now < 10.0:
         env.run(until=env.now + 0.1)
     assert physics.robot_collisions == 2
@@ -85,7 +85,7 @@ def test_arrival_is_a_simpy_event():
             return np.zeros((physics.n_flying, 2)), np.full(physics.n_flying, physics.ticks >= 10)
 
     physics = Physics(env, arena, np.random.default_rng(0), StopAfterTen())
-    arrived = physics.fly(1, 0, [2.5, 2.5])
+    arrived = physics.fly(1, [2.5, 2.5])
     env.run(until=arrived)
     assert env.now == pytest.approx(0.9)
     assert physics.n_flying == 0

@@ -1,28 +1,32 @@
-"""Published effects of the inter-launch period, over 30 seeds per condition (SPEC A).
+"""The published effects of the inter-launch period (Stirling et al. 2010, Sect. 4), over 30
+seeds per condition: the direction of each, and at least a quarter of its published size.
 
-Stirling et al. (2010), high-complexity corridors, 24 s vs 6 s: flight time -41.5 %,
-collisions -93.9 %, coverage time +90.5 %, energy -30.8 %; hovering beacons cost 3.6x the
-energy (mixed, 6 s). We assert the directions, with a margin (30 seeds: -33.6 / -97.1 /
-+117.6 / -19.7 % when this was written).
+The paper's numbers come from the model's published.py (high-complexity corridors, 24 s vs
+6 s; hovering vs attached beacons in mixed worlds). What this suite measured last is printed
+with ``pytest -s``; the full-size reproduction (100 trials per condition) is in the README.
 """
+
+from functools import partial
 
 import pandas as pd
 import pytest
 
 from analysis.pools import process_pool
-from models.beacon_explorer import BeaconExplorerModel
+from analysis.runner import run_model
+from models.beacon_explorer.published import CORRIDOR_24_VS_6, HOVER_RATIO
 
 SEEDS = range(1, 31)
 
 
 def summary(kwargs: dict) -> dict:
-    model = BeaconExplorerModel(trace_interval=None, **kwargs)
-    return model.run().summary()
+    params = {"trace_interval": None, **kwargs}
+    seed = params.pop("seed")
+    return run_model("beacon-explorer", params, seed).summary
 
 
 def run_many(jobs: list[dict]) -> pd.DataFrame:
     with process_pool(2) as pool:
-        return pd.DataFrame(list(pool.map(summary, jobs, chunksize=3)))
+        return pd.DataFrame(list(pool.map(partial(summary), jobs, chunksize=3)))
 
 
 @pytest.fixture(scope="module")
@@ -40,21 +44,14 @@ def change(runs: pd.DataFrame, metric: str) -> float:
     return 100.0 * (means[24.0] / means[6.0] - 1.0)
 
 
-def test_longer_period_means_less_flight(periods):
-    assert change(periods, "flight_time") < -5.0
-
-
-def test_longer_period_means_far_fewer_collisions(periods):
-    assert change(periods, "collisions") < -60.0
-
-
-def test_longer_period_means_longer_coverage_time(periods):
-    assert change(periods, "coverage_time") > 50.0
-
-
-def test_longer_period_means_less_energy(periods):
-    """The paper's headline: the flight saved outweighs the beacons' longer search."""
-    assert change(periods, "energy_total") < -5.0
+@pytest.mark.parametrize("metric", sorted(CORRIDOR_24_VS_6))
+def test_a_longer_period_changes_each_metric_as_published(periods, metric):
+    """Flight time, collisions and energy fall, coverage time rises (24 s vs 6 s)."""
+    paper = CORRIDOR_24_VS_6[metric]
+    ours = change(periods, metric)
+    print(f"{metric}: ours {ours:+.1f} %, paper {paper:+.1f} %")
+    assert ours * paper > 0, (metric, ours, paper)  # the same direction
+    assert abs(ours) > abs(paper) / 4, (metric, ours, paper)  # and a size of the same order
 
 
 def test_every_run_ends_by_itself(periods):
@@ -70,4 +67,6 @@ def test_hovering_beacons_cost_about_the_published_factor():
         for s in range(1, 11)
     ]
     energy = run_many(jobs).groupby("hover_beacons")["energy_total"].mean()
-    assert 2.5 < energy[True] / energy[False] < 5.0  # paper: 3.6x
+    ratio = energy[True] / energy[False]
+    print(f"hover / attached energy: ours {ratio:.2f}x, paper {HOVER_RATIO}x")
+    assert HOVER_RATIO / 1.5 < ratio < HOVER_RATIO * 1.5

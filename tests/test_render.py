@@ -8,7 +8,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from abm.draw import STATE_COLOURS
 from abm.errors import ConfigError
 from abm.viz.scene import WALL_COLOUR
 from analysis.render import RunReplay, render_animation, render_snapshots, snapshot_times
@@ -39,13 +38,16 @@ def test_save_and_load_round_trip(model, run_dir):
     assert np.array_equal(run.arena.free, model.arena.free)
     assert run.arena.resolution == model.arena.resolution
     assert run.states == model.STATES
+    assert run.styles == model.state_styles
     assert run.end_time == pytest.approx(model.time)
     pd.testing.assert_frame_equal(run.positions, model.positions())
     assert run.summary["coverage_area"] == pytest.approx(model.summary()["coverage_area"])
     meta = json.loads((run_dir / "run.json").read_text())
-    assert meta["model"] == "models.beacon_explorer.model:BeaconExplorerModel"
+    assert meta["model"] == "beacon-explorer"
+    assert meta["target"] == "models.beacon_explorer.model:BeaconExplorerModel"
+    assert meta["parameters"] == model.params.plain()
     assert meta["parameters"]["launch_period"] == 4.0
-    assert meta["parameters"]["n_robots"] == 4
+    assert meta["seed"] == 3
     assert meta["comm_range"] == 4.0
 
 
@@ -57,20 +59,21 @@ def test_replay_rebuilds_the_model_coverage_and_links(model, run_dir):
     # Going back in time un-covers; coverage grows monotonically with time.
     early = replay.scene_at(0.0).covered.sum()
     assert 0 < early < final.covered.sum()
-    assert replay.scene_at(run.end_time).covered.sum() == final.covered.sum()
     times, percent = replay.coverage_history()
-    assert np.all(np.diff(percent) >= 0)
+    assert np.all(np.diff(percent) > 0) and np.all(np.diff(times) > 0)
     assert percent[-1] == pytest.approx(100 * model.coverage.fraction)
-    # Links: the beacons' comm graph (range 4 m, line of sight) at the last sample.
+    for t in (10.0, 25.0):  # the history and the scene agree at any time
+        k = np.searchsorted(times, t, side="right") - 1
+        shown = replay.scene_at(t).covered
+        assert 100 * shown.sum() / model.coverage.free.sum() == pytest.approx(percent[k])
+    # Links: the comm graph (range 4 m, line of sight) of the robots that were comm nodes.
     last = run.positions["time"].max()
     scene = replay.scene_at(last)
     lengths = np.hypot(*(scene.links[:, 0] - scene.links[:, 1]).T)
     assert np.all(lengths <= 4.0)
-    beacons = scene.positions[scene.states == "beacon"]
-    graph = model.comms.graph
-    live = np.array([graph.nodes[n]["pos"] for n in graph.nodes])
-    if len(beacons) == len(live):  # no attach/detach after the last sample
-        assert len(scene.links) == graph.number_of_edges()
+    sample = run.positions[run.positions["time"] == last]
+    assert set(sample.loc[sample["comm"], "robot"]) == set(model.comms.graph)
+    assert len(scene.links) == model.comms.graph.number_of_edges()
 
 
 def test_snapshots_show_walls_and_robots(run_dir, tmp_path):
@@ -81,7 +84,8 @@ def test_snapshots_show_walls_and_robots(run_dir, tmp_path):
     assert [p.name for p in paths] == [f"snapshot_{round(t):05d}s.png" for t in times]
     image = iio.imread(paths[-1])
     assert _pixels_near(image, WALL_COLOUR) > 0.05 * image.shape[0] * image.shape[1]
-    assert _pixels_near(image, STATE_COLOURS["beacon"], tol=30) > 50
+    beacon = load_run(run_dir).styles["beacon"].colour
+    assert _pixels_near(image, beacon, tol=30) > 50
 
 
 def test_gif_of_the_whole_run(run_dir, tmp_path):

@@ -6,7 +6,9 @@ import numpy as np
 import pandas as pd
 
 from analysis.cli import main
-from analysis.report import NOT_IN_SWEEP, PUBLISHED, compare_published, write_report
+from analysis.compare import NOT_IN_SWEEP, compare_published
+from analysis.report import write_report
+from models.beacon_explorer.published import PUBLISHED
 
 
 def corridor_results(n: int = 4) -> pd.DataFrame:
@@ -46,12 +48,14 @@ def write_sweep(folder, df: pd.DataFrame) -> None:
     for run_id, row in df.groupby("run_id"):
         row.to_parquet(folder / "runs" / f"{run_id}.parquet", index=False)
     manifest = {"name": "fake", "model": "beacon-explorer", "seed": 1, "replications": 4,
-                "grid": {"complexity": ["low", "medium", "high"]}}  # fmt: skip
+                "target": "models.beacon_explorer.model:BeaconExplorerModel",
+                "grid": {"complexity": ["low", "medium", "high"],
+                         "launch_period": [6.0, 12.0, 24.0]}}  # fmt: skip
     (folder / "sweep.json").write_text(json.dumps(manifest))
 
 
 def test_every_published_number_has_a_row():
-    table = compare_published(corridor_results())
+    table = compare_published(corridor_results(), PUBLISHED)
     assert len(table) == len(PUBLISHED)
     published = set(table["published"])
     for value in ("79.4", "90.1", "94", "38.5", "64.2", "74.3", "-41.5", "-93.9", "+90.5",
@@ -61,13 +65,14 @@ def test_every_published_number_has_a_row():
 
 
 def test_ours_beside_published_for_the_same_condition():
-    table = compare_published(corridor_results()).set_index("quantity", append=True)
-    rows = table.reset_index(level=1)
-    flight = rows[rows["quantity"].str.startswith("total swarm flight time: change 24")]
+    rows = compare_published(corridor_results(), PUBLISHED)
+    flight = rows[rows["quantity"].str.startswith("flight time: change 24")]
     corridor = flight[flight["section"] == "corridor"].iloc[0]
     assert float(corridor["ours"]) == pytest_approx(-75.0, 2.0)
     assert corridor["direction agrees"] == "yes"
     coverage = rows[rows["quantity"].str.startswith("coverage time: change 24")].iloc[0]
+    collisions = rows[rows["quantity"].str.startswith("collisions: change 24")].iloc[0]
+    assert float(collisions["ours"]) == pytest_approx(-75.0, 0.01)
     assert float(coverage["ours"]) > 0 and coverage["direction agrees"] == "yes"
     area = rows[rows["quantity"].str.startswith("coverage area (%), mean over periods")]
     assert list(area["direction agrees"]) == ["(reference)", "yes", "yes"]
@@ -89,10 +94,31 @@ def test_report_is_self_contained_html(tmp_path):
     path = write_report(folder)
     text = path.read_text()
     assert path == folder / "report.html"
-    assert text.count("data:image/png;base64,") == 2  # period panels + energy components
+    assert text.count("data:image/png;base64,") == 2  # metric panels + energy components
     assert "Two-way ANOVA" in text and NOT_IN_SWEEP in text and "0.974" in text
+    assert "Optimal launch_period" in text and "Percent changes" in text
     assert 'src="http' not in text and "<script" not in text
-    assert (folder / "figures" / "periods.png").is_file()
+    assert (folder / "figures" / "metrics.png").is_file()
+    assert (folder / "figures" / "stacked.png").is_file()
+
+
+def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
+    """Table 1's trends as records: beacons fall with the radius on map 1 (233.4, 27.8, 12.8,
+    8.2); fake runs that fall agree, the missing 10 m condition reads as not in the sweep."""
+    from models.stigmergy.published import PUBLISHED as TABLE1_RECORDS
+
+    rows = []
+    for radius, beacons in ((20.0, 30.0), (30.0, 13.0), (40.0, 9.0)):
+        for i in range(3):
+            rows.append({"run_id": f"{radius}-{i}", "map": "hall100", "pheromone_radius": radius,
+                         "beacon": beacons + i, "wander": 2.0, "time": 1000.0 - radius * 5,
+                         "cb": 10.0, "status": "ok"})  # fmt: skip
+    table = compare_published(pd.DataFrame(rows), TABLE1_RECORDS)
+    beacons = table[
+        (table["section"] == "map 1 (hall100)") & (table["quantity"] == "final beacons b")
+    ]
+    assert list(beacons["direction agrees"]) == [NOT_IN_SWEEP, "(reference)", "yes", "yes"]
+    assert list(beacons["published"]) == ["233.4", "27.8", "12.8", "8.2"]
 
 
 def test_cli_report_prints_where_it_wrote(tmp_path, capsys):

@@ -10,7 +10,13 @@ def _small(**kw):
     free = np.zeros((40, 60), dtype=bool)
     free[1:-1, 1:-1] = True
     kw.setdefault("time_limit", 600.0)
-    return StigmergyModel(free, kw.pop("radius", 10.0), seed=kw.pop("seed", 4), start=(5, 20), **kw)
+    return StigmergyModel(
+        map=free,
+        pheromone_radius=kw.pop("radius", 10.0),
+        seed=kw.pop("seed", 4),
+        start=(5, 20),
+        **kw,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -31,8 +37,8 @@ def test_landings_respect_link_threshold(run):
     assert len(b) >= 3
     d = np.hypot(*(b[:, None] - b[None]).transpose(2, 0, 1))
     d[np.diag_indices_from(d)] = np.inf
-    # landing is checked each 0.5 s step; the robot moves at most one tick after the check
-    assert d.min() >= run.link_threshold - run.max_speed * run.physics.dt - 0.2
+    # a wander lands where it checked its link (each 0.5 s step): never nearer than l_i
+    assert d.min() >= run.params.l_i
 
 
 def test_sonar_f2_points_away_from_the_walls_it_detects():
@@ -82,7 +88,7 @@ def test_pheromone_decays_in_model(run):
 
 
 def test_mesa_step_and_builtin_map():
-    m = StigmergyModel("divided", 30.0, seed=1, time_limit=200.0)
+    m = StigmergyModel(map="divided", pheromone_radius=30.0, seed=1, time_limit=200.0)
     for _ in range(10):
         m.step()
     assert m.time == pytest.approx(5.0)
@@ -91,26 +97,30 @@ def test_mesa_step_and_builtin_map():
 
 def test_bad_input(tmp_path):
     with pytest.raises(ConfigError, match="inside a wall"):
-        StigmergyModel("divided", 20.0, start=(50.5, 10.5))
+        StigmergyModel(map="divided", start=(50.5, 10.5))
     with pytest.raises(ConfigError, match="pheromone_radius"):
-        StigmergyModel("hall100", -1.0)
+        StigmergyModel(pheromone_radius=-1.0)
     with pytest.raises(ConfigError, match="launch_rate"):
-        StigmergyModel("hall100", 10.0, launch_rate=0.0)
+        StigmergyModel(launch_rate=0.0)
     with pytest.raises(ConfigError, match="map must be one of"):
-        StigmergyModel("nowhere", 10.0)
+        StigmergyModel(map="nowhere")
+    with pytest.raises(ConfigError, match="map_resolution applies to map files"):
+        StigmergyModel(map="hall100", map_resolution=2.0)
+    with pytest.raises(ConfigError, match="unknown parameter 'gamma_unlabelled'"):
+        StigmergyModel(gamma_unlabelled=5.0)  # the paper's unlabelled entry: no effect
     bad = tmp_path / "x.png"
     bad.write_bytes(b"\x00\x01")
     with pytest.raises(MapError, match="not a readable image"):
-        StigmergyModel(bad, 10.0)
+        StigmergyModel(map=bad)
     with pytest.raises(MapError, match="no free cell"):
-        StigmergyModel(np.zeros((10, 10), dtype=bool), 10.0)
+        StigmergyModel(map=np.zeros((10, 10), dtype=bool))
 
 
 @pytest.mark.slow
 def test_table1_trend_on_map1():
     """Paper map 1: more beacons and a longer deployment for a smaller radius."""
-    r20 = StigmergyModel("hall100", 20.0, seed=11).run().summary()
-    r30 = StigmergyModel("hall100", 30.0, seed=11).run().summary()
+    r20 = StigmergyModel(map="hall100", pheromone_radius=20.0, seed=11).run().summary()
+    r30 = StigmergyModel(map="hall100", pheromone_radius=30.0, seed=11).run().summary()
     assert r20["end_reason"] == r30["end_reason"] == "coverage"
     assert r20["beacon"] > 1.3 * r30["beacon"]
 
@@ -120,7 +130,10 @@ def test_time_to_cover_falls_with_radius_on_map1():
     """Paper map 1: the deployment ends sooner at 40 m than at 20 m (1400 s vs 738 s there);
     wanders that cannot land any more keep exploring instead of gathering at the walls."""
     runs = {
-        r: [StigmergyModel("hall100", r, seed=s).run().summary() for s in (1, 2, 3)]
+        r: [
+            StigmergyModel(map="hall100", pheromone_radius=r, seed=s).run().summary()
+            for s in (1, 2, 3)
+        ]
         for r in (20.0, 40.0)
     }
     assert all(x["end_reason"] == "coverage" for rs in runs.values() for x in rs)
@@ -134,6 +147,7 @@ def test_complex_map_covered_at_40m():
     reconstruction (4-6 m gaps in corners) these seeds never entered the north-east rooms
     and stopped at ca 92.5 % after 15000 s."""
     for seed in (8031029968607014467, 1278332834055788274):
-        m = StigmergyModel("complex", 40.0, seed=seed, time_limit=4000.0).run()
+        m = StigmergyModel(map="complex", pheromone_radius=40.0, seed=seed, time_limit=4000.0)
+        m.run()
         assert m.end_reason == "coverage", (seed, m.ca)
-        assert m.seen[71:99, 86:99].mean() > 0.9  # the north-east room
+        assert m.coverage.covered[71:99, 86:99].mean() > 0.9  # the north-east room

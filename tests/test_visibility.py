@@ -1,10 +1,8 @@
 import numpy as np
 import pytest
 
-from abm.arena import Arena
-from abm.coverage import visible_cells
+from abm.discs import disc_offsets
 from abm.errors import ConfigError
-from abm.pheromone import disc_offsets
 from abm.visibility import disc_parents, disc_visibility, visible_rows
 from abm.worlds import builtin_map
 
@@ -76,37 +74,3 @@ def test_table_agrees_with_exact_line_of_sight_on_the_complex_map():
         agree += int((got == want).sum())
         total += len(dy)
     assert agree / total > 0.97  # digital lines vs exact rays differ only at grazing angles
-
-
-def test_visible_cells_are_the_disc_cells_in_line_of_sight():
-    arena = builtin_map("divided")
-    dy, dx = disc_offsets(10.0)
-    rng = np.random.default_rng(1)
-    points = rng.uniform(40, 60, (6, 2))
-    points = points[arena.is_free(points)]
-    cells = set(visible_cells(arena, points, dy, dx).tolist())
-    want = set()
-    for p in points:
-        ix, iy = int(p[0]), int(p[1])
-        tx, ty = ix + dx, iy + dy
-        ok = arena.free[ty, tx]
-        ends = (np.stack([tx[ok], ty[ok]], axis=1) + 0.5) * arena.resolution
-        los = arena.line_of_sight(np.repeat(p[None], ok.sum(), axis=0), ends)
-        want |= set((ty[ok][los] * arena.cols + tx[ok][los]).tolist())
-    assert cells == want
-    skip = np.zeros_like(arena.free)
-    skip.ravel()[list(want)[:50]] = True
-    assert set(visible_cells(arena, points, dy, dx, skip=skip).tolist()) == want - set(
-        list(want)[:50]
-    )
-
-
-def test_visible_cells_without_line_of_sight_see_through_walls():
-    free = np.ones((20, 20), dtype=bool)
-    free[:, 10] = False
-    arena = Arena(free)
-    dy, dx = disc_offsets(5.0)
-    blind = visible_cells(arena, [[8.5, 10.5]], dy, dx)
-    through = visible_cells(arena, [[8.5, 10.5]], dy, dx, line_of_sight=False)
-    assert np.all(blind % 20 < 10)
-    assert np.any(through % 20 > 10)

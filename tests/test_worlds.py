@@ -10,8 +10,6 @@ from scipy import ndimage
 from abm.errors import ConfigError
 from abm.worlds import (
     COMPLEXITIES,
-    OBSTACLES,
-    WORLD_KINDS,
     World,
     branch_count,
     corridor_world,
@@ -21,8 +19,9 @@ from abm.worlds import (
     open_world,
     room_layouts,
 )
+from models.beacon_explorer.published import BRANCHES, BRANCHES_SD
+from models.beacon_explorer.published import OBSTACLES as PAPER_OBSTACLES
 
-PAPER_BRANCHES = {"low": (3.56, 1.23), "medium": (5.82, 1.07), "high": (9.5, 1.63)}
 CASES = [("corridor", c) for c in COMPLEXITIES] + [("open", c) for c in COMPLEXITIES]
 CASES += [("mixed", "medium")]
 STEPS = ((0, 1), (1, 0), (0, -1), (-1, 0))
@@ -74,7 +73,9 @@ def same_world(a: World, b: World) -> bool:
 def test_world_invariants(kind, complexity, seed):
     world = make_world(kind, complexity, rng=seed)
     free = world.arena.free
-    expected = {"corridor": 40, "open": 25 - OBSTACLES[complexity], "mixed": 18 + 22}[kind]
+    # Sect. 3.5: 40 corridor cells; a 5 x 5 room with 5 / 7 / 10 obstacle cells; two 3 x 3
+    # rooms and 22 corridor cells.
+    expected = {"corridor": 40, "open": 25 - PAPER_OBSTACLES[complexity], "mixed": 18 + 22}[kind]
     assert (world.kind, world.complexity) == (kind, complexity)
     assert free.sum() == len(world.cells) == expected
     assert free[world.cells[:, 1], world.cells[:, 0]].all()
@@ -140,7 +141,7 @@ def test_corridor_branch_counts_match_paper(complexity):
     rng = np.random.default_rng(12345)
     counts = np.array([corridor_world(complexity, rng).branches for _ in range(300)])
     mean, sd = counts.mean(), counts.std()
-    paper_mean, paper_sd = PAPER_BRANCHES[complexity]
+    paper_mean, paper_sd = BRANCHES[complexity], BRANCHES_SD[complexity]
     print(f"{complexity}: mean {mean:.2f} (paper {paper_mean}), sd {sd:.2f} (paper {paper_sd})")
     assert abs(mean - paper_mean) <= 0.15 * paper_mean
     assert abs(sd - paper_sd) <= 0.35 * paper_sd
@@ -271,8 +272,3 @@ def test_world_is_read_only():
 def test_bad_input_raises_config_error(call, match):
     with pytest.raises(ConfigError, match=match):
         call()
-
-
-def test_world_kinds_and_complexities():
-    assert WORLD_KINDS == ("corridor", "open", "mixed")
-    assert COMPLEXITIES == ("low", "medium", "high")

@@ -1,13 +1,13 @@
 """Visualisation of swarm models: scene drawing (matplotlib) and the SolaraViz page.
 
-``Scene``, ``SceneView`` and ``scene_of`` need only matplotlib. ``make_page`` (and the Solara
-components) need the ``viz`` extra and are imported on first use, so ``import abm.viz`` works
-without it.
+``Scene``, ``SceneView``, ``scene_of`` and ``view_of`` need only matplotlib. ``make_page`` (and
+the Solara components) need the ``viz`` extra and are imported on first use, so
+``import abm.viz`` works without it.
 """
 
-from abm.viz.scene import Scene, SceneView, scene_of, state_colour
+from abm.viz.scene import Scene, SceneView, scene_of, view_of
 
-__all__ = ["Scene", "SceneView", "make_page", "scene_of", "state_colour"]
+__all__ = ["Scene", "SceneView", "make_page", "scene_of", "view_of"]
 
 
 def __getattr__(name: str):

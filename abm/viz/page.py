@@ -1,9 +1,10 @@
 """The SolaraViz page of a swarm model: the arena with robots, and live plots.
 
-Generic over :class:`abm.model.SwarmModel`. Mesa's own space drawers know nothing of walls,
+Generic over :class:`abm.model.SwarmModel`: it reads only the model contract's hooks (states
+and their styles, coverage, arrows, params). Mesa's own space drawers know nothing of walls,
 comm links or coverage rasters, so the space is drawn by :class:`abm.viz.scene.SceneView`
 inside a small Solara component; the plots show robots per state (from the model's exact
-state-count series) and any DataCollector reporters against simulated time (s).
+state-count series) and DataCollector reporters against simulated time (s).
 
 Needs the ``viz`` extra (solara, Mesa's visualisation); nothing here is imported by ``abm``.
 """
@@ -17,42 +18,35 @@ from matplotlib.ticker import MaxNLocator
 from mesa.visualization import SolaraViz
 from mesa.visualization.utils import update_counter
 
-from abm.viz.scene import SceneView, model_coverage, scene_of, state_colour
+from abm.viz.controls import default_controls, default_series, initial_kwargs
+from abm.viz.scene import scene_of, view_of
 
-__all__ = ["SwarmPlots", "SwarmSpace", "initial_kwargs", "make_page"]
+__all__ = ["SwarmPlots", "SwarmSpace", "make_page"]
 
 #: Colour of reporter curves (coverage, energy, ...).
 SERIES_COLOUR = "#009E73"
 
 
 @solara.component
-def SwarmSpace(model, shown: tuple[str, ...] = (), coverage=model_coverage):  # noqa: N802
+def SwarmSpace(model, shown: tuple[str, ...] = ()):  # noqa: N802
     """The arena: walls, covered area, comm links, robots by state and the model's arrows.
 
     Args:
         model: the running SwarmModel.
-        shown: names of model attributes (the sliders' parameters) listed under the title.
-        coverage: ``f(model) -> (covered raster, pixel m) | None`` (see ``scene_of``).
+        shown: names of parameters (the sliders') whose values are listed under the title.
 
     """
     update_counter.get()
     fig = Figure(figsize=(7.0, 6.0), layout="constrained")
     ax = fig.add_subplot()
-    covered = coverage(model)
-    view = SceneView(
-        ax,
-        model.arena.free,
-        model.arena.resolution,
-        tuple(model.STATES),
-        pixel=None if covered is None else covered[1],
-        arrows_label="beacon's desired direction" if hasattr(model, "arrows") else None,
-    )
-    view.update(scene_of(model, coverage))
+    view = view_of(model, ax)
+    view.update(scene_of(model))
     status = "" if model.running else " (run over)"
+    params = model.params.as_dict()
     values = [
-        f"{key} = {_short(getattr(model, key))}"
+        f"{key} = {_short(params[key])}"
         for key in shown
-        if isinstance(getattr(model, key, None), bool | int | float | str)
+        if isinstance(params.get(key), bool | int | float | str)
     ]
     caption = "\n" + ", ".join(values) if values else ""
     ax.set_title(f"{model.arena.name}: t = {model.time:.0f} s{status}{caption}", fontsize=10)
@@ -83,12 +77,12 @@ def SwarmPlots(model, series: Mapping[str, str]):  # noqa: N802
     now = float(model.time)
     counts = model.state_counts()
     ax = axes[0]
-    for state in model.STATES:
+    for state, style in model.state_styles.items():
         t = np.append(counts["time"].to_numpy(), now)
         y = counts[state].to_numpy()
         if len(y):
             y = np.append(y, y[-1])
-            ax.step(t, y, where="post", color=state_colour(state, model.STATES), lw=2, label=state)
+            ax.step(t, y, where="post", color=style.colour, lw=2, label=style.label or state)
     ax.set_ylabel("robots")
     ax.set_title("robots per state", fontsize=10)
     ax.yaxis.set_major_locator(MaxNLocator(integer=True))
@@ -125,21 +119,12 @@ def _short(value) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
-def initial_kwargs(model_params: Mapping[str, object]) -> dict:
-    """Constructor keyword arguments from SolaraViz ``model_params`` (inputs give their value)."""
-    return {
-        key: spec["value"] if isinstance(spec, dict) and "type" in spec else spec
-        for key, spec in model_params.items()
-    }
-
-
 def make_page(
     model_class: Callable,
-    model_params: Mapping[str, object],
+    model_params: Mapping[str, object] | None = None,
     *,
     name: str | None = None,
     series: Mapping[str, str] | None = None,
-    coverage: Callable = model_coverage,
     play_interval: int = 150,
 ):
     """A Solara ``Page`` component showing a SwarmModel with sliders and live plots.
@@ -147,27 +132,31 @@ def make_page(
     Each browser session gets its own model, built from the inputs' initial values.
 
     Args:
-        model_class: a SwarmModel subclass whose constructor takes plain keyword arguments.
+        model_class: a SwarmModel subclass.
         model_params: SolaraViz model parameters: input specs such as ``{"type": "SliderFloat",
             "value": 6.0, "min": 1.0, "max": 30.0, "step": 1.0, "label": "..."}`` or fixed values.
+            None: a slider, checkbox or select for each simple parameter of ``model_class``
+            (:func:`abm.viz.controls.default_controls`).
         name: title of the page (default: the class name).
-        series: DataCollector column -> axis label with unit, plotted live under the counts.
-        coverage: ``f(model) -> (covered raster, pixel m) | None``; default: the model's
-            ``coverage`` CoverageRaster.
+        series: DataCollector column -> axis label with unit, plotted live under the counts;
+            None: coverage and energy when the model has them.
         play_interval: pause between steps while playing (ms).
 
     """
+    if model_params is None:
+        model_params = default_controls(model_class)
     kwargs = initial_kwargs(model_params)
-    series = dict(series or {})
     title = name or getattr(model_class, "__name__", "swarm model")
-
     shown = tuple(key for key, spec in model_params.items() if isinstance(spec, dict))
+    cache: dict[str, Mapping[str, str]] = {}
 
     def space(model):
-        return SwarmSpace(model, shown, coverage)
+        return SwarmSpace(model, shown)
 
     def plots(model):
-        return SwarmPlots(model, series)
+        if "series" not in cache:
+            cache["series"] = default_series(model) if series is None else dict(series)
+        return SwarmPlots(model, cache["series"])
 
     @solara.component
     def Page():  # noqa: N802

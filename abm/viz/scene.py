@@ -6,6 +6,7 @@ raster, optional arrows), so the same :class:`SceneView` draws a live model (via
 its artists once and :meth:`SceneView.update` only swaps their data, which keeps animations fast.
 """
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -15,46 +16,23 @@ from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from abm.styles import StateStyle, resolve_styles
+
 __all__ = [
     "ARROW_COLOUR",
     "COVERED_COLOUR",
     "LINK_COLOUR",
-    "STATE_COLOURS",
-    "STATE_MARKERS",
-    "model_coverage",
     "WALL_COLOUR",
     "Scene",
     "SceneView",
     "scene_of",
-    "state_colour",
+    "view_of",
 ]
 
-#: Colour-blind-safe colours (Okabe-Ito) per robot state.
-STATE_COLOURS = {
-    "beacon": "#0072B2",
-    "explorer": "#D55E00",
-    "ground": "#999999",
-    "wander": "#E69F00",
-    "depleted": "#000000",
-}
 WALL_COLOUR = "#3a3a3a"
 COVERED_COLOUR = "#9be3a4"
 LINK_COLOUR = "#56B4E9"
-ARROW_COLOUR = "#CC79A7"  # reddish purple: apart from beacons (blue) and links (sky blue)
-#: Marker per state, so states differ in shape as well as colour.
-STATE_MARKERS = {"beacon": "o", "explorer": "^", "ground": "s", "wander": "D", "depleted": "X"}
-#: Marker area (pt^2) per state; ground robots wait stacked under the base, so their square is
-#: drawn large and behind the base beacon's disc.
-STATE_SIZES = {"ground": 150.0, "beacon": 55.0}
-_SPARE_COLOURS = ("#009E73", "#F0E442", "#000000", "#E69F00")
-
-
-def state_colour(state: str, states: tuple[str, ...] = ()) -> str:
-    """The colour of a robot state (colour-blind-safe Okabe-Ito palette)."""
-    if state in STATE_COLOURS:
-        return STATE_COLOURS[state]
-    index = states.index(state) if state in states else 0
-    return _SPARE_COLOURS[index % len(_SPARE_COLOURS)]
+ARROW_COLOUR = "#CC79A7"  # reddish purple: apart from the palette's first colours
 
 
 @dataclass
@@ -80,39 +58,39 @@ class Scene:
     arrows: tuple[np.ndarray, np.ndarray] | None = None
 
 
-def model_coverage(model) -> tuple[np.ndarray, float] | None:
-    """``(covered raster, pixel side in m)`` of a model with a ``coverage`` CoverageRaster."""
-    coverage = getattr(model, "coverage", None)
-    if coverage is None or not hasattr(coverage, "covered"):
-        return None
-    return coverage.covered, float(coverage.pixel)
-
-
-def scene_of(model, coverage=model_coverage) -> Scene:
-    """The current scene of a live SwarmModel (robots, comm links, coverage, arrows).
-
-    Args:
-        model: the SwarmModel.
-        coverage: ``f(model) -> (covered raster, pixel m) | None``; the default reads the
-            model's ``coverage`` CoverageRaster.
-
-    """
+def scene_of(model) -> Scene:
+    """The current scene of a live SwarmModel (robots, comm links, coverage, arrows)."""
     agents = list(model.space.active_agents)
-    positions = np.asarray(model.space.agent_positions, dtype=float).reshape(-1, 2)[: len(agents)]
+    # Mesa's space has no position array before its first agent
+    positions = (
+        np.asarray(model.space.agent_positions, dtype=float).reshape(-1, 2)
+        if agents
+        else np.zeros((0, 2))
+    )
     states = np.array([agent.state for agent in agents], dtype=object)
     graph = model.comms.graph
     links = np.array(
         [[graph.nodes[a]["pos"], graph.nodes[b]["pos"]] for a, b in graph.edges], dtype=float
     ).reshape(-1, 2, 2)
-    covered = coverage(model)
-    arrows = model.arrows() if hasattr(model, "arrows") else None
     return Scene(
         time=float(model.time),
         positions=positions,
         states=states,
         links=links,
-        covered=None if covered is None else covered[0],
-        arrows=arrows,
+        covered=None if model.coverage is None else model.coverage.covered,
+        arrows=model.arrows() if model.ARROWS_LABEL else None,
+    )
+
+
+def view_of(model, ax: Axes) -> "SceneView":
+    """A :class:`SceneView` of a live model on ``ax``, from the model's declared hooks."""
+    return SceneView(
+        ax,
+        model.arena.free,
+        model.arena.resolution,
+        model.state_styles,
+        pixel=None if model.coverage is None else model.coverage.pixel,
+        arrows_label=model.ARROWS_LABEL,
     )
 
 
@@ -123,7 +101,8 @@ class SceneView:
         ax: where to draw.
         free: the arena's free grid ``[rows, cols]`` (row 0 = south).
         resolution: side of one arena cell (m).
-        states: the model's robot states, in legend order.
+        styles: state -> :class:`~abm.styles.StateStyle`, in legend order (or a sequence of
+            states, styled from the palette).
         pixel: side of one coverage-raster pixel (m); None if there is no coverage raster.
         arrows_label: legend label of the arrows (None: no arrows are drawn).
 
@@ -134,12 +113,15 @@ class SceneView:
         ax: Axes,
         free: np.ndarray,
         resolution: float,
-        states: tuple[str, ...],
+        styles: Mapping[str, StateStyle] | Sequence[str],
         pixel: float | None = None,
-        arrows_label: str | None = "beacon's desired direction",
+        arrows_label: str | None = None,
     ) -> None:
+        if not isinstance(styles, Mapping):
+            styles = resolve_styles(tuple(styles))
         self.ax = ax
-        self.states = tuple(states)
+        self.styles = dict(styles)
+        self.states = tuple(styles)
         self.pixel = pixel
         self.arrows_label = arrows_label
         rows, cols = free.shape
@@ -160,16 +142,16 @@ class SceneView:
         ax.add_collection(self._links)
         self._quiver = None
         self._robots = {}
-        for state in self.states:
+        for state, style in self.styles.items():
             self._robots[state] = ax.scatter(
                 [],
                 [],
-                s=STATE_SIZES.get(state, 45.0),
-                marker=STATE_MARKERS.get(state, "o"),
-                color=state_colour(state, self.states),
+                s=style.size,
+                marker=style.marker,
+                color=style.colour,
                 edgecolor="black",
                 linewidths=0.6,
-                zorder={"ground": 4, "beacon": 5}.get(state, 6),  # movers on top
+                zorder=style.layer,
             )
         ax.set_xlim(0, self.width)
         ax.set_ylim(0, self.height)
@@ -222,13 +204,13 @@ class SceneView:
                 [],
                 [],
                 linestyle="none",
-                marker=STATE_MARKERS.get(state, "o"),
+                marker=style.marker,
                 markersize=8,
-                markerfacecolor=state_colour(state, self.states),
+                markerfacecolor=style.colour,
                 markeredgecolor="black",
-                label=f"{state} robots ({self.counts[state]})",
+                label=f"{style.label or state} ({self.counts[state]})",
             )
-            for state in self.states
+            for state, style in self.styles.items()
         ]
         handles.append(Line2D([], [], color=LINK_COLOUR, lw=1.6, label="comm link"))
         if self.arrows_label:

@@ -18,14 +18,7 @@ VERB_MODULES = ("run", "sweep", "report", "fit", "render", "viz")
 
 
 def _load_verbs() -> list:
-    verbs = []
-    for name in VERB_MODULES:
-        try:
-            verbs.append(importlib.import_module(f"analysis.cli.{name}"))
-        except ModuleNotFoundError as exc:
-            if exc.name != f"analysis.cli.{name}":
-                raise
-    return verbs
+    return [importlib.import_module(f"analysis.cli.{name}") for name in VERB_MODULES]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,96 +1,97 @@
-"""``abm fit``: stigmergy agent runs -> macroscopic-model fits -> one HTML report."""
+"""``abm fit MODEL``: agent runs -> the wander/beacon recurrence fitted to the model's two
+counted states -> one HTML report (any model that declares ``MACRO``).
+"""
 
 import argparse
+import json
 import os
 import time
 from pathlib import Path
 
-import pandas as pd
-
 VERB = "fit"
-HELP = "run the stigmergy swarm over maps x radii, fit the wander/beacon recurrence, report"
-EXAMPLE = "abm fit --maps hall100 divided --radii 20 30 40 --runs 4 --out out/fit"
+HELP = "fit the wander/beacon recurrence to a model's two counted states; HTML report"
+EXAMPLE = "abm fit stigmergy --grid map=hall100,divided --grid pheromone_radius=20,30,40 --runs 4"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm fit``."""
+    from abm.registry import model_names
+
+    parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
     parser.add_argument(
-        "--maps",
-        nargs="+",
-        default=["hall100"],
-        help="built-in map names (see abm.worlds.MAPS) or map files",
+        "--grid",
+        action="append",
+        default=[],
+        metavar="NAME=V1,V2",
+        help="a parameter and its values (repeatable); one fitted curve per grid point",
     )
     parser.add_argument(
-        "--radii",
-        nargs="+",
-        type=float,
-        default=[20.0, 30.0, 40.0],
-        help="pheromone radii C_rb (m)",
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a parameter held at one value in every run (repeatable)",
     )
-    parser.add_argument("--runs", type=int, default=5, help="runs per map and radius")
-    parser.add_argument("--seed", type=int, default=0, help="root seed of the runs")
-    parser.add_argument("--workers", type=int, default=min(2, os.cpu_count() or 1))
-    parser.add_argument("--time-limit", type=float, default=15000.0, help="(s)")
+    parser.add_argument("--runs", type=int, default=5, help="runs per grid point [5]")
+    parser.add_argument("--seed", type=int, default=0, help="the sweep seed [0]")
+    parser.add_argument(
+        "--workers", type=int, default=min(2, os.cpu_count() or 1), help="local processes"
+    )
     parser.add_argument(
         "--read",
         type=Path,
         default=None,
-        help="read runs.parquet/counts.parquet from this folder instead of running",
+        help="fit the runs of this sweep folder (kept with time series) instead of running",
     )
-    parser.add_argument("--out", type=Path, default=Path("out/fit"), help="output folder")
+    parser.add_argument("--out", type=Path, default=None, help="output folder [out/fit/MODEL]")
 
 
 def main(args: argparse.Namespace) -> int:
     """Run (or read), fit, write the report."""
     from abm.errors import ConfigError
-    from analysis.fit_report import analyse, run_grid, write_report
+    from abm.registry import model_class, name_of
+    from analysis.cli.flags import parse_assignment
+    from analysis.fit import analyse, fit_runs, macro_spec, read_runs, write_fit_report
 
+    cls = model_class(args.model)
+    name = name_of(cls) or args.model
+    spec = macro_spec(cls)
     if args.runs < 1:
         raise ConfigError(f"--runs must be at least 1, got {args.runs}")
-    args.out.mkdir(parents=True, exist_ok=True)
+    out = args.out or Path("out/fit") / name
     start = time.perf_counter()
     if args.read is not None:
-        summaries = pd.read_parquet(args.read / "runs.parquet")
-        counts = pd.read_parquet(args.read / "counts.parquet")
+        if args.grid or args.set:
+            raise ConfigError("--read fits the runs already in a folder: drop --grid and --set")
+        summaries, counts, conditions = read_runs(args.read)
+        source = f"runs read from {args.read}"
     else:
-        summaries, counts = run_grid(
-            [str(m) for m in args.maps],
-            args.radii,
-            args.runs,
-            seed=args.seed,
-            workers=args.workers,
-            time_limit=args.time_limit,
+        grid = dict(parse_assignment(cls.Params, text, many=True) for text in args.grid)
+        grid.update(parse_assignment(cls.Params, text) for text in args.set)
+        if not grid:
+            grid = {"time_limit": [cls.Params().time_limit]}
+        summaries, counts, conditions = fit_runs(
+            cls, grid, args.runs, out, seed=args.seed, workers=args.workers
         )
-        summaries.to_parquet(args.out / "runs.parquet")
-        counts.to_parquet(args.out / "counts.parquet")
+        source = f"runs in {out} (resumable: run again to add or finish runs)"
     elapsed = time.perf_counter() - start
-    result = analyse(summaries, counts)
-    meta = (
-        f"{len(summaries)} agent runs ({summaries['map'].nunique()} maps, radii "
-        f"{sorted(summaries['pheromone_radius'].unique().tolist())}); simulation wall time "
-        f"{elapsed:.0f} s with {args.workers} workers."
-    )
-    report = write_report(result, summaries, args.out, meta)
-    t1 = result["table1"]
-    show = [
-        c
-        for c in (
-            "map",
-            "radius",
-            "w",
-            "b",
-            "t",
-            "ca",
-            "cb",
-            "rmsd_w",
-            "rmsd_b",
-            "rmsd_w_fit",
-            "rmsd_b_fit",
-        )
-        if c in t1
+    result = analyse(summaries, counts, spec, conditions)
+    meta = [
+        ("model", name),
+        ("counted states", f"w = {spec.moving}, b = {spec.settled}, step {spec.step:g} s"),
+        ("conditions", ", ".join(conditions) or "one"),
+        ("runs", f"{len(summaries)}; {source}"),
+        ("wall time", f"{elapsed:.0f} s with {args.workers} workers"),
     ]
-    print(t1[show].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
-    print(
-        f"\nwrote {args.out / 'runs.parquet'}\nwrote {args.out / 'counts.parquet'}\nwrote {report}"
+    report = write_fit_report(result, summaries, spec, out, meta)
+    table = result["table"]
+    shown = [c for c in ("condition", "runs", "w", "b", "w_hat", "b_hat", "t", "a0", "alpha6",
+                         "rmsd_w", "rmsd_b", "rmsd_w_fit", "rmsd_b_fit") if c in table]  # fmt: skip
+    print(table[shown].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    rmsd = [c for c in ("rmsd_w", "rmsd_b", "rmsd_w_fit", "rmsd_b_fit") if c in table]
+    print("\nmean RMSD: " + ", ".join(f"{c} {table[c].mean():.3g}" for c in rmsd))
+    (out / "fit.json").write_text(
+        json.dumps({"model": name, "conditions": conditions, "runs": len(summaries)}, indent=2)
     )
+    print(f"\nwrote {report}\nwrote {out / 'fit.json'}")
     return 0

@@ -1,85 +1,93 @@
-"""``abm run``: one run of a model; prints its summary, writes a PNG and what render needs."""
+"""``abm run MODEL``: one run of any registered model; prints its summary, writes a PNG of the
+final state and the run folder ``abm render`` draws from.
+
+Every field of the model's params is a flag (``abm run MODEL --help`` lists them).
+"""
 
 import argparse
 from pathlib import Path
 
 VERB = "run"
-HELP = "run one simulation, print its summary, save a snapshot PNG and its event log"
+HELP = "run one simulation of a model, print its summary, save a PNG and the run folder"
 EXAMPLE = "abm run beacon-explorer --world corridor --complexity high --launch-period 6 --seed 1"
-
-MODELS = ("beacon-explorer",)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of ``abm run``."""
-    parser.add_argument("model", nargs="?", default="beacon-explorer", choices=MODELS)
-    parser.add_argument("--world", default="corridor", help="corridor | open | mixed | a map file")
-    parser.add_argument("--complexity", default="high", choices=("low", "medium", "high"))
-    parser.add_argument("--launch-period", type=float, default=6.0, help="inter-launch period (s)")
-    parser.add_argument("--n-robots", type=int, default=None, help="default: the paper's size")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--hover-beacons", action="store_true")
-    parser.add_argument("--time-limit", type=float, default=3600.0, help="(s)")
+    """Options of ``abm run``: the model, then its own flags (parsed once the model is known)."""
+    from abm.registry import model_names
+
+    parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
     parser.add_argument(
-        "--battery-capacity",
-        type=float,
-        default=None,
-        help="charge of each explorer's battery (J); default: unlimited, as in the paper",
+        "options",
+        nargs=argparse.REMAINDER,
+        help="--seed N, --out DIR and the model's parameters (see: abm run MODEL --help)",
     )
-    parser.add_argument("--out", type=Path, default=Path("out/run"), help="output folder")
+
+
+def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
+    """The parser of ``abm run NAME ...``: seed, output folder, one flag per parameter."""
+    from analysis.cli.flags import add_param_flags
+
+    parser = argparse.ArgumentParser(
+        prog=f"abm run {name}",
+        description=(model_cls.__doc__ or "").strip().splitlines()[0],
+    )
+    parser.add_argument("--seed", type=int, default=1, help="the model's seed [1]")
+    parser.add_argument("--out", type=Path, default=Path("out/run"), help="output folder [out/run]")
+    add_param_flags(parser, model_cls.Params)
+    return parser
 
 
 def main(args: argparse.Namespace) -> int:
-    """Run, print, save."""
+    """Build, run, print, save."""
     from abm.draw import save_swarm_png
-    from models.beacon_explorer import BeaconExplorerModel
-
-    model = BeaconExplorerModel(
-        world=args.world,
-        complexity=args.complexity,
-        n_robots=args.n_robots,
-        launch_period=args.launch_period,
-        seed=args.seed,
-        hover_beacons=args.hover_beacons,
-        time_limit=args.time_limit,
-        battery_capacity=args.battery_capacity,
-    )
-    model.run()
-    summary = model.summary()
-    print(format_summary(summary))
-    args.out.mkdir(parents=True, exist_ok=True)
-    png = save_swarm_png(model, args.out / "final.png", title=_title(summary))
+    from abm.registry import model_class, name_of
+    from analysis.cli.flags import given_params
     from analysis.runio import save_run
 
+    cls = model_class(args.model)
+    name = name_of(cls) or args.model
+    options = model_parser(name, cls).parse_args(args.options)
+    params = given_params(options)
+    # `abm render` draws from the sampled positions: sample them even where the model's
+    # default (fast sweeps) is not to.
+    params.setdefault("trace_interval", cls.Params().trace_interval or 1.0)
+    model = cls(seed=options.seed, **params)
+    model.run()
+    summary = model.summary()
+    print(f"{name}, seed {options.seed}:")
+    print(format_summary(summary))
+    options.out.mkdir(parents=True, exist_ok=True)
+    png = save_swarm_png(model, options.out / "final.png", title=_title(name, summary))
     print(f"\nwrote {png}")
-    for path in save_run(model, args.out):
+    for path in save_run(model, options.out):
         print(f"wrote {path}")
+    print(f"next: abm render {options.out}")
     return 0
 
 
-def _title(summary: dict) -> str:
-    return (
-        f"{summary['world']} ({summary['complexity']}), period {summary['launch_period']:g} s, "
-        f"seed {summary['seed']}: t = {summary['coverage_time']:.0f} s, "
-        f"coverage {summary['coverage_area']:.1f} %"
-    )
+def _title(name: str, summary: dict) -> str:
+    parts = [name, f"t = {summary['time']:.0f} s ({summary['end_reason'].split(':')[0]})"]
+    if "coverage_area" in summary:
+        parts.append(f"coverage {summary['coverage_area']:.1f} %")
+    return ", ".join(parts)
+
+
+def unit_of(key: str) -> str:
+    """The unit of a summary key by the contract's naming (SI; coverage in % of free area)."""
+    if key == "time" or key.endswith("_time") or key.endswith("_period"):
+        return "s"
+    if key.startswith("energy"):
+        return "J"
+    if key in ("coverage_area", "ca", "cb"):
+        return "%"
+    return ""
 
 
 def format_summary(summary: dict) -> str:
     """A two-column table of a run's summary, with units."""
-    units = {
-        "coverage_time": "s",
-        "coverage_area": "%",
-        "flight_time": "s",
-        "energy_flight": "J",
-        "energy_beacon": "J",
-        "energy_ground": "J",
-        "energy_total": "J",
-        "launch_period": "s",
-    }
     lines = []
     for key, value in summary.items():
         shown = f"{value:,.1f}" if isinstance(value, float) else str(value)
-        unit = units.get(key, "")
-        lines.append(f"  {key:<18} {shown:>14} {unit}")
+        lines.append(f"  {key:<18} {shown:>14} {unit_of(key)}".rstrip())
     return "\n".join(lines)

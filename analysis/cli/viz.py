@@ -1,4 +1,7 @@
-"""``abm viz``: serve a model's SolaraViz page (arena, robots, links, coverage, live plots)."""
+"""``abm viz MODEL``: serve any model's SolaraViz page (arena, robots, links, coverage, live
+plots): the page in the model's ``APP`` module, or a default page with sliders for its
+parameters.
+"""
 
 import argparse
 import os
@@ -10,7 +13,6 @@ import time
 from pathlib import Path
 
 from abm.errors import ABMError
-from analysis.viz_registry import ENV_VAR, REGISTRY, entry
 
 VERB = "viz"
 HELP = "open a model in the browser: arena, robots, comm links, coverage, sliders, live plots"
@@ -22,9 +24,9 @@ START_TIMEOUT = 60.0
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm viz``."""
-    parser.add_argument(
-        "model", nargs="?", default="beacon-explorer", choices=sorted(REGISTRY), help="the model"
-    )
+    from abm.registry import model_names
+
+    parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
     parser.add_argument("--port", type=int, default=8765, help="TCP port (default 8765)")
     parser.add_argument(
         "--host", default="localhost", help="interface to listen on (default localhost)"
@@ -50,14 +52,27 @@ def check_viz_installed() -> None:
 
 
 def server_command(model: str, host: str, port: int) -> tuple[list[str], dict]:
-    """The command line and environment that serve ``model``'s page."""
-    entry(model)
+    """The command line and environment that serve ``model``'s page.
+
+    The server process finds the model by ``module:Class``, so a model registered at run time
+    (or only importable from the current folder) is served as well.
+    """
+    from abm.registry import target_of
+    from abm.viz.app import ENV_VAR
+
+    target = target_of(model)
     command = [
-        sys.executable, "-m", "solara", "run", "analysis.viz_registry",
+        sys.executable, "-m", "solara", "run", "abm.viz.app",
         "--host", host, "--port", str(port),
         "--no-open", "--production", "--no-check-version", "--log-level", "warning",
     ]  # fmt: skip
-    env = {**os.environ, ENV_VAR: model, "SOLARA_TELEMETRY_MIXPANEL_ENABLE": "False"}
+    path = os.pathsep.join(filter(None, [os.getcwd(), os.environ.get("PYTHONPATH")]))
+    env = {
+        **os.environ,
+        ENV_VAR: target,
+        "PYTHONPATH": path,
+        "SOLARA_TELEMETRY_MIXPANEL_ENABLE": "False",
+    }
     return command, env
 
 
@@ -86,9 +101,9 @@ def main(args: argparse.Namespace) -> int:
     check_viz_installed()
     if not 0 < args.port < 65536:
         raise ABMError(f"--port must be in [1, 65535], got {args.port}")
+    command, env = server_command(args.model, args.host, args.port)
     if _port_in_use(args.host, args.port):
         raise ABMError(f"port {args.port} is already in use; choose another with --port")
-    command, env = server_command(args.model, args.host, args.port)
     process = subprocess.Popen(command, env=env)
     # A plain `kill` (SIGTERM) must stop the server too, not orphan it.
     signal.signal(signal.SIGTERM, lambda _signum, _frame: sys.exit(128 + signal.SIGTERM))

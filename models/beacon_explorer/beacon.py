@@ -1,22 +1,11 @@
-"""The beacon controller of Stirling et al. (2010), Sect. 3.3.1 and Fig. 2.
+"""The beacon network of Stirling et al. (2010), Sect. 3.3: every beacon's sensing, its
+hop-count gradients, and the signals explorers read.
 
 Each beacon, whenever something it can sense changes (a neighbour attaches or detaches, a hop
-count or a neighbour's desired direction changes), runs the flowchart:
-
-1. Sensing: label N, E, S, W as beacon / obstacle / empty (a direction is "beacon" when a
-   lattice neighbour holds it or another sensed beacon fills its spot); in corridors remember a
-   direction as searched when the neighbour there has a higher forwards hop count and signals a
-   desired direction pointing back; searched and obstacle directions are blocked.
-2. Behaviour: corridor beacons enter the redeployment phase in a dead end (enclosed, every
-   neighbour lower) or when every higher-forwards neighbour is blocked, i.e. when each direction
-   is blocked or holds a lower neighbour; open-space beacons when their reverse hop count is 0.
-3. Desired direction: deployment - the first unblocked empty direction clockwise from North,
-   else the unblocked neighbour with the highest hop count (forwards in corridors, reverse in open
-   space); redeployment - the neighbour with the lowest forwards hop count.
-4. A redeploying beacon whose neighbours all have lower or equal forwards hop count may detach
-   (the robot's behaviour then waits one inter-launch period with no explorer nearby).
-
-Evaluations are messages: a beacon re-evaluates one control period after being woken.
+count or a neighbour's desired direction changes), senses its surroundings and runs the
+flowchart of Fig. 2 (:func:`models.beacon_explorer.flowchart.decide`). Evaluations are
+messages: a beacon re-evaluates one control period after being woken, and only on hop counts
+the newest flood has reached.
 """
 
 from collections.abc import Callable
@@ -28,13 +17,17 @@ import numpy as np
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
 from abm.sensors import distance_sensors, ray_sensors, relative_positions
+from models.beacon_explorer.flowchart import (
+    DIRECTIONS,
+    NO_DIRECTION,
+    Neighbour,
+    Sensing,
+    decide,
+    opposite,
+)
 from models.beacon_explorer.params import BeaconExplorerParams
 
-__all__ = ["Beacon", "BeaconNetwork", "NORTH", "EAST", "SOUTH", "WEST", "NO_DIRECTION"]
-
-NORTH, EAST, SOUTH, WEST = 0, 1, 2, 3
-NO_DIRECTION = -1
-DIRECTIONS = (NORTH, EAST, SOUTH, WEST)  # clockwise from North
+__all__ = ["Beacon", "BeaconNetwork"]
 #: Unit vectors of the rays probing the NE, SE, SW and NW quadrants, five per quadrant at
 #: compass bearings 15 to 75 degrees past its first cardinal (clockwise from North).
 QUADRANT_RAYS = np.array(
@@ -43,11 +36,6 @@ QUADRANT_RAYS = np.array(
         for a in np.radians([q * 90 + b for q in range(4) for b in (15, 30, 45, 60, 75)])
     ]
 )
-
-
-def opposite(direction: int) -> int:
-    """The direction pointing the other way."""
-    return (direction + 2) % 4
 
 
 @dataclass
@@ -190,21 +178,19 @@ class BeaconNetwork:
     def _sense_walls(self, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
         """Obstacle labels N/E/S/W and the corridor/open-space classification.
 
-        Corridor beacon (paper): two opposing walls closer than ``corridor_width``. A corridor
-        junction senses only one wall, so with four sensors alone it would pass for open space
-        and lose the junction memory the depth-first search relies on; we therefore also call a
-        beacon open-space only if some quadrant is open: two adjacent free cardinal directions
-        and nothing sensed on five rays between them (space wider than a corridor). See README.
+        Corridor beacon (paper): two opposing walls closer than 3 m. A corridor junction senses
+        only one wall, so with four sensors alone it would pass for open space and lose the
+        junction memory the depth-first search relies on; we call a beacon open-space only if
+        some quadrant is open: two adjacent free cardinal directions and nothing sensed on five
+        rays between them (space wider than a corridor). Two opposing walls within the obstacle
+        threshold leave no two adjacent free directions, so the paper's test is implied by this
+        one and needs no code of its own. See README.
         """
         p = self.params
         reading = distance_sensors(
             self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise
         )[0]
         walls = tuple(bool(r < p.obstacle_threshold) for r in reading)
-        opposing = bool(
-            (reading[NORTH] < p.corridor_width and reading[SOUTH] < p.corridor_width)
-            or (reading[EAST] < p.corridor_width and reading[WEST] < p.corridor_width)
-        )
         # Five rays into each quadrant (NE, SE, SW, NW; 15 to 75 degrees from its first
         # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
         # corner can run 3.5 m up the side branch and pass for open space.
@@ -215,7 +201,7 @@ class BeaconNetwork:
         open_quadrant = any(
             not walls[d] and not walls[(d + 1) % 4] and quadrant_clear[d] for d in DIRECTIONS
         )
-        return walls, opposing or not open_quadrant
+        return walls, not open_quadrant
 
     def _sense_beacons(self, robot: int) -> tuple[dict[int, int], set[int]]:
         """What the relative-positioning sensor tells a beacon about the beacons around it.
@@ -240,7 +226,10 @@ class BeaconNetwork:
         if not others:
             return {}, set()
         rel = np.array([self.beacons[n].position - me.position for n in others])
-        measured = relative_positions(rel, self.rng)
+        p = self.params
+        measured = relative_positions(
+            rel, self.rng, p.range_noise, p.bearing_noise, p.reference_range
+        )
         direction = np.argmax(measured @ CARDINALS.T, axis=1)
         dist = np.hypot(measured[:, 0], measured[:, 1])
         linked = set(self.lattice_neighbours(robot))
@@ -277,58 +266,25 @@ class BeaconNetwork:
         ):
             self.wake_later(robot)
             return
-        fwd = self.forwards.value
-        rev = self.reverse.value
-        me_f = fwd(robot)
-
-        # Sensing: corridor beacons remember searched directions (Fig. 3).
-        if beacon.corridor:
-            for d, n in nb.items():
-                if fwd(n) > me_f and self.beacons[n].desired == opposite(d):
-                    beacon.searched.add(d)
-
-        def blocked(d: int) -> bool:
-            # Labels are exclusive (Fig. 3): a direction holding a beacon is "beacon", never
-            # "obstacle", even when the distance sensor also sees a wall beside it.
-            obstacle = beacon.walls[d] and d not in nb
-            return beacon.corridor and (obstacle or d in beacon.searched)
-
-        # Empty: no beacon, no wall, not searched (open-space beacons remember too; see README).
-        empty = [
-            d
-            for d in DIRECTIONS
-            if d not in nb and d not in taken and not beacon.walls[d] and d not in beacon.searched
-        ]
-        # Behaviour: deployment or redeployment phase.
-        if beacon.corridor:
-            # Dead end (enclosed, all neighbours lower) or every way onward searched: each
-            # direction is blocked or holds a lower neighbour. A neighbour with an equal hop
-            # count (a diagonal link across a junction) is a way onward, not a dead end; a way
-            # taken by a beacon off our lattice is that beacon's to search, not ours.
-            redeploying = not empty and all(
-                blocked(d) or d in taken or (d in nb and fwd(nb[d]) < me_f) for d in DIRECTIONS
+        fwd, rev = self.forwards.value, self.reverse.value
+        decision = decide(
+            Sensing(
+                corridor=beacon.corridor,
+                walls=beacon.walls,
+                neighbours={
+                    d: Neighbour(fwd(n), rev(n), self.beacons[n].desired) for d, n in nb.items()
+                },
+                taken=frozenset(taken),
+                searched=frozenset(beacon.searched),
+                forwards=fwd(robot),
+                reverse=rev(robot),
+                is_base=beacon.is_base,
             )
-        else:
-            redeploying = not empty and rev(robot) == 0
-        # Desired direction.
-        if not redeploying and empty:
-            desired = empty[0]
-        else:
-            desired = NO_DIRECTION
-            if not redeploying:
-                gradient = fwd if beacon.corridor else rev
-                candidates = [(gradient(n), -d, d) for d, n in nb.items() if not blocked(d)]
-                if candidates:
-                    desired = max(candidates)[2]
-            if desired == NO_DIRECTION and nb:
-                desired = min((fwd(n), d) for d, n in nb.items())[1]
-        may_detach = (
-            redeploying
-            and not beacon.is_base
-            and me_f > 0
-            and all(fwd(n) <= me_f for n in nb.values())
         )
-        self._publish(beacon, desired, redeploying, bool(empty), may_detach)
+        beacon.searched = set(decision.searched)
+        self._publish(
+            beacon, decision.desired, decision.redeploying, decision.frontier, decision.may_detach
+        )
 
     def _publish(
         self, beacon: Beacon, desired: int, redeploying: bool, frontier: bool, may_detach: bool

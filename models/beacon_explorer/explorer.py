@@ -19,13 +19,7 @@ from numba import njit
 from abm.arena import CARDINALS, Arena
 from abm.gridkernels import cardinal_distances, nearest_visible, segment_crosses
 from abm.physics import Physics
-from abm.sensors import (
-    BEARING_NOISE,
-    RANGE_NOISE,
-    REFERENCE_RANGE,
-    measured_relative,
-    noisy_reading,
-)
+from abm.sensors import measured_relative, noisy_reading
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.params import BeaconExplorerParams
 
@@ -46,6 +40,9 @@ class _Constants(NamedTuple):
     gain: float  # of the low-pass filter on T, per tick
     max_speed: float
     guide_hysteresis: float
+    range_noise: float
+    bearing_noise: float
+    reference_range: float
 
 
 class ExplorerController:
@@ -56,7 +53,7 @@ class ExplorerController:
         beacons: the beacon network whose signals explorers follow.
         rng: the model's generator (sensor noise).
         params: the algorithm's constants.
-        max_speed: cruising speed handed to the flight controller (m/s).
+        physics: the physics process whose flyers this controls.
 
     """
 
@@ -66,7 +63,6 @@ class ExplorerController:
         beacons: BeaconNetwork,
         rng: np.random.Generator,
         params: BeaconExplorerParams,
-        max_speed: float,
         physics: Physics,
     ) -> None:
         self.arena = arena
@@ -86,8 +82,11 @@ class ExplorerController:
             params.attach_speed,
             params.interspace,
             min(1.0, physics.dt / params.filter_time),
-            max_speed,
+            params.max_speed,
             params.guide_hysteresis,
+            params.range_noise,
+            params.bearing_noise,
+            params.reference_range,
         )
 
     def _current_signals(self):
@@ -162,9 +161,9 @@ def _steer(
             beacon_pos[k, 1] - pos[i, 1],
             z[i, 0],
             z[i, 1],
-            RANGE_NOISE,
-            BEARING_NOISE,
-            REFERENCE_RANGE,
+            p.range_noise,
+            p.bearing_noise,
+            p.reference_range,
         )
         lx = nx + desired_vec[k, 0]
         ly = ny + desired_vec[k, 1]

@@ -7,22 +7,22 @@ the search is complete (all free area covered), when it cannot progress (no beac
 redeploy and no explorer can be placed), or at the time limit.
 """
 
-from pathlib import Path
-
 import numpy as np
 import simpy
 
 from abm.arena import Arena
 from abm.coverage import CoverageRaster
 from abm.energy import Battery
-from abm.errors import ConfigError, check_choice, check_range
+from abm.errors import ConfigError
 from abm.model import SwarmModel
 from abm.physics import FlightParams
 from abm.robot import Robot
-from abm.worlds import COMPLEXITIES, WORLD_KINDS, World, make_world
+from abm.styles import StateStyle
+from abm.worlds import WORLD_KINDS, World, make_world
+from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
-from models.beacon_explorer.params import DEFAULTS, SWARM_SIZE, BeaconExplorerParams
+from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
 
 __all__ = ["BeaconExplorerModel"]
 
@@ -30,129 +30,93 @@ __all__ = ["BeaconExplorerModel"]
 class BeaconExplorerModel(SwarmModel):
     """Beacon/explorer swarm search (SPEC A).
 
+    Every field of :class:`BeaconExplorerParams` is a keyword of the constructor, e.g.
+    ``BeaconExplorerModel(world="corridor", complexity="high", launch_period=6.0, seed=1)``.
+
     Args:
-        world: "corridor", "open" or "mixed" (generated from the seed), a bitmap map file
-            (PNG/PGM/NPY, 1 px = ``map_resolution`` m), or a ready :class:`abm.worlds.World`.
-        complexity: corridor branching level, or obstacle density in open rooms: "low",
-            "medium" or "high"; default "high" ("medium", the only level the paper uses, for
-            mixed worlds).
-        n_robots: explorers waiting on the ground; default: the paper's swarm size for the world.
-        launch_period: inter-launch period t (s); explorer i takes off at i * t.
         seed: seed of the model's random generator (world, noise, everything).
-        hover_beacons: beacons hover in place instead of attaching to the ceiling.
-        time_limit: longest simulated run (s).
-        step_duration: simulated seconds per ``step()``.
-        max_speed: explorer cruising speed (m/s).
-        map_resolution: metres per pixel of a bitmap ``world``.
-        start: base position (m) for a bitmap world; default: the centre of the first free cell.
-        trace_interval: how often robot positions are sampled for rendering (s); None: never.
-        battery_capacity: charge of each explorer's battery (J); None (the paper's experiments):
-            unlimited. A robot whose battery runs flat fails where it is: a flyer drops out of
-            the air, a beacon leaves the network (its neighbours do not take the area beyond it
-            as searched), and the robot is counted in the extra state ``failed``. The base
-            beacon is pre-deployed at the entrance and is not battery-limited.
-        params: the algorithm's constants (see :class:`BeaconExplorerParams`).
+        **params: fields of :class:`BeaconExplorerParams`.
 
     """
 
+    Params = BeaconExplorerParams
     STATES = ("ground", "explorer", "beacon")
+    STATE_STYLES = {
+        # ground robots wait stacked under the base: a large square behind the base's disc
+        "ground": StateStyle("#999999", marker="s", size=150.0, layer=4.0),
+        "explorer": StateStyle("#D55E00", marker="^", size=45.0, layer=6.0),
+        "beacon": StateStyle("#0072B2", marker="o", size=55.0, layer=5.0),
+        "failed": StateStyle("#000000", marker="X", size=45.0, layer=6.0),
+    }
+    MACRO = published.MACRO
+    ARROWS_LABEL = "beacon's desired direction"
+    PUBLISHED = published.PUBLISHED
+    REPORT = published.REPORT
+    APP = "models.beacon_explorer.app"
 
-    def __init__(
-        self,
-        world: str | Path | World = "corridor",
-        complexity: str | None = None,
-        n_robots: int | None = None,
-        launch_period: float = 6.0,
-        seed: int | None = None,
-        hover_beacons: bool = False,
-        time_limit: float = 3600.0,
-        step_duration: float = 1.0,
-        max_speed: float = 1.0,
-        map_resolution: float = 1.0,
-        start: tuple[float, float] | None = None,
-        trace_interval: float | None = 1.0,
-        battery_capacity: float | None = None,
-        params: BeaconExplorerParams = DEFAULTS,
-    ) -> None:
-        if complexity is None:
-            complexity = "medium" if world == "mixed" else "high"
-        check_choice("complexity", complexity, COMPLEXITIES)
-        check_range("launch_period", launch_period, 0.0, low_open=True)
-        check_range("max_speed", max_speed, 0.0, 5.0, low_open=True)
-        if not isinstance(hover_beacons, bool | np.bool_):
-            raise ConfigError(f"hover_beacons must be True or False, got {hover_beacons!r}")
-        if n_robots is not None:
-            check_range("n_robots", n_robots, 1, 10_000, integer=True)
-        if battery_capacity is not None:
-            check_range("battery_capacity", battery_capacity, 0.0, low_open=True)
+    def __init__(self, *, seed: int | None = None, **params: object) -> None:
+        p = self.make_params(**params)
+        if p.battery_capacity is not None:
             self.STATES = (*type(self).STATES, "failed")
-        self.battery_capacity = battery_capacity
         self.world: World | None = None
 
         def build_world(rng: np.random.Generator) -> Arena:
-            self.world = self._make_world(world, complexity, map_resolution, start, rng)
+            self.world = self._make_world(p, rng)
             return self.world.arena
 
         super().__init__(
+            p,
             build_world,
             seed=seed,
-            step_duration=step_duration,
-            time_limit=time_limit,
-            comm_range=params.comm_range,
-            flight=FlightParams(max_speed=max_speed),
-            trace_interval=trace_interval,
+            comm_range=p.comm_range,
+            powers=p.powers,
+            flight=FlightParams(
+                mass=p.mass,
+                max_speed=p.max_speed,
+                max_force=p.max_force,
+                tau=p.tau,
+                rho=p.air_density,
+                area=p.frontal_area,
+                drag_coefficient=p.drag_coefficient,
+                body_noise=p.body_noise,
+                body_radius=p.body_radius,
+            ),
         )
-        self.params = params
-        self.complexity = complexity
-        self.launch_period = float(launch_period)
-        self.hover_beacons = bool(hover_beacons)
-        kind = self.world.kind
-        self.n_robots = (
-            int(n_robots) if n_robots is not None else SWARM_SIZE.get((kind, complexity), 20)
-        )
-        self.coverage = CoverageRaster(self.arena, params.sensor_range, params.coverage_pixel)
+        self.complexity = p.level
+        self.launch_period = p.launch_period
+        self.n_robots = p.n_robots or SWARM_SIZE.get((self.world.kind, self.complexity), 20)
+        self.coverage = CoverageRaster(self.arena, p.sensor_range, p.coverage_pixel)
         self.beacons = BeaconNetwork(
-            self.env, self.arena, self.comms, self.rng, params, self.physics.dt, self._may_detach
+            self.env, self.arena, self.comms, self.rng, p, self.physics.dt, self._may_detach
         )
         self.physics.controller = ExplorerController(
-            self.arena, self.beacons, self.rng, params, max_speed, self.physics
+            self.arena, self.beacons, self.rng, p, self.physics
         )
         self.robots: dict[int, Robot] = {}
         self._detach_wanted: dict[int, object] = {}
         self.battery = (
             None
-            if battery_capacity is None
-            else Battery(self.ledger, battery_capacity, self._battery_empty)
+            if p.battery_capacity is None
+            else Battery(self.ledger, p.battery_capacity, self._battery_empty)
         )
         self._build_swarm()
         self.env.process(self._monitor())
 
     # ------------------------------------------------------------------ set-up
     @staticmethod
-    def _make_world(world, complexity: str, resolution: float, start, rng) -> World:
-        if isinstance(world, World):
-            return world
-        if isinstance(world, str) and world in WORLD_KINDS:
-            return make_world(world, complexity, rng)
-        if isinstance(world, str | Path) and Path(world).suffix.lower() in {
-            ".png",
-            ".pgm",
-            ".bmp",
-            ".npy",
-        }:
-            arena = Arena.from_bitmap(world, resolution=resolution)
-            if start is None:
-                start = arena.free_cell_centres()[0]
-            start = np.asarray(start, dtype=float)
-            if not arena.is_free(start[None])[0]:
-                raise ConfigError(f"start {tuple(start)} lies inside a wall of map {str(world)!r}")
-            iy, ix = np.nonzero(arena.free)
-            return World(arena, start, "bitmap", complexity, np.stack([ix, iy], axis=1), None)
-        kinds = ", ".join(repr(k) for k in WORLD_KINDS)
-        raise ConfigError(
-            f"world must be one of {kinds}, a map file (.png, .pgm, .bmp, .npy) or a World, "
-            f"got {world!r}"
-        )
+    def _make_world(p: BeaconExplorerParams, rng: np.random.Generator) -> World:
+        if isinstance(p.world, World):
+            return p.world
+        if p.world in WORLD_KINDS:
+            return make_world(p.world, p.level, rng)
+        arena = Arena.from_bitmap(p.world, resolution=p.map_resolution or 1.0)
+        start = arena.free_cell_centres()[0] if p.start is None else np.asarray(p.start)
+        if not arena.is_free(start[None])[0]:
+            raise ConfigError(
+                f"start {tuple(start.tolist())} lies inside a wall of map {str(p.world)!r}"
+            )
+        iy, ix = np.nonzero(arena.free)
+        return World(arena, start, "bitmap", p.level, np.stack([ix, iy], axis=1), None)
 
     def _build_swarm(self) -> None:
         start = self.world.start
@@ -163,14 +127,14 @@ class BeaconExplorerModel(SwarmModel):
         self.robots[base.unique_id] = base
         self.recorder.log("attach", base.unique_id, x=start[0], y=start[1])
         self.beacons.attach(base.unique_id, start, is_base=True)
-        self.coverage.stamp(start)
+        self.coverage.stamp(start, self.env.now)
         for i in range(1, self.n_robots + 1):
             robot = Robot(self, start, "ground", "ground")
             self.robots[robot.unique_id] = robot
             robot.start(self._explorer_life(robot, i))
 
     def _beacon_mode(self) -> str:
-        return "hover" if self.hover_beacons else "beacon"
+        return "hover" if self.params.hover_beacons else "beacon"
 
     # ------------------------------------------------------------------ behaviour
     def _explorer_life(self, robot: Robot, index: int):
@@ -192,7 +156,7 @@ class BeaconExplorerModel(SwarmModel):
         position = self.world.start + self.rng.normal(0.0, 0.1, 2)
         position = np.where(self.arena.is_free(position[None])[0], position, self.world.start)
         while True:
-            arrived = self.physics.fly(robot.unique_id, robot.space_index, position)
+            arrived = self.physics.fly(robot.unique_id, position)
             yield arrived
             position = robot.position.copy()
             yield self.env.timeout(self.params.attach_time)
@@ -202,7 +166,7 @@ class BeaconExplorerModel(SwarmModel):
             robot.set_mode(self._beacon_mode())
             self.recorder.log("attach", robot.unique_id, x=position[0], y=position[1])
             self.beacons.attach(robot.unique_id, position)
-            self.coverage.stamp(position)
+            self.coverage.stamp(position, self.env.now)
             yield from self._beacon_until_detach(robot)
             self.beacons.detach(robot.unique_id)
             robot.set_state("explorer")
@@ -280,32 +244,24 @@ class BeaconExplorerModel(SwarmModel):
                 return
 
     # ------------------------------------------------------------------ results
-    def summary(self) -> dict:
-        """Flat dict of the run's metrics (SI units; coverage_area in % of free area)."""
+    def metrics(self) -> dict:
+        """The paper's metrics (SI units; besides the common keys of ``summary()``)."""
         ledger = self.ledger
         counts = self.recorder.counts
-        flight_energy = ledger.energy(mode="flight")
-        beacon_energy = ledger.energy(mode="beacon") + ledger.energy(mode="hover")
-        ground_energy = ledger.energy(mode="ground")
         return {
             "world": self.world.kind,
             "complexity": self.complexity,
             "n_robots": self.n_robots,
+            "robots": self.n_robots + 1,
             "launch_period": self.launch_period,
-            "hover_beacons": self.hover_beacons,
+            "hover_beacons": self.params.hover_beacons,
             "seed": self.seed,
             "coverage_time": float(self.env.now),
-            "coverage_area": 100.0 * self.coverage.fraction,
             "complete": self.coverage.fraction >= self.params.complete_fraction,
-            "end_reason": self.end_reason or "running",
-            "collisions": self.physics.wall_collisions + self.physics.robot_collisions,
-            "wall_collisions": self.physics.wall_collisions,
-            "robot_collisions": self.physics.robot_collisions,
             "flight_time": ledger.duration("flight"),
-            "energy_flight": flight_energy,
-            "energy_beacon": beacon_energy,
-            "energy_ground": ground_energy,
-            "energy_total": flight_energy + beacon_energy + ground_energy,
+            "energy_flight": ledger.energy(mode="flight"),
+            "energy_beacon": ledger.energy(mode="beacon") + ledger.energy(mode="hover"),
+            "energy_ground": ledger.energy(mode="ground"),
             "n_beacons_final": counts["beacon"],
             "n_failed": counts.get("failed", 0),
             "branches": self.world.branches,
@@ -315,11 +271,3 @@ class BeaconExplorerModel(SwarmModel):
         """Beacons' desired directions (points, vectors of length I_r) for drawings."""
         _ids, pos, vectors, _to_empty = self.beacons.signals()
         return pos, vectors
-
-    def reporters(self) -> dict:
-        """DataCollector columns: robots per state, coverage (%) and energy (J)."""
-        return {
-            **super().reporters(),
-            "coverage": lambda m: 100.0 * m.coverage.fraction,
-            "energy": lambda m: m.ledger.energy(),
-        }

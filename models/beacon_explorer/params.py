@@ -1,13 +1,19 @@
-"""Default parameters of the beacon/explorer model, with the paper's values.
+"""Parameters of the beacon/explorer model, with the paper's values.
 
 Source: Stirling, Roberts, Zufferey, Floreano (2010), "Energy-efficient indoor search by
 swarms of simulated flying robots without global information", Swarm Intelligence 4:117-143.
 Values not given in the paper are marked "ours".
 """
 
+import math
 from dataclasses import dataclass
+from pathlib import Path
 
-__all__ = ["BeaconExplorerParams", "SWARM_SIZE", "DEFAULTS"]
+from abm.errors import ConfigError
+from abm.params import SwarmParams, param
+from abm.worlds import COMPLEXITIES, WORLD_KINDS, World
+
+__all__ = ["BeaconExplorerParams", "DEFAULTS", "MAP_SUFFIXES", "SWARM_SIZE"]
 
 #: Robots available per world and complexity (Sect. 3.5): 20 in corridor and mixed worlds;
 #: 15 / 18 / 20 in open rooms with low / medium / high obstacle density.
@@ -23,35 +29,66 @@ SWARM_SIZE = {
     ("open", "high"): 20,
 }
 
+#: File suffixes a ``world`` map file may have.
+MAP_SUFFIXES = (".png", ".pgm", ".bmp", ".npy")
+
 
 @dataclass(frozen=True)
-class BeaconExplorerParams:
-    """Constants of the algorithm and the robots (SI units).
+class BeaconExplorerParams(SwarmParams):
+    """Everything a beacon/explorer run can vary (SI units).
 
     Attributes:
+        world: "corridor", "open" or "mixed" (generated from the seed, Sect. 3.5 and Fig. 5),
+            a bitmap map file (PNG/PGM/BMP/NPY; dark pixels are walls) or a ready
+            :class:`abm.worlds.World`.
+        complexity: corridor branching, or obstacle density in open rooms: "low", "medium" or
+            "high"; None: "medium" for mixed worlds (the only level the paper uses there), else
+            "high".
+        n_robots: explorers waiting on the ground below the base; None: the paper's swarm size
+            for the world (15 / 18 / 20 in open rooms, 20 elsewhere, Sect. 3.5).
+        launch_period: t, the inter-launch period: explorer i takes off at i * t (s).
+        hover_beacons: beacons hover in place instead of attaching to the ceiling (the paper's
+            energy comparison at the end of Sect. 4).
+        battery_capacity: charge of each explorer's battery (J); None (the paper's
+            experiments): unlimited. A flat battery fails the robot where it is: a flyer drops
+            out of the air, a beacon leaves the network without its neighbours taking the area
+            beyond it as searched, and the robot is counted in the extra state "failed". The
+            pre-deployed base is not battery-limited.
+        start: base position (m) in a map-file world; None: the centre of the first free
+            pixel. Generated worlds place the base in a random start cell, and a World carries
+            its own start, so giving start for them is an error.
+        map_resolution: metres per pixel of a map-file world; None: 1 m. An error for generated
+            worlds (their cells are 3 m, Sect. 3.5).
         interspace: I_r, beacon spacing (m), Sect. 3.3.
-        sensor_range: S_r, distance-sensor range and coverage radius (m), Sect. 3.1.
-        sensor_noise: std of the distance sensors (m), App. B.
-        comm_range: C_r (m), Sect. 3.1.
-        corridor_width: two opposing walls closer than this make a corridor beacon (m).
+        sensor_range: S_r, range of the distance sensors and radius of the coverage disc (m),
+            Sect. 3.1.
+        sensor_noise: std of the distance sensors' readings (m), App. B.
+        range_noise: std of the relative-positioning sensor's range at reference_range (m),
+            App. B (Pugh et al. 2009); it grows linearly with range (ours).
+        bearing_noise: std of the relative-positioning sensor's bearing (rad; 6.1 deg), App. B.
+        reference_range: the range at which range_noise holds (m), App. B.
+        comm_range: C_r, reliable communication range with line of sight (m), Sect. 3.1.
         obstacle_threshold: a direction whose wall reading is below this is an obstacle (m; ours:
             I_r, so a lattice that drifted up to a metre still reads the wall beyond the next
-            cell as empty; wall avoidance then stops the explorer short of that wall).
-        open_diagonal: five rays into the quadrant between two free cardinal directions all
-            reading more than this (nothing sensed within noise) mean open space (m; ours, see
-            README).
+            cell as empty; wall avoidance then stops the explorer short of that wall). It is
+            also the paper's corridor test: a beacon between two opposing walls closer than
+            this (3 m in the paper) is a corridor beacon (see open_diagonal).
+        open_diagonal: a beacon is an open-space beacon only if, between two adjacent free
+            cardinal directions, five rays all read more than this (nothing sensed within
+            noise; m; ours). Two opposing walls nearer than obstacle_threshold leave no two
+            adjacent free directions, so the paper's corridor test is implied by this one,
+            which also keeps T-junctions (one wall sensed) as corridor beacons. See README.
         spot_taken: a beacon labels a direction "beacon" when another beacon it senses is
             closer than this to the lattice spot I_r away in that direction (m; ours: I_r less a
             margin for lattice drift, so a drifted diagonal neighbour does not hide a free spot).
         attach_eps: epsilon of |T| <= eps, the attach condition, on T low-pass filtered over
-            ``filter_time`` (m; ours, calibrated: the paper gives no value). It sets how long an
+            filter_time (m; ours, calibrated: the paper gives no value). It sets how long an
             explorer takes to settle at its spot (the filtered noise of T is about 7 cm), and so
             how explorers queue at the frontier when they launch close together (the paper: more
             concurrent flyers, more unnecessary flight and collisions). With 0.15 m explorers
             settled at once, and 24 s instead of 6 s saved only 15 % of the flight in
-            high-complexity corridors and no energy (+2.5 %); with 0.05 m (and, later, the
-            guide hysteresis): -28.1 % and -13.6 % (paper -41.5 / -30.8 %). See the README,
-            "Reproduction".
+            high-complexity corridors and no energy (+2.5 %); with 0.05 m (and the guide
+            hysteresis): -28.1 % and -13.6 % (paper -41.5 / -30.8 %). See the README.
         attach_speed: an explorer attaches only once it has slowed below this (m/s; ours).
         guide_hysteresis: an explorer keeps following its beacon until another in touch is
             nearer by more than this (m; ours: 0 is the paper's plain nearest beacon, which let
@@ -63,33 +100,118 @@ class BeaconExplorerParams:
         attach_time: ascent to the ceiling and attachment (s; ours).
         forwards_start: hop count at the base (1), Sect. 3.3.
         reverse_start: hop count at frontier beacons (127), Sect. 3.3.
-        coverage_pixel: raster pixel of the coverage map (m; ours).
+        coverage_pixel: pixel side of the coverage raster (m; ours).
         complete_fraction: coverage fraction counted as a complete search (ours).
         monitor_period: how often the end-of-search conditions are checked (s; ours).
+        power_ground: P of a robot waiting on the ground: low-power electronics (W), App. C.
+        power_flight: P of a flying robot: motors 110 W + high-rate electronics 10 W (W),
+            App. C.
+        power_beacon: P of a beacon on the ceiling: medium-rate electronics (W), App. C.
+        power_hover: P of a hovering beacon: motors 110 W + medium-rate electronics 5 W (W;
+            our reading of the paper's hover-vs-attach comparison).
+        max_speed: explorer cruising speed, the flight controller's speed cap (m/s; ours).
+        mass: m, robot mass (kg; ours), App. B's point-mass dynamics.
+        max_force: cap on the flight controller's force (N; ours).
+        tau: flight-controller time constant (s; ours).
+        air_density: rho in the drag force (kg/m^3).
+        frontal_area: A in the drag force (m^2; ours).
+        drag_coefficient: C_d in the drag force (ours).
+        body_noise: std of the Gaussian displacement of a flying body per 0.1 s tick (m),
+            App. B.
+        body_radius: half-width of a robot's body for contacts (m; ours).
+        dt: the control period: explorers sense and steer, and the physics moves them, at
+            10 Hz (s), Sect. 3.4.
+        latency: one message takes one control period (s; ours).
 
     """
 
-    interspace: float = 3.0
-    sensor_range: float = 3.5
-    sensor_noise: float = 0.05
-    comm_range: float = 4.0
-    corridor_width: float = 3.0
-    obstacle_threshold: float = 3.0
-    open_diagonal: float = 3.45
-    spot_taken: float = 2.2
-    attach_eps: float = 0.05
-    attach_speed: float = 0.2
-    guide_hysteresis: float = 0.5
-    filter_time: float = 0.3
-    avoid_gain: float = 0.5
-    slow_radius: float = 1.0
-    climb_time: float = 2.0
-    attach_time: float = 1.0
-    forwards_start: int = 1
-    reverse_start: int = 127
-    coverage_pixel: float = 0.25
-    complete_fraction: float = 0.999
-    monitor_period: float = 1.0
+    world: str | Path | World = "corridor"
+    complexity: str | None = param(None, choices=COMPLEXITIES)
+    n_robots: int | None = param(None, low=1, high=10_000, integer=True)
+    launch_period: float = param(6.0, low=0.0, low_open=True)
+    hover_beacons: bool = False
+    battery_capacity: float | None = param(None, low=0.0, low_open=True)
+    start: tuple[float, float] | None = None
+    map_resolution: float | None = param(None, low=0.0, low_open=True)
+    interspace: float = param(3.0, low=0.0, low_open=True)
+    sensor_range: float = param(3.5, low=0.0, low_open=True)
+    sensor_noise: float = param(0.05, low=0.0)
+    range_noise: float = param(0.17, low=0.0)
+    bearing_noise: float = param(math.radians(6.1), low=0.0)
+    reference_range: float = param(3.0, low=0.0, low_open=True)
+    comm_range: float = param(4.0, low=0.0, low_open=True)
+    obstacle_threshold: float = param(3.0, low=0.0, low_open=True)
+    open_diagonal: float = param(3.45, low=0.0, low_open=True)
+    spot_taken: float = param(2.2, low=0.0, low_open=True)
+    attach_eps: float = param(0.05, low=0.0, low_open=True)
+    attach_speed: float = param(0.2, low=0.0, low_open=True)
+    guide_hysteresis: float = param(0.5, low=0.0)
+    filter_time: float = param(0.3, low=0.0, low_open=True)
+    avoid_gain: float = param(0.5, low=0.0)
+    slow_radius: float = param(1.0, low=0.0, low_open=True)
+    climb_time: float = param(2.0, low=0.0)
+    attach_time: float = param(1.0, low=0.0)
+    forwards_start: int = param(1, low=0, integer=True)
+    reverse_start: int = param(127, low=1, integer=True)
+    coverage_pixel: float = param(0.25, low=0.0, low_open=True)
+    complete_fraction: float = param(0.999, low=0.0, high=1.0, low_open=True)
+    monitor_period: float = param(1.0, low=0.0, low_open=True)
+    power_ground: float = param(0.5, low=0.0)
+    power_flight: float = param(110.0 + 10.0, low=0.0)
+    power_beacon: float = param(5.0, low=0.0)
+    power_hover: float = param(110.0 + 5.0, low=0.0)
+    max_speed: float = param(1.0, low=0.0, high=5.0, low_open=True)
+    mass: float = param(0.5, low=0.0, low_open=True)
+    max_force: float = param(2.0, low=0.0, low_open=True)
+    tau: float = param(0.5, low=0.0, low_open=True)
+    air_density: float = param(1.2, low=0.0)
+    frontal_area: float = param(0.03, low=0.0)
+    drag_coefficient: float = param(1.0, low=0.0)
+    body_noise: float = param(0.025, low=0.0)
+    body_radius: float = param(0.2, low=0.0, low_open=True)
+    dt: float = param(0.1, low=0.0, low_open=True)
+    latency: float = param(0.1, low=0.0, low_open=True)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        world = self.world
+        generated = isinstance(world, str) and world in WORLD_KINDS
+        is_file = isinstance(world, str | Path) and Path(world).suffix.lower() in MAP_SUFFIXES
+        if not (generated or is_file or isinstance(world, World)):
+            kinds = ", ".join(repr(k) for k in WORLD_KINDS)
+            raise ConfigError(
+                f"world must be one of {kinds}, a map file ({', '.join(MAP_SUFFIXES)}) or a "
+                f"World, got {world!r}"
+            )
+        if not is_file:
+            for name in ("start", "map_resolution"):
+                if getattr(self, name) is not None:
+                    raise ConfigError(
+                        f"{name} applies to map-file worlds only; world={world!r} "
+                        + (
+                            "places its base in a random start cell with 3 m cells"
+                            if generated
+                            else "carries its own start and cell size"
+                        )
+                    )
+
+    @property
+    def level(self) -> str:
+        """The complexity in effect (the default resolved: medium for mixed, else high)."""
+        if self.complexity is not None:
+            return self.complexity
+        return "medium" if self.world == "mixed" else "high"
+
+    @property
+    def powers(self) -> dict[str, float]:
+        """Power (W) per mode, for the energy ledger (App. C)."""
+        return {
+            "ground": self.power_ground,
+            "flight": self.power_flight,
+            "beacon": self.power_beacon,
+            "hover": self.power_hover,
+            "off": 0.0,
+        }
 
 
 DEFAULTS = BeaconExplorerParams()

@@ -1,9 +1,9 @@
-"""The wander robots' flight, vectorised over every flying robot (one call per physics tick).
+"""The wander robots' flight, vectorised over every flying robot.
 
-Every model step (0.5 s) each wander robot:
+At every model step (0.5 s, a SimPy process of the model) each wander robot:
 
 1. checks its link to the swarm: when the nearest beacon is ``l_i`` away or farther, it lands
-   (the physics' done mask; the robot's SimPy process then turns it into a beacon);
+   (its flight ends at once; its SimPy process then turns it into a beacon);
 2. picks its heading ``f_hat = f / |f|`` with ``f = a1 f1 + a2 f2 + a3 f3``:
    f1 towards less pheromone within C_rb (:meth:`PheromoneField.lower_direction`), every
    pixel of the disc read, a reading's importance falling as 1 / distance^2 (``f1_falloff``),
@@ -13,7 +13,8 @@ Every model step (0.5 s) each wander robot:
    weights 0.2 / 0.4 / 0.4 only make sense for components of comparable size);
 3. deposits pheromone (radius C_rw, intensity C_dw).
 
-Between model steps (the physics ticks faster) the robots keep their heading at full speed.
+A robot picks its first heading when it takes off. Between model steps the robots keep their
+heading at full speed: the physics asks :meth:`WanderController.control` every tick.
 """
 
 import numpy as np
@@ -21,8 +22,9 @@ from numba import njit
 from scipy import ndimage
 
 from abm.arena import Arena
+from abm.discs import disc_offsets
 from abm.errors import check_range
-from abm.pheromone import PheromoneField, disc_offsets
+from abm.pheromone import PheromoneField
 from abm.physics import Physics
 
 __all__ = ["WanderController", "nearest_distance", "repulsion_grid", "sonar_grid", "unit"]
@@ -73,73 +75,74 @@ def sonar_grid(arena: Arena, radius: float, beams: int) -> np.ndarray:
 
 
 class WanderController:
-    """The physics controller of a :class:`StigmergyModel`.
+    """The wanders' decisions (:meth:`model_step`, :meth:`launched`) and their flight
+    (:meth:`control`, the physics' controller).
 
     Args:
-        model: the model (reads its parameters, pheromone field, beacons and coverage).
+        model: the model (reads its parameters, beacons and coverage).
 
     """
 
     def __init__(self, model) -> None:
+        p = model.params
         self.model = model
-        self.field: PheromoneField = model.pheromone
+        self.params = p
+        self.physics: Physics = model.physics
         self.rng = model.rng
         self.arena = model.arena
-        if model.obstacle_beams:
-            self.repulsion = sonar_grid(model.arena, model.obstacle_range, model.obstacle_beams)
+        self.field: PheromoneField = model.pheromone
+        if p.obstacle_beams:
+            self.repulsion = sonar_grid(model.arena, p.obstacle_range, p.obstacle_beams)
         else:
-            self.repulsion = repulsion_grid(model.arena, model.obstacle_range)
-        self.heading = model.physics.add_flyer_state("heading", 2)
-        self._next_step = 0.0
-        self._next_coverage = 0.0
-        self._steered = 0  # flyers (the first rows) that already have a heading
+            self.repulsion = repulsion_grid(model.arena, p.obstacle_range)
+        self.physics.add_flyer_state("heading", 2)
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
-        """Desired velocities of all flyers and the mask of those landing now."""
-        m = self.model
-        now = physics.env.now
+        """Every tick: fly the current headings at full speed (no flight ends here)."""
         heading = physics.flyer_state["heading"]
-        n = physics.n_flying
-        done = np.zeros(n, dtype=bool)
-        due = now >= self._next_step - 1e-9
-        if due or n > self._steered:  # a model step, or robots launched since the last one
-            rows = slice(0, n) if due else slice(self._steered, n)
-            heading[rows] = self._headings(physics.pos[rows], heading[rows])
-        if due:
-            self._next_step = now + m.model_step
-            pos = physics.pos
-            done = self.link(pos) >= m.link_threshold
-            self.field.deposit(
-                pos[~done],
-                m.wander_radius,
-                m.wander_intensity,
-                time=now,
-                line_of_sight=m.deposit_line_of_sight,
-            )
-            if now >= self._next_coverage - 1e-9:
-                self._next_coverage = now + m.coverage_interval
-                m.stamp_coverage(pos)
-        # the physics removes the landing rows after this call; new flyers are appended
-        self._steered = n - int(done.sum())
-        return heading * m.max_speed, done
+        return heading * self.params.max_speed, np.zeros(physics.n_flying, dtype=bool)
+
+    def launched(self) -> None:
+        """The newest flyer (the last row) picks its first heading."""
+        heading = self.physics.flyer_state["heading"]
+        heading[-1:] = self._headings(self.physics.pos[-1:], heading[-1:])
+
+    def model_step(self) -> None:
+        """Links, landings, headings and deposits of every flyer (one model step)."""
+        physics = self.physics
+        if physics.n_flying == 0:
+            return
+        p = self.params
+        heading = physics.flyer_state["heading"]
+        heading[:] = self._headings(physics.pos, heading)
+        landing = self.link(physics.pos) >= p.l_i
+        self.field.deposit(
+            physics.pos[~landing],
+            p.c_rw,
+            p.wander_intensity,
+            time=physics.env.now,
+            line_of_sight=p.deposit_line_of_sight,
+        )
+        if landing.any():
+            physics.finish(physics.ids[landing])
 
     def link(self, pos: np.ndarray) -> np.ndarray:
         """Distance (m) from each flyer to the nearest beacon."""
         return nearest_distance(pos, self.model.beacon_positions)
 
     def _headings(self, pos: np.ndarray, previous: np.ndarray) -> np.ndarray:
-        m = self.model
-        self.field.advance(m.env.now)
+        p = self.params
+        self.field.advance(self.physics.env.now)
         f1 = self.field.lower_direction(
             pos,
-            m.pheromone_radius,
-            falloff=m.f1_falloff,
-            relative=m.f1_relative,
-            line_of_sight=m.f1_line_of_sight,
+            p.pheromone_radius,
+            falloff=p.f1_falloff,
+            relative=p.f1_relative,
+            line_of_sight=p.f1_line_of_sight,
         )
         noise = self.rng.uniform(-1.0, 1.0, size=pos.shape)
         f_hat = _steer(
-            f1, pos, previous, noise, self.repulsion, self.arena.resolution, m.a1, m.a2, m.a3, m.a4
+            f1, pos, previous, noise, self.repulsion, self.arena.resolution, p.a1, p.a2, p.a3, p.a4
         )
         still = (f_hat[:, 0] == 0) & (f_hat[:, 1] == 0)
         if still.any():  # a perfect cancellation: keep the random heading

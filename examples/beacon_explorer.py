@@ -1,4 +1,5 @@
-"""Main demo: one beacon/explorer search on a generated high-complexity corridor world.
+"""Main demo: one beacon/explorer search (Stirling et al. 2010) on a generated high-complexity
+corridor world.
 
 Covers: building a model from plain keyword arguments, running it to the end of the search,
 the summary table, a PNG of the final swarm (beacons with their desired directions, comm
@@ -33,7 +34,7 @@ def main() -> None:
         model,
         OUT / "final_swarm.png",
         title=(
-            f"{WORLD} ({COMPLEXITY}), t = {summary['coverage_time']:.0f} s, "
+            f"{WORLD} ({COMPLEXITY}), t = {summary['time']:.0f} s, "
             f"coverage {summary['coverage_area']:.1f} %"
         ),
     )

@@ -1,0 +1,96 @@
+"""The model contract, checked: what a class must declare before any tool will run it.
+
+:func:`check_model` is called by the registry whenever a model is registered or resolved, so
+a broken model fails with one clear :class:`~abm.errors.ContractError` naming what is missing,
+not with an attribute error deep inside a report. ``docs/adding-a-model.md`` explains each
+point.
+"""
+
+import dataclasses
+import inspect
+from functools import cache
+
+from abm.errors import ContractError
+from abm.params import SwarmParams, field_help
+from abm.published import MacroSpec, Published, ReportLayout
+from abm.styles import StateStyle
+
+__all__ = ["check_model"]
+
+
+def check_model(cls: type) -> None:
+    """Raise ContractError unless ``cls`` keeps the model contract.
+
+    The contract: a :class:`~abm.model.SwarmModel` subclass; ``Params`` a frozen dataclass
+    subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
+    docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
+    fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
+    ``MACRO``, ``PUBLISHED``, ``REPORT`` and ``APP`` of the documented types.
+    """
+    _check(cls)
+
+
+@cache
+def _check(cls: type) -> None:
+    from abm.model import SwarmModel
+
+    name = getattr(cls, "__qualname__", repr(cls))
+    if not (isinstance(cls, type) and issubclass(cls, SwarmModel)):
+        raise ContractError(f"{name} is not a subclass of abm.model.SwarmModel")
+    params = cls.Params
+    if not (
+        isinstance(params, type)
+        and issubclass(params, SwarmParams)
+        and dataclasses.is_dataclass(params)
+        and params.__dataclass_params__.frozen
+    ):
+        raise ContractError(f"{name}.Params must be a frozen dataclass subclassing SwarmParams")
+    helps = field_help(params)
+    missing = [f.name for f in dataclasses.fields(params) if f.name not in helps]
+    if missing:
+        raise ContractError(
+            f"{params.__qualname__} does not describe {', '.join(missing)} in its docstring's "
+            "Attributes: section (the CLI's help and the reports read it)"
+        )
+    _check_constructor(cls, name)
+    states = cls.STATES
+    if not (isinstance(states, tuple) and states and all(isinstance(s, str) for s in states)):
+        raise ContractError(f"{name}.STATES must be a non-empty tuple of state names")
+    for state, style in cls.STATE_STYLES.items():
+        if not isinstance(style, StateStyle):
+            raise ContractError(f"{name}.STATE_STYLES[{state!r}] must be an abm.styles.StateStyle")
+    macro = cls.MACRO
+    if macro is not None:
+        if not isinstance(macro, MacroSpec):
+            raise ContractError(f"{name}.MACRO must be an abm.published.MacroSpec or None")
+        if not {macro.moving, macro.settled} <= set(states) or macro.moving == macro.settled:
+            raise ContractError(
+                f"{name}.MACRO must count two different states of STATES {states}, "
+                f"got {macro.moving!r} and {macro.settled!r}"
+            )
+    if not all(isinstance(p, Published) for p in cls.PUBLISHED):
+        raise ContractError(f"{name}.PUBLISHED must hold abm.published.Published records")
+    if cls.REPORT is not None and not isinstance(cls.REPORT, ReportLayout):
+        raise ContractError(f"{name}.REPORT must be an abm.published.ReportLayout or None")
+    if cls.APP is not None and not isinstance(cls.APP, str):
+        raise ContractError(f"{name}.APP must be a module name (str) or None")
+
+
+def _check_constructor(cls: type, name: str) -> None:
+    signature = inspect.signature(cls.__init__)
+    kinds = {p.kind for p in signature.parameters.values()}
+    if "seed" not in signature.parameters or inspect.Parameter.VAR_KEYWORD not in kinds:
+        raise ContractError(
+            f"{name}.__init__ must be (self, *, seed=None, **params): every field of "
+            f"{cls.Params.__qualname__} is a keyword of the constructor"
+        )
+    extra = [
+        p.name
+        for p in signature.parameters.values()
+        if p.name not in ("self", "seed") and p.kind is not inspect.Parameter.VAR_KEYWORD
+    ]
+    if extra:
+        raise ContractError(
+            f"{name}.__init__ takes {', '.join(extra)} besides seed and the params' fields; "
+            f"make them fields of {cls.Params.__qualname__}"
+        )

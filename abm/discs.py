@@ -1,0 +1,22 @@
+"""Discs on a grid: the integer cell offsets a disc-shaped sensor or deposit covers."""
+
+import numpy as np
+
+from abm.errors import check_range
+
+__all__ = ["disc_offsets"]
+
+
+def disc_offsets(
+    radius: float, resolution: float = 1.0, stride: int = 1
+) -> tuple[np.ndarray, np.ndarray]:
+    """Integer cell offsets ``(dy, dx)`` of the cells whose centres lie within ``radius`` (m),
+    on a lattice of every ``stride``-th cell (a coarser sensor).
+    """
+    check_range("radius", radius, 0.0)
+    check_range("stride", stride, 1, integer=True)
+    r = int(np.floor(radius / resolution))
+    r -= r % stride
+    dy, dx = np.mgrid[-r : r + 1 : stride, -r : r + 1 : stride]
+    inside = np.hypot(dx, dy) * resolution <= radius + 1e-9
+    return dy[inside].ravel(), dx[inside].ravel()

@@ -1,0 +1,306 @@
+"""Model parameters: one frozen dataclass per model, every field a plain constructor keyword.
+
+A model's ``Params`` subclasses :class:`SwarmParams` and lists every tunable constant with its
+unit, default and (in the class docstring's ``Attributes:`` section) what it means, with the
+paper's symbol and citation. Fields are declared with :func:`param`, which records the accepted
+range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a
+bad value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule,
+whoever passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
+
+:func:`make_params` is the one place that maps constructor keywords to a validated instance;
+:func:`field_help` gives the docstring text of each field (CLI help, reports, sliders).
+"""
+
+import dataclasses
+import inspect
+import re
+import types
+import typing
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from abm.errors import ConfigError, check_choice, check_range
+
+__all__ = [
+    "SwarmParams",
+    "check_value",
+    "field_help",
+    "field_rule",
+    "make_params",
+    "param",
+    "param_fields",
+    "plain_value",
+]
+
+_RULE = "abm.rule"
+
+
+def param(
+    default: object,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    integer: bool = False,
+    choices: Sequence | None = None,
+) -> object:
+    """A dataclass field with a default and the rule its values must follow.
+
+    Args:
+        default: the value used when the keyword is not given.
+        low: smallest accepted value (None: no lower bound).
+        high: largest accepted value (None: no upper bound).
+        low_open: exclude ``low`` itself ("must be positive").
+        integer: the value must be a whole number.
+        choices: the accepted values, for a field that takes one of a few names.
+
+    """
+    rule = {
+        "low": low,
+        "high": high,
+        "low_open": low_open,
+        "integer": integer,
+        "choices": None if choices is None else tuple(choices),
+    }
+    return dataclasses.field(default=default, metadata={_RULE: rule})
+
+
+def field_rule(f: dataclasses.Field) -> dict:
+    """The rule :func:`param` recorded for a field (empty for a plain field)."""
+    return dict(f.metadata.get(_RULE, {}))
+
+
+@dataclasses.dataclass(frozen=True)
+class SwarmParams:
+    """What every swarm model has, with neutral defaults (a model overrides what it needs).
+
+    Attributes:
+        time_limit: the run ends at this simulated time at the latest (s).
+        step_duration: simulated time one Mesa ``step()`` advances (s).
+        dt: physics tick: flying robots move and their controller runs once per tick (s).
+        latency: delay of one message on the comm network (s).
+        message_loss: probability that one transmission attempt is lost (the sender repeats,
+            so a loss shows up as extra delay).
+        trace_interval: how often robot positions are sampled for rendering (s); None: never
+            (faster).
+
+    """
+
+    time_limit: float = param(3600.0, low=0.0, low_open=True)
+    step_duration: float = param(1.0, low=0.0, low_open=True)
+    dt: float = param(0.1, low=0.0, low_open=True)
+    latency: float = param(0.1, low=0.0, low_open=True)
+    message_loss: float = param(0.0, low=0.0, high=0.99)
+    trace_interval: float | None = param(1.0, low=0.0, low_open=True)
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            value = _checked(f, getattr(self, f.name))
+            object.__setattr__(self, f.name, value)
+
+    def replace(self, **changes: object) -> "SwarmParams":
+        """A copy with some fields changed (validated like a new instance)."""
+        return make_params(type(self), changes, base=self)
+
+    def as_dict(self) -> dict:
+        """Field name -> value (values as given: a map may be an array or an Arena)."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+    def plain(self) -> dict:
+        """Field name -> a JSON-friendly value (others, such as arrays, as their repr)."""
+        return {name: plain_value(value) for name, value in self.as_dict().items()}
+
+
+def param_fields(params_cls: type[SwarmParams]) -> list[dataclasses.Field]:
+    """The fields of a params dataclass, in declaration order (base fields first)."""
+    return list(dataclasses.fields(params_cls))
+
+
+def make_params(
+    params_cls: type[SwarmParams], kwargs: Mapping[str, object], base: SwarmParams | None = None
+) -> SwarmParams:
+    """Validated ``params_cls`` from constructor keywords (unknown names are a ConfigError).
+
+    Args:
+        params_cls: the model's params dataclass.
+        kwargs: keyword -> value; missing fields take ``base``'s value or the default.
+        base: an instance to start from.
+
+    """
+    names = [f.name for f in dataclasses.fields(params_cls)]
+    unknown = [k for k in kwargs if k not in names]
+    if unknown:
+        close = _close_names(unknown[0], names)
+        hint = f" (did you mean {close}?)" if close else ""
+        raise ConfigError(
+            f"unknown parameter {unknown[0]!r}{hint}; {params_cls.__name__} accepts: "
+            + ", ".join(names)
+        )
+    if base is not None:
+        kwargs = {**base.as_dict(), **kwargs}
+    return params_cls(**kwargs)
+
+
+def _close_names(name: str, names: Sequence[str]) -> str:
+    import difflib
+
+    return " or ".join(repr(n) for n in difflib.get_close_matches(name, names, n=2))
+
+
+def field_help(params_cls: type) -> dict[str, str]:
+    """Field name -> its text in the ``Attributes:`` sections of the class and its bases."""
+    out: dict[str, str] = {}
+    for cls in reversed(params_cls.__mro__):
+        out.update(_attributes_section(inspect.getdoc(cls) or ""))
+    return out
+
+
+def _attributes_section(doc: str) -> dict[str, str]:
+    """Parse a Google-style ``Attributes:`` section: ``name: text`` with indented follow-ons."""
+    out: dict[str, str] = {}
+    lines = doc.splitlines()
+    try:
+        start = next(i for i, line in enumerate(lines) if line.strip() == "Attributes:")
+    except StopIteration:
+        return out
+    indent = None
+    current = None
+    for line in lines[start + 1 :]:
+        if not line.strip():
+            continue
+        depth = len(line) - len(line.lstrip())
+        if indent is None:
+            indent = depth
+        if depth < indent:
+            break
+        match = re.match(r"(\w+)(?: \(.*?\))?: (.*)", line.strip())
+        if depth == indent and match:
+            current = match.group(1)
+            out[current] = match.group(2)
+        elif current is not None:
+            out[current] += " " + line.strip()
+    return out
+
+
+def plain_value(value: object) -> object:
+    """``value`` as JSON-friendly data: numbers, strings, bools, None, lists; else its repr."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if value is None or isinstance(value, bool | int | float | str):
+        return value
+    if isinstance(value, Path):
+        return str(value)
+    if isinstance(value, tuple | list) and all(
+        isinstance(v, bool | int | float | str | np.generic) for v in value
+    ):
+        return [plain_value(v) for v in value]
+    return repr(value)
+
+
+def check_value(params_cls: type[SwarmParams], name: str, value: object) -> object:
+    """``value`` checked against one field's type and rule (normalised: ints become floats
+    for float fields, lists tuples); cross-field rules are checked when the params are built.
+
+    Raises:
+        ConfigError: an unknown field (the message lists them) or a value it does not accept.
+
+    """
+    fields = {f.name: f for f in dataclasses.fields(params_cls)}
+    if name not in fields:
+        raise ConfigError(
+            f"unknown parameter {name!r}; {params_cls.__name__} accepts: " + ", ".join(fields)
+        )
+    return _checked(fields[name], value)
+
+
+# ---------------------------------------------------------------------- checking one field
+def _checked(f: dataclasses.Field, value: object) -> object:
+    """``value`` after the field's type and rule checks (ints become floats for float fields)."""
+    kinds = _kinds(f.type)
+    if isinstance(value, np.generic):
+        value = value.item()
+    if value is None:
+        if type(None) in kinds or not kinds:
+            return None
+        raise ConfigError(f"{f.name} must be {_describe(kinds)}, got None")
+    rule = field_rule(f)
+    if float in kinds and _is_number(value) and int not in kinds:
+        check_range(f.name, value, rule.get("low"), rule.get("high"), low_open=rule["low_open"])
+        return float(value)
+    if int in kinds and _is_number(value):
+        check_range(
+            f.name,
+            value,
+            rule.get("low"),
+            rule.get("high"),
+            low_open=rule["low_open"],
+            integer=True,
+        )
+        return int(value)
+    if bool in kinds and isinstance(value, bool | np.bool_):
+        return bool(value)
+    if rule.get("choices") is not None and isinstance(value, str):
+        check_choice(f.name, value, rule["choices"])
+        return value
+    if tuple in kinds and isinstance(value, tuple | list | np.ndarray):
+        return _checked_tuple(f, value)
+    if any(isinstance(value, k) for k in kinds if k not in (float, int, bool, tuple)):
+        return value
+    if not kinds:
+        return value
+    raise ConfigError(f"{f.name} must be {_describe(kinds)}, got {value!r}")
+
+
+def _checked_tuple(f: dataclasses.Field, value) -> tuple:
+    args = _tuple_args(f.type)
+    items = tuple(np.asarray(value).ravel().tolist())
+    if args and Ellipsis not in args and len(items) != len(args):
+        raise ConfigError(f"{f.name} must have {len(args)} values, got {value!r}")
+    if float in args and not all(_is_number(v) for v in items):
+        raise ConfigError(f"{f.name} must hold numbers, got {value!r}")
+    return tuple(float(v) for v in items) if float in args else items
+
+
+def _tuple_args(annotation) -> tuple:
+    for kind in _union_args(annotation):
+        if typing.get_origin(kind) is tuple:
+            return typing.get_args(kind)
+    return ()
+
+
+def _union_args(annotation) -> tuple:
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        return typing.get_args(annotation)
+    return (annotation,)
+
+
+def _kinds(annotation) -> tuple[type, ...]:
+    """The plain types a field annotation admits (``tuple[float, float]`` -> ``tuple``)."""
+    out = []
+    for kind in _union_args(annotation):
+        origin = typing.get_origin(kind)
+        if origin is not None:
+            out.append(origin)
+        elif isinstance(kind, type):
+            out.append(kind)
+    return tuple(out)
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(
+        value, bool | np.bool_
+    )
+
+
+def _describe(kinds: tuple[type, ...]) -> str:
+    names = {
+        float: "a number",
+        int: "an integer",
+        bool: "True or False",
+        str: "a string",
+        tuple: "a list of values",
+        type(None): "None",
+    }
+    return " or ".join(names.get(k, k.__name__) for k in kinds)

@@ -1,0 +1,168 @@
+"""The one registry of models that every tool reads (run, sweep, report, render, viz, fit).
+
+Models come from the Python entry-point group ``swarm_abm.models`` (name = ``module:Class``),
+so a package of your own adds a model by declaring, in its ``pyproject.toml``::
+
+    [project.entry-points."swarm_abm.models"]
+    my-model = "my_package.model:MyModel"
+
+or, at run time, with :func:`register`. Classes are imported only when first asked for. A
+``"module:Class"`` string is accepted wherever a name is, so a model that is not registered
+still works in sweep files and worker processes.
+"""
+
+import importlib
+from importlib.metadata import entry_points
+
+from abm.errors import ConfigError, ContractError
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "model_class",
+    "model_names",
+    "name_of",
+    "refresh",
+    "register",
+    "target_of",
+    "unregister",
+]
+
+#: The entry-point group models are registered in.
+ENTRY_POINT_GROUP = "swarm_abm.models"
+
+_targets: dict[str, str] = {}  # name -> "module:Class"
+_classes: dict[str, type] = {}  # name -> class, once imported or registered as a class
+_registered: set[str] = set()  # names given to register() (they win over entry points)
+_loaded = False
+
+
+def _discover() -> None:
+    global _loaded
+    if _loaded:
+        return
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        if ep.name not in _registered:
+            _targets[ep.name] = ep.value
+    _loaded = True
+
+
+def refresh() -> None:
+    """Read the entry points again (after installing a package that adds a model)."""
+    global _loaded
+    for name in [n for n in _targets if n not in _registered]:
+        _targets.pop(name)
+        _classes.pop(name, None)
+    _loaded = False
+    _discover()
+
+
+def register(name: str, model: type | str) -> None:
+    """Make ``model`` (a SwarmModel subclass or ``"module:Class"``) known as ``name``.
+
+    Raises:
+        ContractError: a class that does not keep the model contract (see
+            :func:`abm.contract.check_model`).
+        ConfigError: a malformed name or target.
+
+    """
+    if not isinstance(name, str) or not name or name != name.strip():
+        raise ConfigError(f"a model name must be a non-empty string, got {name!r}")
+    _discover()
+    if isinstance(model, str):
+        _check_target(model)
+        _targets[name] = model
+        _classes.pop(name, None)
+    else:
+        from abm.contract import check_model
+
+        check_model(model)
+        _targets[name] = f"{model.__module__}:{model.__qualname__}"
+        _classes[name] = model
+    _registered.add(name)
+
+
+def unregister(name: str) -> None:
+    """Forget a model registered with :func:`register` (an entry point of that name comes back
+    with :func:`refresh`).
+    """
+    _targets.pop(name, None)
+    _classes.pop(name, None)
+    _registered.discard(name)
+
+
+def model_names() -> list[str]:
+    """Every registered model name, sorted."""
+    _discover()
+    return sorted(_targets)
+
+
+def model_class(model: str | type) -> type:
+    """The model class for a registered name, a ``"module:Class"`` string, or a class.
+
+    Raises:
+        ConfigError: an unknown name (the message lists the known ones) or a target that cannot
+            be imported.
+        ContractError: the class does not keep the model contract.
+
+    """
+    from abm.contract import check_model
+
+    if isinstance(model, type):
+        check_model(model)
+        return model
+    if not isinstance(model, str):
+        raise ConfigError(f"model must be a model name or class, got {model!r}")
+    _discover()
+    if model in _classes:
+        return _classes[model]
+    target = _targets.get(model, model)
+    if ":" not in target:
+        known = ", ".join(repr(n) for n in model_names())
+        raise ConfigError(f"unknown model {model!r}; known models: {known} (or 'module:Class')")
+    cls = _import(target, model)
+    check_model(cls)
+    if model in _targets:
+        _classes[model] = cls
+    return cls
+
+
+def name_of(model: type) -> str | None:
+    """The registered name of a model class (None if it is not registered).
+
+    Registered targets are imported as needed to compare classes (an entry point may name
+    the class through its package, ``models.x:Model``, or its module, ``models.x.model:Model``).
+    """
+    _discover()
+    for name in sorted(_targets):
+        try:
+            if model_class(name) is model:
+                return name
+        except (ConfigError, ContractError):
+            continue  # a broken registration elsewhere is not this model's name
+    return None
+
+
+def target_of(model: str | type) -> str:
+    """``"module:Class"`` of a model (what worker processes import)."""
+    cls = model_class(model)
+    return f"{cls.__module__}:{cls.__qualname__}"
+
+
+def _check_target(target: str) -> None:
+    module, _, attr = target.partition(":")
+    if not module or not attr:
+        raise ConfigError(f"a model target must look like 'package.module:Class', got {target!r}")
+
+
+def _import(target: str, name: str) -> type:
+    _check_target(target)
+    module, _, attr = target.partition(":")
+    try:
+        obj = importlib.import_module(module)
+        for part in attr.split("."):
+            obj = getattr(obj, part)
+    except (ImportError, AttributeError) as exc:
+        raise ConfigError(f"model {name!r}: cannot import {target!r} ({exc})") from exc
+    if not isinstance(obj, type):
+        raise ContractError(f"model {name!r}: {target!r} is not a class")
+    return obj

@@ -1,0 +1,50 @@
+"""How a robot state is drawn: colour, marker, size and layer, declared by each model.
+
+A model lists its states in ``STATES`` and may give each a :class:`StateStyle` in
+``STATE_STYLES``; states without one get the next colour of a colour-blind-safe palette
+(Okabe-Ito) in the order of ``STATES``. The framework knows no state names.
+"""
+
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass
+
+__all__ = ["PALETTE", "StateStyle", "resolve_styles"]
+
+#: Okabe-Ito colours, in the order undeclared states take them.
+PALETTE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000")
+
+
+@dataclass(frozen=True)
+class StateStyle:
+    """The look of one robot state in pictures and the live page.
+
+    Attributes:
+        colour: fill colour (any matplotlib colour, e.g. ``"#0072B2"``).
+        marker: matplotlib marker (``"o"`` circle, ``"s"`` square, ``"^"`` triangle, ...).
+        size: marker area (pt^2).
+        layer: drawing order; higher is drawn on top.
+        label: legend text (default: the state's name).
+
+    """
+
+    colour: str
+    marker: str = "o"
+    size: float = 45.0
+    layer: float = 6.0
+    label: str | None = None
+
+    def as_dict(self) -> dict:
+        """Plain data (saved with a run, so its pictures need no model code)."""
+        return asdict(self)
+
+
+def resolve_styles(
+    states: Sequence[str], declared: Mapping[str, StateStyle] | None = None
+) -> dict[str, StateStyle]:
+    """A style for every state: the declared one, else the next palette colour."""
+    declared = dict(declared or {})
+    out = {}
+    spare = iter(c for c in PALETTE * 4 if c not in {s.colour for s in declared.values()})
+    for state in states:
+        out[state] = declared.get(state) or StateStyle(next(spare))
+    return out

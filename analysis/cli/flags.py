@@ -1,0 +1,120 @@
+"""Command-line flags generated from a model's params dataclass (one flag per field).
+
+``--launch-period 6`` sets ``launch_period``; a True/False field gets ``--hover-beacons`` /
+``--no-hover-beacons``; a field that may be None accepts ``none``; a point takes two numbers.
+The help text of each flag is the field's docstring text, and only the flags given are passed
+to the model (its own defaults apply to the rest).
+"""
+
+import argparse
+import dataclasses
+import types
+import typing
+
+from abm.params import field_help, field_rule, param_fields
+
+__all__ = ["add_param_flags", "flag_name", "given_params", "parse_assignment"]
+
+_DEST = "param__"
+
+
+def flag_name(field_name: str) -> str:
+    """``launch_period`` -> ``--launch-period``."""
+    return "--" + field_name.replace("_", "-")
+
+
+def add_param_flags(parser: argparse.ArgumentParser, params_cls: type) -> None:
+    """One flag per field of ``params_cls``, grouped under "model parameters"."""
+    helps = field_help(params_cls)
+    group = parser.add_argument_group(
+        "model parameters", f"every field of {params_cls.__name__}; defaults in brackets"
+    )
+    for f in param_fields(params_cls):
+        kwargs = _flag(f)
+        text = helps.get(f.name, "").replace("%", "%%")
+        default = f.default if f.default is not dataclasses.MISSING else None
+        kwargs["help"] = f"{text} [{_shown(default)}]"
+        group.add_argument(
+            flag_name(f.name), dest=_DEST + f.name, default=argparse.SUPPRESS, **kwargs
+        )
+
+
+def given_params(args: argparse.Namespace) -> dict:
+    """The model parameters the user gave, by field name ("none" given as None)."""
+    return {
+        k[len(_DEST) :]: None if v == "none" else v
+        for k, v in vars(args).items()
+        if k.startswith(_DEST)
+    }
+
+
+def _flag(f: dataclasses.Field) -> dict:
+    args = typing.get_args(f.type) if _is_union(f.type) else (f.type,)
+    optional = type(None) in args
+    kinds = [a for a in args if a is not type(None)]
+    rule = field_rule(f)
+    if kinds == [bool]:
+        return {"action": argparse.BooleanOptionalAction}
+    tuple_args = next((typing.get_args(k) for k in kinds if typing.get_origin(k) is tuple), None)
+    if tuple_args:
+        item = tuple_args[0] if tuple_args[0] in (int, float) else str
+        return {"nargs": len(tuple_args), "type": _maybe_none(item, optional), "metavar": "V"}
+    if float in kinds and len(kinds) == 1:
+        return {"type": _maybe_none(float, optional), "metavar": "X"}
+    if int in kinds and len(kinds) == 1:
+        return {"type": _maybe_none(int, optional), "metavar": "N"}
+    if rule.get("choices"):
+        return {"choices": [*rule["choices"], *(["none"] if optional else [])]}
+    return {"type": _maybe_none(str, optional), "metavar": "VALUE"}
+
+
+def _is_union(annotation) -> bool:
+    return typing.get_origin(annotation) in (typing.Union, types.UnionType)
+
+
+def _maybe_none(convert, optional: bool):
+    def parse(text: str):
+        if optional and text.lower() == "none":
+            return None
+        return convert(text)
+
+    parse.__name__ = convert.__name__  # argparse names the type in its errors
+    return parse
+
+
+def _shown(value) -> str:
+    return "none" if value is None else f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def parse_assignment(params_cls: type, text: str, many: bool = False) -> tuple[str, list]:
+    """``"name=v1,v2"`` -> ``("name", [v1, v2])`` with each value of the field's type.
+
+    With ``many`` False the text holds one value (commas belong to it); it comes back as a
+    one-item list either way, as a sweep grid wants.
+
+    Raises:
+        ConfigError: no ``=``, an unknown field or a value the field does not accept.
+
+    """
+    from abm.errors import ConfigError
+    from abm.params import check_value
+
+    name, sep, values = text.partition("=")
+    name = name.strip().replace("-", "_")
+    if not sep or not name:
+        raise ConfigError(f"expected NAME=VALUE, got {text!r}")
+    fields = {f.name: f for f in param_fields(params_cls)}
+    if name not in fields:
+        raise ConfigError(
+            f"unknown parameter {name!r}; {params_cls.__name__} accepts: " + ", ".join(fields)
+        )
+    parser = argparse.ArgumentParser(prog=name, exit_on_error=False, add_help=False)
+    parser.add_argument("value", **{k: v for k, v in _flag(fields[name]).items() if k != "metavar"})
+    parsed = []
+    for item in values.split(",") if many else [values]:
+        try:
+            value = vars(parser.parse_args([item.strip()]))["value"]
+        except (argparse.ArgumentError, ValueError) as exc:
+            raise ConfigError(f"{name}: cannot read {item.strip()!r} ({exc})") from exc
+        parsed.append(check_value(params_cls, name, None if value == "none" else value))
+    return name, parsed

@@ -1,0 +1,371 @@
+"""Model-vs-simulation: the wander/beacon recurrence fitted to any model's two counted states.
+
+A model declares which two of its states the recurrence counts (``MACRO``, an
+:class:`abm.published.MacroSpec`: explorer/beacon for the beacon/explorer swarm, wander/beacon
+for stigmergy). :func:`fit_runs` runs the model over a grid as a resumable sweep that keeps
+each run's counts; :func:`read_runs` reads such a sweep folder; :func:`analyse` fits a0 and
+alpha6 per condition (lmfit) and, when the spec names the paper's covariates, regresses the
+lambdas across conditions, predicts with them (the paper's Table 1 / Table 2) and checks them
+on held-out conditions; :func:`write_fit_report` writes one HTML page.
+"""
+
+import json
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from abm.errors import ConfigError
+from abm.published import MacroSpec
+from abm.registry import model_class
+from analysis.html import figure_data, render_page, table
+from analysis.macro import fit_lambdas, fit_recurrence, predict_from_lambdas, refine_lambdas, rmsd
+from analysis.sweep import load_results, run_sweep
+
+__all__ = ["analyse", "fit_runs", "macro_spec", "read_runs", "write_fit_report"]
+
+
+def macro_spec(model: str | type) -> MacroSpec:
+    """The model's MacroSpec, or a ConfigError saying the model declares none."""
+    cls = model_class(model)
+    if cls.MACRO is None:
+        raise ConfigError(
+            f"{cls.__name__} declares no MACRO (the two states the recurrence counts); "
+            "abm fit needs one, see docs/adding-a-model.md"
+        )
+    return cls.MACRO
+
+
+def fit_runs(
+    model: str | type,
+    grid: Mapping[str, Sequence],
+    runs: int,
+    out: str | Path,
+    seed: int = 0,
+    workers: int | None = None,
+    progress: bool = True,
+) -> tuple[pd.DataFrame, pd.DataFrame, list[str]]:
+    """Run ``model`` over ``grid`` x ``runs`` as a resumable sweep in ``out`` keeping counts.
+
+    Returns what :func:`read_runs` returns, for the runs of this grid.
+    """
+    rows = run_sweep(
+        model, grid, runs, seed, out, workers=workers, time_series=True, progress=progress
+    )
+    failed = rows[rows["status"] != "ok"]
+    if len(failed):
+        raise ConfigError(f"{len(failed)} runs failed, first: {failed['error'].iloc[0]}")
+    return read_runs(out, grid=grid, runs=runs)
+
+
+def read_runs(
+    folder: str | Path, grid: Mapping[str, Sequence] | None = None, runs: int | None = None
+) -> tuple[pd.DataFrame, pd.DataFrame, list[str]]:
+    """A sweep folder's run summaries, their counts over time, and the condition columns.
+
+    Args:
+        folder: a sweep folder whose runs kept their time series (``abm sweep`` with
+            ``time_series = true``, or :func:`fit_runs`).
+        grid: keep only the runs of this grid (default: all).
+        runs: keep only the first ``runs`` replications of each grid point.
+
+    Returns:
+        ``(summaries, counts, conditions)``: one row per run; the counts with ``run_id`` and
+        the condition columns; the swept parameters that tell conditions apart.
+
+    """
+    folder = Path(folder)
+    summaries = load_results(folder, failed=False)
+    if summaries.empty:
+        raise ConfigError(f"{folder} holds no finished runs")
+    keep = pd.Series(True, index=summaries.index)
+    for key, values in (grid or {}).items():
+        keep &= summaries[key].isin(list(values))
+    if runs is not None:
+        keep &= summaries["rep"] < runs
+    summaries = summaries[keep].reset_index(drop=True)
+    series = load_results(folder, series=True)
+    if series.empty:
+        raise ConfigError(
+            f"{folder} kept no time series: run the sweep with time_series = true (abm fit does)"
+        )
+    manifest = json.loads((folder / "sweep.json").read_text())
+    conditions = [
+        k for k in manifest["grid"] if k in summaries and summaries[k].astype(str).nunique() > 1
+    ]
+    info = summaries[["run_id", *conditions]]
+    counts = series[series["run_id"].isin(summaries["run_id"])].merge(info, on="run_id")
+    return summaries, counts.sort_values(["run_id", "time"], kind="stable"), conditions
+
+
+def _label(row: Mapping, conditions: Sequence[str]) -> str:
+    return ", ".join(f"{k}={_shown(row[k])}" for k in conditions) or "all runs"
+
+
+def _shown(value: object) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def analyse(
+    summaries: pd.DataFrame, counts: pd.DataFrame, spec: MacroSpec, conditions: Sequence[str]
+) -> dict:
+    """Fit the recurrence per condition; regress and check the lambdas where the spec says.
+
+    Returns a dict: ``fits`` (per condition: a0, alpha6 +- stderr, RMSDs of the direct fit, the
+    final mean counts and time), ``table`` (``fits`` plus, with a regression, the predictions
+    w_hat, b_hat and RMSDs of the lambda model), ``curves`` (observed mean +- se and
+    predictions over time), ``lambdas`` (or None), ``heldout`` (or None) and ``notes``.
+    """
+    notes: list[str] = []
+    conditions = list(conditions)
+    for role in ("arrival_period", "supply"):
+        column = getattr(spec, role)
+        if column is not None and column not in summaries:
+            raise ConfigError(
+                f"the model's MACRO.{role} names {column!r}, which is not a key of its summary; "
+                f"summary keys: {', '.join(summaries.columns)}"
+            )
+    groups = [((), counts)] if not conditions else counts.groupby(conditions, sort=True)
+    rows, curves = [], []
+    for key, part in groups:
+        key = key if isinstance(key, tuple) else (key,)
+        where = dict(zip(conditions, key, strict=True))
+        runs = summaries
+        for k, v in where.items():
+            runs = runs[runs[k] == v]
+        alpha5 = supply = None
+        if spec.arrival_period is not None:
+            alpha5 = spec.step / float(runs[spec.arrival_period].mean())
+        if spec.supply is not None:
+            supply = float(runs[spec.supply].mean())
+        final = part.groupby("run_id", sort=False).tail(1)
+        fit = fit_recurrence(
+            part.rename(columns={"run_id": "run"}),
+            wander=spec.moving,
+            beacon=spec.settled,
+            step=spec.step,
+            alpha5=alpha5,
+            supply=supply,
+        )
+        row = {
+            **where,
+            "condition": _label(where, conditions),
+            "runs": len(runs),
+            "a0": fit.params["a0"],
+            "a0_se": fit.stderr["a0"],
+            "alpha6": fit.params["alpha6"],
+            "alpha6_se": fit.stderr["alpha6"],
+            "alpha5": fit.params["alpha5"],
+            "rmsd_w_fit": fit.rmsd_w,
+            "rmsd_b_fit": fit.rmsd_b,
+            "w": final[spec.moving].mean(),
+            "b": final[spec.settled].mean(),
+            "t": runs["time"].mean(),
+            "steps": int(round(fit.observed["time"].iloc[-1] / spec.step)),
+        }
+        for covariate, column in (spec.regression or {}).items():
+            if covariate != "radius":
+                row[covariate] = float(runs[column].iloc[0])
+        rows.append(row)
+        obs = fit.observed.assign(condition=row["condition"], **where)
+        obs["wander_fit"] = fit.predicted["wander"].to_numpy()
+        obs["beacon_fit"] = fit.predicted["beacon"].to_numpy()
+        curves.append(obs)
+    fits = pd.DataFrame(rows)
+    curves = pd.concat(curves, ignore_index=True)
+    out = {"fits": fits, "table": fits, "curves": curves, "notes": notes,
+           "lambdas": None, "heldout": None}  # fmt: skip
+    radius = (spec.regression or {}).get("radius")
+    if spec.regression is None:
+        return out
+    if radius not in fits or fits[radius].nunique() < 3:
+        notes.append(f"lambda regression skipped: it needs at least 3 values of {radius}")
+        return out
+    alpha5 = float(fits["alpha5"].iloc[0])
+    reg = fits.rename(columns={radius: "radius"})
+    regressed, _ = fit_lambdas(reg)
+    lambdas, lambdas_se = refine_lambdas(regressed, _curves(reg, curves), alpha5, spec.step)
+    out["lambdas"] = (lambdas, lambdas_se)
+    out["lambdas_regressed"] = regressed
+    notes.append(
+        "lambdas: the paper's regressions (alpha6 on C_rb, a0 on entropy and size) give the "
+        "start values, then the six lambdas are fitted jointly to all count curves, "
+        "minimising the mean RMSD of w and b over them (the Table 2 figure; "
+        "analysis.macro.refine_lambdas); rmsd_*_reg are the RMSDs of the regressed start"
+    )
+    curves["wander_lambda"] = np.nan
+    curves["beacon_lambda"] = np.nan
+    rows = []
+    for row in reg.to_dict("records"):
+        sel = curves["condition"] == row["condition"]
+        obs = curves[sel]
+        idx = np.round(obs["time"].to_numpy() / spec.step).astype(int)
+        got = {}
+        for name, lam in (("", lambdas), ("_reg", regressed)):
+            pred = predict_from_lambdas(
+                lam, row["radius"], row["entropy"], row["envsize"], row["steps"], alpha5, spec.step
+            )
+            pw, pb = pred["wander"].to_numpy()[idx], pred["beacon"].to_numpy()[idx]
+            got[f"rmsd_w{name}"] = rmsd(pw, obs["wander"])
+            got[f"rmsd_b{name}"] = rmsd(pb, obs["beacon"])
+            if not name:
+                curves.loc[sel, "wander_lambda"] = pw
+                curves.loc[sel, "beacon_lambda"] = pb
+                got.update(w_hat=pw[-1], b_hat=pb[-1])
+        rows.append({**row, **got})
+    out["table"] = pd.DataFrame(rows).rename(columns={"radius": radius})
+    out["heldout"] = _heldout(reg, curves, conditions, radius, alpha5, spec, notes)
+    return out
+
+
+def _curves(reg: pd.DataFrame, curves: pd.DataFrame) -> list:
+    """``(observed, radius, entropy, envsize)`` per condition, for :func:`refine_lambdas`."""
+    return [
+        (curves[curves["condition"] == row["condition"]], row["radius"], row["entropy"],
+         row["envsize"])
+        for row in reg.to_dict("records")
+    ]  # fmt: skip
+
+
+def _heldout(reg, curves, conditions, radius, alpha5, spec, notes) -> pd.DataFrame | None:
+    """Leave out each value of the other condition (e.g. each map) in turn: lambdas fitted on
+    the rest, RMSDs on the one left out.
+    """
+    others = [c for c in conditions if c != radius]
+    if not others or reg[others[0]].nunique() < 2:
+        notes.append("held-out check skipped: it needs at least 2 values of another condition")
+        return None
+    key = others[0]
+    held = []
+    for value in sorted(reg[key].unique()):
+        train = reg[reg[key] != value]
+        if train["radius"].nunique() < 3:
+            continue
+        lam, _ = fit_lambdas(train)
+        lam, _ = refine_lambdas(lam, _curves(train, curves), alpha5, spec.step)
+        for row in reg[reg[key] == value].to_dict("records"):
+            obs = curves[curves["condition"] == row["condition"]]
+            pred = predict_from_lambdas(
+                lam, row["radius"], row["entropy"], row["envsize"], row["steps"], alpha5, spec.step
+            )
+            idx = np.round(obs["time"].to_numpy() / spec.step).astype(int)
+            held.append(
+                {
+                    f"held-out {key}": value,
+                    radius: row["radius"],
+                    "rmsd_w": rmsd(pred["wander"].to_numpy()[idx], obs["wander"]),
+                    "rmsd_b": rmsd(pred["beacon"].to_numpy()[idx], obs["beacon"]),
+                }
+            )
+    return pd.DataFrame(held) if held else None
+
+
+# ---------------------------------------------------------------------- report
+def _curve_figure(obs: pd.DataFrame, spec: MacroSpec, title: str) -> str:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import seaborn as sns
+
+    # styles as context managers: set_theme would restyle every later figure of the process
+    with sns.axes_style("whitegrid"), sns.plotting_context("notebook"):
+        fig, ax = plt.subplots(figsize=(7, 3.6))
+        _draw_curves(ax, obs, spec, title)
+        data = figure_data(fig)
+    plt.close(fig)
+    return data
+
+
+def _draw_curves(ax, obs: pd.DataFrame, spec: MacroSpec, title: str) -> None:
+    t = obs["time"].to_numpy()
+    for col, colour, name in (
+        ("wander", "tab:orange", f"w ({spec.moving})"),
+        ("beacon", "tab:blue", f"b ({spec.settled})"),
+    ):
+        mean, se = obs[col].to_numpy(), obs[f"{col}_se"].fillna(0).to_numpy()
+        ax.fill_between(t, mean - se, mean + se, color=colour, alpha=0.25, lw=0)
+        ax.plot(t, mean, color=colour, lw=1.5, label=f"{name}: simulated mean \u00b1 s.e.")
+        ax.plot(t, obs[f"{col}_fit"], color=colour, ls="--", lw=1.2,
+                label=f"{name}: recurrence, fitted a0, \u03b16")  # fmt: skip
+        if f"{col}_lambda" in obs and obs[f"{col}_lambda"].notna().any():
+            ax.plot(t, obs[f"{col}_lambda"], color=colour, ls=":", lw=1.5,
+                    label=f"{name}: recurrence from fitted \u03bb")  # fmt: skip
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("robots")
+    ax.set_title(title)
+    ax.legend(fontsize=7, loc="upper left", ncol=1)
+    ax.figure.tight_layout()
+
+
+def _published_columns(result: dict, spec: MacroSpec) -> pd.DataFrame:
+    """The fit table with the paper's numbers of the same condition beside ours."""
+    t = result["table"].copy()
+    keys = spec.condition_keys
+    names = sorted({n for values in spec.published.values() for n in values})
+    for name in names:
+        t[f"paper {name}"] = [
+            spec.published.get(tuple(row.get(k) for k in keys), {}).get(name, np.nan)
+            if all(k in row for k in keys)
+            else np.nan
+            for row in t.to_dict("records")
+        ]
+    return t
+
+
+def write_fit_report(
+    result: dict, summaries: pd.DataFrame, spec: MacroSpec, out: str | Path, meta: list
+) -> Path:
+    """Write ``out/fit_report.html``; returns its path."""
+    out = Path(out)
+    t = _published_columns(result, spec)
+    rmsd_columns = [c for c in t.columns if c.startswith("rmsd_") and not c.startswith("paper")]
+    overall = pd.DataFrame(
+        {
+            "metric": rmsd_columns,
+            "mean": [t[c].mean() for c in rmsd_columns],
+            "std": [t[c].std() for c in rmsd_columns],
+            "paper mean": [spec.published_summary.get(c, (np.nan,))[0] for c in rmsd_columns],
+            "paper std": [spec.published_summary.get(c, (np.nan, np.nan))[1] for c in rmsd_columns],
+        }
+    )
+    lambdas = None
+    if result["lambdas"] is not None:
+        lam, se = result["lambdas"]
+        lambdas = pd.DataFrame(
+            {
+                "lambda": list(lam),
+                "ours": list(lam.values()),
+                "stderr": [se[k] for k in lam],
+                "regressions alone": [result["lambdas_regressed"][k] for k in lam],
+                "paper": [(spec.lambdas or {}).get(k, np.nan) for k in lam],
+            }
+        )
+    heldout = result["heldout"]
+    held_text = None
+    if heldout is not None:
+        held_text = (
+            f"Mean held-out RMSD: w {heldout['rmsd_w'].mean():.3g}, b "
+            f"{heldout['rmsd_b'].mean():.3g} (in-sample: w {t['rmsd_w'].mean():.3g}, b "
+            f"{t['rmsd_b'].mean():.3g})."
+        )
+    figures = [
+        _curve_figure(obs, spec, f"{label} ({int(obs['runs'].max())} runs)")
+        for label, obs in result["curves"].groupby("condition", sort=True)
+    ]
+    return render_page(
+        "fit_report.html.j2",
+        out / "fit_report.html",
+        title=f"Macroscopic model vs simulation: {spec.moving} (w) and {spec.settled} (b)",
+        subtitle=spec.source,
+        meta=meta,
+        notes=result["notes"],
+        fits=table(t, digits=4),
+        overall=table(overall, digits=4),
+        lambdas=None if lambdas is None else table(lambdas, digits=4),
+        heldout=None if heldout is None else table(heldout, digits=4),
+        held_text=held_text,
+        figures=figures,
+        runs=table(summaries.drop(columns=["traceback", "error"], errors="ignore"), digits=4),
+    )

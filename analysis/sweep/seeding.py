@@ -1,0 +1,50 @@
+"""Run identities and per-run seeds of a sweep.
+
+The ``run_id`` is a hash of the run's parameters and replication index, so a restarted sweep
+recognises (and skips) runs already on disk. The per-run seed is drawn from
+``numpy.random.SeedSequence(seed)`` with the spawn key ``(condition key, replication)``:
+independent streams, the same for a run whatever executor runs it, unchanged when the grid
+grows.
+"""
+
+import hashlib
+import json
+from collections.abc import Mapping
+
+import numpy as np
+
+from analysis.runner import RunSpec
+from analysis.sweep.spec import Sweep
+
+__all__ = ["plan", "run_id", "spawned_seed"]
+
+
+def _condition_key(params: Mapping) -> str:
+    return json.dumps(params, sort_keys=True, default=str)
+
+
+def run_id(params: Mapping, rep: int) -> str:
+    """The identity of replication ``rep`` of the grid point ``params``."""
+    text = f"{_condition_key(params)}#{rep}"
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def spawned_seed(sweep_seed: int, params: Mapping, rep: int) -> tuple[int, tuple[int, int]]:
+    """The run's seed: ``SeedSequence(sweep_seed)`` spawned at ``(condition key, rep)``."""
+    digest = hashlib.sha256(_condition_key(params).encode()).digest()
+    key = (int.from_bytes(digest[:4], "little"), int(rep))
+    child = np.random.SeedSequence(sweep_seed, spawn_key=key)
+    return int(child.generate_state(1, np.uint64)[0] >> np.uint64(1)), key
+
+
+def plan(sweep: Sweep) -> list[RunSpec]:
+    """Every run of the sweep, grid point by grid point, replications innermost."""
+    target = sweep.target
+    specs = []
+    for params in sweep.conditions():
+        for rep in range(sweep.replications):
+            seed, key = spawned_seed(sweep.seed, params, rep)
+            specs.append(
+                RunSpec(target, params, rep, seed, key, run_id(params, rep), sweep.time_series)
+            )
+    return specs

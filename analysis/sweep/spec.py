@@ -1,0 +1,164 @@
+"""What a sweep is: a model, a parameter grid, replications and a seed; read from TOML.
+
+Every grid key is a field of the model's params (so every parameter is sweepable), checked
+against its type and range before any run starts; ``seed`` is not a key (per-run seeds are
+spawned from the sweep seed).
+"""
+
+import itertools
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from abm.errors import ConfigError
+from abm.params import check_value, param_fields
+from abm.registry import model_class, name_of, target_of
+
+__all__ = ["Sweep", "TOML_KEYS", "check_int", "load_sweep"]
+
+#: Keys a sweep file may hold.
+TOML_KEYS = ("name", "description", "model", "seed", "replications", "time_series", "grid")
+_RESERVED = ("seed", "rng")
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """What to run: a model, a parameter grid, replications and the sweep seed.
+
+    Attributes:
+        model: a registered model name, ``"module:Class"`` or a model class.
+        grid: parameter -> list of values (a scalar means one value).
+        replications: runs per grid point.
+        seed: the sweep seed; per-run seeds are spawned from it.
+        name: the sweep's name (default output folder ``out/sweeps/<name>``).
+        time_series: also keep each run's state counts over time.
+        description: free text, shown in reports.
+
+    """
+
+    model: str | type
+    grid: Mapping[str, Sequence]
+    replications: int = 1
+    seed: int = 0
+    name: str = "sweep"
+    time_series: bool = False
+    description: str = ""
+    model_cls: type = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        cls = model_class(self.model)
+        object.__setattr__(self, "model_cls", cls)
+        check_int("replications", self.replications, 1)
+        check_int("seed", self.seed, 0)
+        if not isinstance(self.time_series, bool):
+            raise ConfigError(f"time_series must be true or false, got {self.time_series!r}")
+        object.__setattr__(self, "grid", check_grid(cls, self.grid))
+
+    @property
+    def target(self) -> str:
+        """``"module:Class"`` of the model (what worker processes import)."""
+        return target_of(self.model_cls)
+
+    @property
+    def n_runs(self) -> int:
+        """Grid points times replications."""
+        return int(np.prod([len(v) for v in self.grid.values()])) * self.replications
+
+    def conditions(self) -> list[dict]:
+        """Every grid point as a dict of constructor keywords, in grid order."""
+        keys = list(self.grid)
+        return [
+            dict(zip(keys, vals, strict=True)) for vals in itertools.product(*self.grid.values())
+        ]
+
+    def manifest(self) -> dict:
+        """A JSON-able description (written as ``sweep.json`` beside the runs)."""
+        model = self.model if isinstance(self.model, str) else name_of(self.model_cls)
+        return {
+            "name": self.name,
+            "description": self.description,
+            "model": model or self.target,
+            "target": self.target,
+            "seed": self.seed,
+            "replications": self.replications,
+            "time_series": self.time_series,
+            "grid": {k: list(v) for k, v in self.grid.items()},
+        }
+
+
+def check_int(name: str, value, low: int) -> None:
+    """Raise ConfigError unless ``value`` is an integer >= ``low``."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < low:
+        raise ConfigError(f"{name} must be an integer >= {low}, got {value!r}")
+
+
+def check_grid(model_cls: type, grid: Mapping) -> dict[str, tuple]:
+    """Every key a field of the model's params, every value one that field accepts."""
+    if not isinstance(grid, Mapping) or not grid:
+        raise ConfigError("grid is empty: give at least one parameter and its values")
+    accepted = [f.name for f in param_fields(model_cls.Params)]
+    checked = {}
+    for key, values in grid.items():
+        if key in _RESERVED:
+            raise ConfigError(
+                f"grid key {key!r} is not allowed: per-run seeds are spawned from the sweep seed"
+            )
+        if key not in accepted:
+            raise ConfigError(
+                f"grid key {key!r} is not a parameter of {model_cls.__name__}; "
+                f"accepted: {', '.join(accepted)}"
+            )
+        if isinstance(values, str) or not isinstance(values, Sequence):
+            values = [values]
+        if len(values) == 0:
+            raise ConfigError(f"grid key {key!r} has an empty list of values")
+        clean = []
+        for value in values:
+            try:
+                clean.append(check_value(model_cls.Params, key, value))
+            except ConfigError as exc:
+                raise ConfigError(f"grid key {key!r}: {exc}") from exc
+        if len(set(map(repr, clean))) != len(clean):
+            raise ConfigError(f"grid key {key!r} repeats a value: {list(values)!r}")
+        checked[key] = tuple(clean)
+    return checked
+
+
+def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
+    """Read and validate a sweep file (TOML); ``replications`` overrides the file's value.
+
+    The file holds ``model``, ``seed``, ``replications``, optional ``name``, ``description`` and
+    ``time_series``, and a ``[grid]`` table of parameter -> list of values.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no sweep file {str(path)!r}")
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
+    unknown = [k for k in data if k not in TOML_KEYS]
+    if unknown:
+        raise ConfigError(
+            f"{path}: unknown key {unknown[0]!r}; accepted keys: {', '.join(TOML_KEYS)}"
+        )
+    for key in ("model", "grid"):
+        if key not in data:
+            raise ConfigError(f"{path}: missing key {key!r}")
+    if not isinstance(data["grid"], dict):
+        raise ConfigError(f"{path}: 'grid' must be a table ([grid]), got {data['grid']!r}")
+    try:
+        return Sweep(
+            model=data["model"],
+            grid=data["grid"],
+            replications=data.get("replications", 1) if replications is None else replications,
+            seed=data.get("seed", 0),
+            name=data.get("name", path.stem),
+            time_series=data.get("time_series", False),
+            description=data.get("description", ""),
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"{path}: {exc}") from exc

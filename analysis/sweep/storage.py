@@ -1,0 +1,116 @@
+"""A sweep's dataset on disk: one Parquet file per finished run, written atomically.
+
+::
+
+    out/sweeps/corridor/
+        sweep.json                 what was asked (model, grid, replications, seed)
+        runs/<run_id>.parquet      one row per finished run (written at once, atomic rename)
+        failed/<run_id>.parquet    one row per run that raised: error and traceback
+        series/<run_id>.parquet    the run's state counts over time (when ``time_series``)
+"""
+
+import concurrent.futures as cf
+import datetime
+import json
+import os
+from pathlib import Path
+
+import pandas as pd
+
+from abm.errors import ABMError
+from analysis.sweep.spec import Sweep
+
+__all__ = ["SweepError", "done_ids", "load_results", "prepare_out", "store"]
+
+
+class SweepError(ABMError):
+    """A sweep cannot go on (its output folder belongs to another sweep, the executor broke)."""
+
+
+def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    frame.to_parquet(tmp, index=False)
+    os.replace(tmp, path)
+
+
+def store(out: Path, result: dict) -> None:
+    """Write one run's result (its row, and its series when kept)."""
+    row = result["row"]
+    run_id = row["run_id"]
+    if row["status"] == "ok":
+        if result["series"] is not None:
+            _write_atomic(result["series"], out / "series" / f"{run_id}.parquet")
+        _write_atomic(pd.DataFrame([row]), out / "runs" / f"{run_id}.parquet")
+        (out / "failed" / f"{run_id}.parquet").unlink(missing_ok=True)
+    else:
+        _write_atomic(pd.DataFrame([row]), out / "failed" / f"{run_id}.parquet")
+
+
+def done_ids(folder: Path) -> set[str]:
+    """The run ids with a file in ``folder``."""
+    return {p.stem for p in folder.glob("*.parquet")} if folder.is_dir() else set()
+
+
+def _read_folder(folder: Path) -> list[pd.DataFrame]:
+    files = sorted(folder.glob("*.parquet")) if folder.is_dir() else []
+    with cf.ThreadPoolExecutor(max_workers=4) as pool:
+        return list(pool.map(pd.read_parquet, files))
+
+
+def load_results(out: str | Path, *, failed: bool = True, series: bool = False) -> pd.DataFrame:
+    """Read a sweep's dataset: one row per run (finished first, then failures).
+
+    Args:
+        out: the sweep's folder.
+        failed: include the rows of runs that raised (``status == "failed"``).
+        series: return the concatenated time series (``series/``) instead of the run rows.
+
+    """
+    out = Path(out)
+    if not out.is_dir():
+        raise FileNotFoundError(f"no sweep folder {str(out)!r}")
+    if series:
+        frames = _read_folder(out / "series")
+        return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    frames = _read_folder(out / "runs")
+    if failed:
+        done = done_ids(out / "runs")
+        frames += [f for f in _read_folder(out / "failed") if f["run_id"].iloc[0] not in done]
+    frames = [f.dropna(axis=1, how="all") for f in frames]
+    if not frames:
+        return pd.DataFrame(columns=["run_id", "seed", "status"])
+    return pd.concat(frames, ignore_index=True).sort_values(["status", "run_id"], ignore_index=True)
+
+
+def prepare_out(out: Path, sweep: Sweep) -> None:
+    """Create the folders and write (or merge into) ``sweep.json``.
+
+    Raises:
+        SweepError: the folder holds a sweep of another model or seed.
+
+    """
+    manifest = sweep.manifest()
+    path = out / "sweep.json"
+    if path.is_file():
+        old = json.loads(path.read_text())
+        for key in ("target", "seed"):
+            if old.get(key) != manifest[key]:
+                raise SweepError(
+                    f"{out} holds a sweep with {key} {old.get(key)!r}, this one has "
+                    f"{manifest[key]!r}: choose another output folder"
+                )
+        grid = {
+            k: list(dict.fromkeys(old["grid"].get(k, []) + v)) for k, v in manifest["grid"].items()
+        }
+        manifest["grid"] = grid
+        manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
+        manifest["created"] = old.get("created")
+    for sub in ("runs", "failed", "series"):
+        (out / sub).mkdir(parents=True, exist_ok=True)
+        for tmp in (out / sub).glob(".*.tmp"):  # left by a killed sweep
+            tmp.unlink(missing_ok=True)
+    manifest.setdefault("created", datetime.datetime.now().isoformat(timespec="seconds"))
+    manifest["updated"] = datetime.datetime.now().isoformat(timespec="seconds")
+    tmp = path.with_name(".sweep.json.tmp")
+    tmp.write_text(json.dumps(manifest, indent=2, default=str))
+    os.replace(tmp, path)
