@@ -64,6 +64,9 @@ class SwarmModel(mesa.Model):
             random generator (so a seed fixes the world too).
         seed: seed of the model's single random generator ``model.rng`` (None = fresh entropy).
         comm_range: range of the comm network (m).
+        latency: delay of one message on the comm network (s); for a model that sends messages,
+            a field of its params.
+        message_loss: probability that one transmission attempt is lost; likewise.
         powers: power (W) drawn in each mode; None when the model has no energy model.
         flight: flight dynamics of the flyers.
         controller: the vectorised flight controller (may be set later as
@@ -91,6 +94,8 @@ class SwarmModel(mesa.Model):
         *,
         seed: int | None = None,
         comm_range: float = 1.0,
+        latency: float = 0.1,
+        message_loss: float = 0.0,
         powers: Mapping[str, float] | None = None,
         flight: FlightParams | None = None,
         controller: Controller | None = None,
@@ -117,9 +122,7 @@ class SwarmModel(mesa.Model):
             [[0.0, arena.width], [0.0, arena.height]], torus=False, random=self.random
         )
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
-        self.comms = CommNetwork(
-            self.env, arena, self.rng, comm_range, params.latency, params.message_loss
-        )
+        self.comms = CommNetwork(self.env, arena, self.rng, comm_range, latency, message_loss)
         self.ledger = EnergyLedger(self.env, PowerModes(powers))
         self.recorder = Recorder(self.env, self.STATES)
         self.coverage: CoverageRaster | None = None

@@ -80,9 +80,6 @@ class SwarmParams:
         time_limit: the run ends at this simulated time at the latest (s).
         step_duration: simulated time one Mesa ``step()`` advances (s).
         dt: physics tick: flying robots move and their controller runs once per tick (s).
-        latency: delay of one message on the comm network (s).
-        message_loss: probability that one transmission attempt is lost (the sender repeats,
-            so a loss shows up as extra delay).
         trace_interval: how often robot positions are sampled for rendering (s); None: never
             (faster).
 
@@ -91,8 +88,6 @@ class SwarmParams:
     time_limit: float = param(3600.0, low=0.0, low_open=True)
     step_duration: float = param(1.0, low=0.0, low_open=True)
     dt: float = param(0.1, low=0.0, low_open=True)
-    latency: float = param(0.1, low=0.0, low_open=True)
-    message_loss: float = param(0.0, low=0.0, high=0.99)
     trace_interval: float | None = param(1.0, low=0.0, low_open=True)
 
     def __post_init__(self) -> None:

@@ -22,7 +22,7 @@ import simpy
 
 from abm.arena import CARDINALS, Arena
 from abm.physics import FlightParams, Physics
-from models.beacon_explorer import BeaconExplorerModel
+from analysis.runner import run_model
 
 
 def real_time_factor(seeds: int) -> list[float]:
@@ -30,13 +30,12 @@ def real_time_factor(seeds: int) -> list[float]:
 
     One unmeasured warm-up run first loads (or, on a fresh checkout, compiles) the numba kernels.
     """
-    BeaconExplorerModel(world="corridor", complexity="high", seed=0).run()
+    params = {"world": "corridor", "complexity": "high"}
+    run_model("beacon-explorer", params, seed=0)
     factors = []
     for seed in range(1, seeds + 1):
-        start = time.perf_counter()
-        model = BeaconExplorerModel(world="corridor", complexity="high", seed=seed)
-        model.run()
-        factors.append(model.env.now / (time.perf_counter() - start))
+        result = run_model("beacon-explorer", params, seed)
+        factors.append(result.summary["time"] / result.wall_time)
     return factors
 
 
@@ -65,10 +64,12 @@ def ours_steps_per_second(n: int, ticks: int) -> float:
     rng = np.random.default_rng(1)
     arena = walled_arena()
     env = simpy.Environment()
-    physics = Physics(env, arena, rng, WallAvoidingWanderer(arena, rng), params=FlightParams())
+    physics = Physics(
+        env, arena, rng, WallAvoidingWanderer(arena, rng), params=FlightParams(body_noise=0.025)
+    )
     starts = arena.free_cell_centres()
     for i, p in enumerate(starts[rng.choice(len(starts), n, replace=False)]):
-        physics.fly(i, i, p)
+        physics.fly(i, p)
     start = time.perf_counter()
     env.run(until=ticks * physics.dt - 1e-9)
     return physics.flyer_steps / (time.perf_counter() - start)

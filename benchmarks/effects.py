@@ -11,22 +11,16 @@ import time
 import pandas as pd
 
 from analysis.pools import process_pool
-from models.beacon_explorer import BeaconExplorerModel
-
-PAPER_24_VS_6 = {
-    "flight_time": -41.5,
-    "collisions": -93.9,
-    "coverage_time": +90.5,
-    "energy_total": -30.8,
-}
-PAPER_COVERAGE = {"low": 79.4, "medium": 90.1, "high": 94.0}
-PAPER_HOVER_RATIO = 3.6
+from analysis.runner import run_model
+from models.beacon_explorer.published import CORRIDOR_24_VS_6 as PAPER_24_VS_6
+from models.beacon_explorer.published import COVERAGE as PAPER_COVERAGE
+from models.beacon_explorer.published import HOVER_RATIO as PAPER_HOVER_RATIO
 
 
 def one_run(kwargs: dict) -> dict:
-    model = BeaconExplorerModel(trace_interval=None, **kwargs)
-    model.run()
-    return model.summary()
+    params = {"trace_interval": None, **kwargs}
+    seed = params.pop("seed")
+    return run_model("beacon-explorer", params, seed).summary
 
 
 def run_all(jobs: list[dict], workers: int) -> pd.DataFrame:

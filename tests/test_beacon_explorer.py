@@ -344,3 +344,15 @@ def test_two_opposing_walls_closer_than_3_m_make_a_corridor_beacon(width, x, acr
     model = BeaconExplorerModel(world=world, n_robots=1, seed=int(x * 100), trace_interval=None)
     walls, corridor = model.beacons._sense_walls(np.array([x, 1.0 + across * width]))
     assert corridor and walls[0] and walls[2]
+
+
+@pytest.mark.parametrize("knob", [{"message_loss": 0.5}, {"latency": 0.3}])
+def test_message_loss_and_latency_act_and_hop_counts_still_settle(knob):
+    """Both reach the comm network: the run differs, and once the floods have settled every
+    hop count is still the BFS distance (lost messages are re-sent, they only arrive later)."""
+    plain = BeaconExplorerModel(world="corridor", seed=21, trace_interval=None)
+    model = BeaconExplorerModel(world="corridor", seed=21, trace_interval=None, **knob)
+    run_until_quiescent(plain, 80.0)
+    run_until_quiescent(model, 80.0)
+    assert not model.events().equals(plain.events())
+    assert_hop_counts_are_bfs_distances(model)

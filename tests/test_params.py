@@ -45,7 +45,7 @@ def test_values_are_checked_and_normalised():
         ({"point": (1.0,)}, "point must have 2 values"),
         ({"flag": 1}, "flag must be True or False"),
         ({"time_limit": -1.0}, r"time_limit must be in \(0"),
-        ({"message_loss": 1.0}, r"message_loss must be in \[0, 0.99\]"),
+        ({"trace_interval": 0.0}, r"trace_interval must be in \(0"),
     ]:
         with pytest.raises(ConfigError, match=match):
             Demo(**kwargs)

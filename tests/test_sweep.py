@@ -34,6 +34,7 @@ def test_every_experiment_file_loads():
     assert sizes["mixed"] == 6 * 100
     assert sizes["hover"] == 2 * 100
     assert sizes["smoke"] == 8
+    assert sizes["stigmergy_radius"] == 3 * 10
 
 
 def test_plan_is_deterministic_and_stable_when_the_grid_grows():

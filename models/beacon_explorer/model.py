@@ -69,6 +69,8 @@ class BeaconExplorerModel(SwarmModel):
             build_world,
             seed=seed,
             comm_range=p.comm_range,
+            latency=p.latency,
+            message_loss=p.message_loss,
             powers=p.powers,
             flight=FlightParams(
                 mass=p.mass,

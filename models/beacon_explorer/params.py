@@ -122,6 +122,9 @@ class BeaconExplorerParams(SwarmParams):
         dt: the control period: explorers sense and steer, and the physics moves them, at
             10 Hz (s), Sect. 3.4.
         latency: one message takes one control period (s; ours).
+        message_loss: probability that one transmission attempt is lost; the robots re-send
+            every control period, so a loss delays a message by a period (0: the paper's
+            reliable links within C_r, Sect. 3.1).
 
     """
 
@@ -171,6 +174,7 @@ class BeaconExplorerParams(SwarmParams):
     body_radius: float = param(0.2, low=0.0, low_open=True)
     dt: float = param(0.1, low=0.0, low_open=True)
     latency: float = param(0.1, low=0.0, low_open=True)
+    message_loss: float = param(0.0, low=0.0, high=0.99)
 
     def __post_init__(self) -> None:
         super().__post_init__()
