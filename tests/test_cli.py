@@ -160,3 +160,29 @@ def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
     assert "Fitted lambdas" in html and "Held-out conditions" in html
     assert main(["fit", "stigmergy", "--read", str(out), "--out", str(tmp_path / "again")]) == 0
     assert capsys.readouterr().out.splitlines()[:8] == printed.splitlines()[:8]
+
+
+def test_fit_assignments_read_each_parameter_type():
+    from abm.errors import ConfigError
+    from analysis.cli.flags import parse_assignment
+    from models.beacon_explorer.params import BeaconExplorerParams as P
+
+    assert parse_assignment(P, "launch_period=6,12", many=True) == ("launch_period", [6.0, 12.0])
+    assert parse_assignment(P, "n-robots=5") == ("n_robots", [5])
+    assert parse_assignment(P, "n_robots=none") == ("n_robots", [None])
+    assert parse_assignment(P, "hover_beacons=true,no", many=True) == (
+        "hover_beacons", [True, False],
+    )  # fmt: skip
+    assert parse_assignment(P, "complexity=low,high", many=True) == ("complexity", ["low", "high"])
+    assert parse_assignment(P, "start=2.5,5.5") == ("start", [(2.5, 5.5)])
+    assert parse_assignment(P, "start=1,2;3,4", many=True) == ("start", [(1.0, 2.0), (3.0, 4.0)])
+    for text, match in [
+        ("launch_period", "expected NAME=VALUE"),
+        ("wings=2", "unknown parameter 'wings'"),
+        ("launch_period=fast", "launch_period: cannot read 'fast'"),
+        ("launch_period=-1", r"launch_period must be in \(0"),
+        ("hover_beacons=maybe", "hover_beacons takes true or false"),
+        ("complexity=extreme", "complexity must be one of"),
+    ]:
+        with pytest.raises(ConfigError, match=match):
+            parse_assignment(P, text)

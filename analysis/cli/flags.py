@@ -89,8 +89,9 @@ def _shown(value) -> str:
 def parse_assignment(params_cls: type, text: str, many: bool = False) -> tuple[str, list]:
     """``"name=v1,v2"`` -> ``("name", [v1, v2])`` with each value of the field's type.
 
-    With ``many`` False the text holds one value (commas belong to it); it comes back as a
-    one-item list either way, as a sweep grid wants.
+    With ``many`` False the text holds one value; it comes back as a one-item list either way,
+    as a sweep grid wants. True/False fields take true/false (yes/no, 1/0); "none" is None
+    where a field allows it; a point is ``x,y`` (with ``many``, points are separated by ``;``).
 
     Raises:
         ConfigError: no ``=``, an unknown field or a value the field does not accept.
@@ -108,13 +109,33 @@ def parse_assignment(params_cls: type, text: str, many: bool = False) -> tuple[s
         raise ConfigError(
             f"unknown parameter {name!r}; {params_cls.__name__} accepts: " + ", ".join(fields)
         )
-    parser = argparse.ArgumentParser(prog=name, exit_on_error=False, add_help=False)
-    parser.add_argument("value", **{k: v for k, v in _flag(fields[name]).items() if k != "metavar"})
-    parsed = []
-    for item in values.split(",") if many else [values]:
-        try:
-            value = vars(parser.parse_args([item.strip()]))["value"]
-        except (argparse.ArgumentError, ValueError) as exc:
-            raise ConfigError(f"{name}: cannot read {item.strip()!r} ({exc})") from exc
-        parsed.append(check_value(params_cls, name, None if value == "none" else value))
-    return name, parsed
+    flag = _flag(fields[name])
+    point = "nargs" in flag
+    if not many:
+        items = [values]
+    else:
+        items = values.split(";" if point else ",")
+    return name, [_one(params_cls, name, flag, item.strip(), check_value) for item in items]
+
+
+def _one(params_cls, name: str, flag: dict, text: str, check_value):
+    from abm.errors import ConfigError
+
+    if text.lower() == "none":
+        return check_value(params_cls, name, None)
+    if flag.get("action") is argparse.BooleanOptionalAction:
+        truth = {"true": True, "yes": True, "1": True, "false": False, "no": False, "0": False}
+        if text.lower() not in truth:
+            raise ConfigError(f"{name} takes true or false, got {text!r}")
+        return check_value(params_cls, name, truth[text.lower()])
+    parts = text.split(",") if "nargs" in flag else [text]
+    convert = flag.get("type", str)
+    try:
+        parsed = [convert(part.strip()) for part in parts]
+    except ValueError as exc:
+        raise ConfigError(f"{name}: cannot read {text!r} ({exc})") from exc
+    value = parsed if "nargs" in flag else parsed[0]
+    if "choices" in flag and value not in flag["choices"]:
+        choices = ", ".join(repr(c) for c in flag["choices"])
+        raise ConfigError(f"{name} must be one of {choices}, got {value!r}")
+    return check_value(params_cls, name, value)
