@@ -31,7 +31,7 @@ def add_param_flags(parser: argparse.ArgumentParser, params_cls: type) -> None:
     )
     for f in param_fields(params_cls):
         kwargs = _flag(f)
-        text = helps.get(f.name, "").replace("%", "%%")
+        text = helps.get(f.name, "").replace("``", "").replace("%", "%%")
         default = f.default if f.default is not dataclasses.MISSING else None
         kwargs["help"] = f"{text} [{_shown(default)}]"
         group.add_argument(

@@ -16,7 +16,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm run``: the model, then its own flags (parsed once the model is known)."""
     from abm.registry import model_names
 
-    parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
+    parser.add_argument(
+        "model", nargs="?", help=f"the model: {', '.join(model_names())} (or module:Class)"
+    )
     parser.add_argument(
         "options",
         nargs=argparse.REMAINDER,
@@ -41,10 +43,15 @@ def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
 def main(args: argparse.Namespace) -> int:
     """Build, run, print, save."""
     from abm.draw import save_swarm_png
-    from abm.registry import model_class, name_of
+    from abm.errors import ConfigError
+    from abm.registry import model_class, model_names, name_of
     from analysis.cli.flags import given_params
     from analysis.runio import save_run
 
+    if args.model is None:
+        raise ConfigError(
+            f"name a model: {', '.join(model_names())} (abm run MODEL --help lists its flags)"
+        )
     cls = model_class(args.model)
     name = name_of(cls) or args.model
     options = model_parser(name, cls).parse_args(args.options)
