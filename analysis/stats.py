@@ -1,9 +1,10 @@
-"""Statistics of sweep results (tidy DataFrames, one row per run), as in Stirling et al. (2010).
+"""Statistics of sweep results (tidy DataFrames, one row per run), for any model.
 
-Two-way ANOVA of inter-launch period x complexity, Pearson's r of condition means, percent-change
-tables between two periods, and the paper's optimal launch period: cubic interpolations of the
-mean coverage time, collisions and energy, each normalised to [0, 1], summed with user weights;
-the period at the minimum is the optimum (Sect. 5).
+The analyses of Stirling et al. (2010), with the factors and metrics named by the caller (the
+report takes them from the model's layout): two-way ANOVA over swept factors, Pearson's r of
+condition means, percent-change tables between two values of a factor, and the optimal value of
+a factor (Sect. 5: cubic interpolations of the condition means of some metrics, each
+normalised to [0, 1], summed with weights; the value at the minimum).
 """
 
 from collections.abc import Mapping, Sequence
@@ -14,21 +15,14 @@ import pandas as pd
 from abm.errors import ConfigError
 
 __all__ = [
-    "METRICS",
     "ok_runs",
     "condition_means",
     "anova",
-    "anova_tables",
     "pearson",
     "percent_change",
     "percent_change_table",
     "optimal_period",
 ]
-
-#: The metrics the paper analyses (coverage time s, flight time s, collisions, energy J).
-METRICS = ("coverage_time", "flight_time", "collisions", "energy_total")
-
-_FACTORS = ("launch_period", "complexity")
 
 
 def ok_runs(df: pd.DataFrame) -> pd.DataFrame:
@@ -44,9 +38,7 @@ def _check_columns(df: pd.DataFrame, columns: Sequence[str]) -> None:
         raise ConfigError(f"column {missing[0]!r} is not in the results; have {list(df.columns)}")
 
 
-def condition_means(
-    df: pd.DataFrame, metrics: Sequence[str] = METRICS, by: Sequence[str] = _FACTORS
-) -> pd.DataFrame:
+def condition_means(df: pd.DataFrame, metrics: Sequence[str], by: Sequence[str]) -> pd.DataFrame:
     """Mean, standard error and count of each metric per condition (tidy: one row each)."""
     by = [b for b in by if b in df.columns]
     _check_columns(df, list(metrics))
@@ -57,9 +49,7 @@ def condition_means(
     return grouped.agg(mean="mean", sem="sem", n="count").reset_index()
 
 
-def anova(
-    df: pd.DataFrame, metric: str, factors: Sequence[str] = _FACTORS, typ: int = 2
-) -> pd.DataFrame:
+def anova(df: pd.DataFrame, metric: str, factors: Sequence[str], typ: int = 2) -> pd.DataFrame:
     """Two-way ANOVA (statsmodels OLS, type ``typ`` sums of squares) of ``metric``.
 
     Factors with a single level in ``df`` are left out (a one-way ANOVA remains).
@@ -86,18 +76,8 @@ def anova(
     return table
 
 
-def anova_tables(df: pd.DataFrame, metrics: Sequence[str] = METRICS) -> dict[str, pd.DataFrame]:
-    """:func:`anova` of each metric (coverage time, flight time, collisions, energy)."""
-    return {m: anova(df, m) for m in metrics if m in df.columns}
-
-
-def pearson(
-    df: pd.DataFrame,
-    x: str = "flight_time",
-    y: str = "energy_total",
-    by: Sequence[str] = _FACTORS,
-) -> dict:
-    """Pearson's r between the condition means of ``x`` and ``y`` (paper: r = 0.974, df = 16).
+def pearson(df: pd.DataFrame, x: str, y: str, by: Sequence[str]) -> dict:
+    """Pearson's r between the condition means of ``x`` and ``y`` (conditions: values of ``by``).
 
     Returns:
         ``{"r", "p", "df", "n"}``; r and p are NaN with fewer than 3 conditions.
@@ -123,8 +103,8 @@ def percent_change(
     metric: str,
     baseline: float,
     compare: float,
-    factor: str = "launch_period",
-    by: str | None = "complexity",
+    factor: str,
+    by: str | None = None,
 ) -> pd.DataFrame:
     """Change of the mean of ``metric`` from ``factor == baseline`` to ``factor == compare``.
 
@@ -161,10 +141,10 @@ def percent_change(
 
 def percent_change_table(
     df: pd.DataFrame,
-    pairs: Sequence[tuple[float, float]] = ((6.0, 24.0),),
-    metrics: Sequence[str] = METRICS,
-    factor: str = "launch_period",
-    by: str | None = "complexity",
+    pairs: Sequence[tuple[float, float]],
+    metrics: Sequence[str],
+    factor: str,
+    by: str | None = None,
 ) -> pd.DataFrame:
     """:func:`percent_change` for every (baseline, compare) pair and metric, stacked."""
     frames = [percent_change(df, m, a, b, factor, by) for a, b in pairs for m in metrics if m in df]
@@ -174,9 +154,9 @@ def percent_change_table(
 
 def optimal_period(
     df: pd.DataFrame,
-    weights: Mapping[str, float] | None = None,
-    factor: str = "launch_period",
-    by: str | None = "complexity",
+    weights: Mapping[str, float],
+    factor: str,
+    by: str | None = None,
     resolution: float = 0.05,
 ) -> pd.DataFrame:
     """The paper's optimal inter-launch period per ``by`` level (Sect. 5).
@@ -187,8 +167,8 @@ def optimal_period(
 
     Args:
         df: sweep results.
-        weights: metric -> relative weight; default equal weights of coverage time, collisions
-            and total energy. Weights must be >= 0 and not all zero.
+        weights: metric -> relative weight (the paper: coverage time, collisions and total
+            energy, equally). Weights must be >= 0 and not all zero.
         factor: the swept period column.
         by: one optimum per level of this column (None: one for all runs).
         resolution: spacing of the interpolation grid (s).
@@ -200,7 +180,7 @@ def optimal_period(
     """
     from scipy.interpolate import make_interp_spline
 
-    weights = dict(weights or {"coverage_time": 1.0, "collisions": 1.0, "energy_total": 1.0})
+    weights = dict(weights)
     for name, w in weights.items():
         if isinstance(w, bool) or not isinstance(w, int | float) or w < 0:
             raise ConfigError(f"weight of {name!r} must be a number >= 0, got {w!r}")
