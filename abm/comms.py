@@ -1,25 +1,60 @@
 """The communication network: a networkx graph of robots in range and line of sight, message
 delivery as SimPy events, and hop-count gradient floods.
 
-Links exist between nodes closer than the communication range with a clear line of sight
-(reliable within range, nothing beyond). A message takes ``latency`` seconds. With a loss
+By default links exist between nodes closer than the communication range with a clear line of
+sight (reliable within range, nothing beyond). With :class:`Shadowing` a link is up with the
+probability log-normal shadowing gives at its distance (Rappaport's model, the comm range being
+the distance at which the mean received power equals the receiver's sensitivity), through walls
+or not. A message takes ``latency`` seconds. With a loss
 probability ``loss`` each attempt may be lost; because the papers' robots re-send continually,
 a lost message arrives on a later attempt, so loss shows up as extra delay (a geometric number
 of periods), never as a silent gap.
 """
 
 from collections.abc import Callable, Hashable, Iterable
+from dataclasses import dataclass
 
 import networkx as nx
 import numpy as np
 import simpy
+from scipy.special import ndtr
 
 from abm.arena import Arena
 from abm.errors import check_range
 
-__all__ = ["CommNetwork", "GradientFlood"]
+__all__ = ["CommNetwork", "GradientFlood", "Shadowing"]
 
 Node = Hashable
+
+
+@dataclass(frozen=True)
+class Shadowing:
+    """Log-normal shadowing: the received power at distance d is the mean path loss
+    ``10 n log10(d)`` plus a Normal(0, sd^2) dB term, so with R the distance at which the mean
+    equals the receiver's sensitivity a link is up with probability
+    ``Phi(10 n log10(R / d) / sd)``; with ``sd = 0`` that is the disc ``d <= R``.
+
+    Attributes:
+        exponent: n, the path-loss exponent (3 for an indoor single floor).
+        sd: sigma, the shadowing standard deviation (dB); 0: a disc.
+        through_walls: walls do not block (or attenuate) the radio.
+
+    """
+
+    exponent: float = 3.0
+    sd: float = 0.0
+    through_walls: bool = True
+
+    def __post_init__(self) -> None:
+        check_range("exponent", self.exponent, 0.0, low_open=True)
+        check_range("sd", self.sd, 0.0)
+
+    def probability(self, distance: np.ndarray, comm_range: float) -> np.ndarray:
+        """Probability that a link of each length (m) is up."""
+        d = np.maximum(np.asarray(distance, dtype=float), 1e-9)
+        if self.sd == 0:
+            return (d <= comm_range).astype(float)
+        return ndtr(10.0 * self.exponent * np.log10(comm_range / d) / self.sd)
 
 
 class CommNetwork:
@@ -29,9 +64,12 @@ class CommNetwork:
         env: the SimPy environment.
         arena: walls block links.
         rng: the model's random generator (message loss).
-        comm_range: the range within which nodes in line of sight are linked (m).
+        comm_range: the range within which nodes in line of sight are linked (m); with
+            shadowing, its nominal range R.
         latency: delay of one message (s).
         loss: probability that one transmission attempt is lost.
+        shadowing: a radio with log-normal shadowing (links drawn from the model's generator)
+            instead of the default disc with line of sight.
 
     """
 
@@ -43,6 +81,7 @@ class CommNetwork:
         comm_range: float,
         latency: float,
         loss: float = 0.0,
+        shadowing: Shadowing | None = None,
     ) -> None:
         check_range("comm_range", comm_range, 0.0, low_open=True)
         check_range("latency", latency, 0.0, low_open=True)
@@ -53,6 +92,7 @@ class CommNetwork:
         self.comm_range = float(comm_range)
         self.latency = float(latency)
         self.loss = float(loss)
+        self.shadowing = shadowing
         self.graph = nx.Graph()
         self.messages_sent = 0
         self._listeners: list[Callable[[str, Node, Node], None]] = []
@@ -62,26 +102,55 @@ class CommNetwork:
         self._listeners.append(listener)
 
     def add(self, node: Node, position: np.ndarray) -> list[Node]:
-        """Add a node at ``position`` and link it to every node in range and line of sight."""
+        """Add a node at ``position`` and link it to every node the link model reaches."""
         position = np.asarray(position, dtype=float)
         others = list(self.graph.nodes)
         self.graph.add_node(node, pos=position)
-        linked: list[Node] = []
-        if others:
-            pts = np.array([self.graph.nodes[o]["pos"] for o in others])
-            near = np.hypot(*(pts - position).T) <= self.comm_range
-            candidates = [o for o, ok in zip(others, near, strict=True) if ok]
-            if candidates:
-                cand_pts = pts[near]
-                visible = self.arena.line_of_sight(
-                    np.broadcast_to(position, cand_pts.shape), cand_pts
-                )
-                linked = [o for o, ok in zip(candidates, visible, strict=True) if ok]
+        linked = self._reachable(position, others)
         for other in linked:
             self.graph.add_edge(node, other)
         for other in linked:
             self._notify("up", node, other)
         return linked
+
+    def move(self, node: Node, position: np.ndarray) -> list[Node]:
+        """A node moved to ``position``: its links are drawn again (those that change are
+        reported to the listeners); returns its neighbours now.
+        """
+        position = np.asarray(position, dtype=float)
+        self.graph.nodes[node]["pos"] = position
+        others = [o for o in self.graph.nodes if o != node]
+        now = self._reachable(position, others)
+        before = set(self.graph.neighbors(node))
+        gone = [o for o in before if o not in set(now)]
+        new = [o for o in now if o not in before]
+        for other in gone:
+            self.graph.remove_edge(node, other)
+        for other in new:
+            self.graph.add_edge(node, other)
+        for other in gone:
+            self._notify("down", node, other)
+        for other in new:
+            self._notify("up", node, other)
+        return now
+
+    def _reachable(self, position: np.ndarray, others: list[Node]) -> list[Node]:
+        """The nodes among ``others`` a node at ``position`` is linked to."""
+        if not others:
+            return []
+        pts = np.array([self.graph.nodes[o]["pos"] for o in others])
+        distance = np.hypot(*(pts - position).T)
+        if self.shadowing is None:
+            up = distance <= self.comm_range
+            walls_block = True
+        else:
+            p = self.shadowing.probability(distance, self.comm_range)
+            up = self.rng.random(len(others)) < p if self.shadowing.sd > 0 else p > 0
+            walls_block = not self.shadowing.through_walls
+        if walls_block and up.any():
+            visible = self.arena.line_of_sight(np.broadcast_to(position, pts[up].shape), pts[up])
+            up[np.nonzero(up)[0][~visible]] = False
+        return [o for o, ok in zip(others, up, strict=True) if ok]
 
     def remove(self, node: Node) -> list[Node]:
         """Remove a node and all its links."""

@@ -12,7 +12,7 @@ from functools import cache
 
 from abm.errors import ContractError
 from abm.params import SwarmParams, field_help
-from abm.published import MacroSpec, Published, ReportLayout
+from abm.published import Claim, MacroSpec, Published, ReportLayout
 from abm.styles import StateStyle
 
 __all__ = ["check_model"]
@@ -70,6 +70,8 @@ def _check(cls: type) -> None:
             )
     if not all(isinstance(p, Published) for p in cls.PUBLISHED):
         raise ContractError(f"{name}.PUBLISHED must hold abm.published.Published records")
+    if not all(isinstance(c, Claim) for c in cls.CLAIMS):
+        raise ContractError(f"{name}.CLAIMS must hold abm.published.Claim records")
     if cls.REPORT is not None and not isinstance(cls.REPORT, ReportLayout):
         raise ContractError(f"{name}.REPORT must be an abm.published.ReportLayout or None")
     if cls.APP is not None and not isinstance(cls.APP, str):

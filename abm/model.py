@@ -22,13 +22,13 @@ import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
-from abm.comms import CommNetwork
+from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError
 from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
-from abm.published import MacroSpec, Published, ReportLayout
+from abm.published import Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
 from abm.styles import StateStyle, resolve_styles
 
@@ -48,8 +48,8 @@ class SwarmModel(mesa.Model):
     - ``MACRO``: optional :class:`~abm.published.MacroSpec`: the two counted states (moving,
       settled) the macroscopic recurrence describes, for ``abm fit``, and the paper's fits.
     - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
-    - ``PUBLISHED`` / ``REPORT``: the paper's numbers and figure layout for ``abm report``
-      (usually imported from the model's ``published.py``).
+    - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
+      checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
 
@@ -67,6 +67,7 @@ class SwarmModel(mesa.Model):
         latency: delay of one message on the comm network (s); for a model that sends messages,
             a field of its params.
         message_loss: probability that one transmission attempt is lost; likewise.
+        shadowing: the radio's log-normal shadowing (None: a disc with line of sight).
         powers: power (W) drawn in each mode; None when the model has no energy model.
         flight: flight dynamics of the flyers.
         controller: the vectorised flight controller (may be set later as
@@ -80,6 +81,7 @@ class SwarmModel(mesa.Model):
     MACRO: ClassVar[MacroSpec | None] = None
     ARROWS_LABEL: ClassVar[str | None] = None
     PUBLISHED: ClassVar[Sequence[Published]] = ()
+    CLAIMS: ClassVar[Sequence[Claim]] = ()
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
 
@@ -96,6 +98,7 @@ class SwarmModel(mesa.Model):
         comm_range: float = 1.0,
         latency: float = 0.1,
         message_loss: float = 0.0,
+        shadowing: Shadowing | None = None,
         powers: Mapping[str, float] | None = None,
         flight: FlightParams | None = None,
         controller: Controller | None = None,
@@ -122,7 +125,9 @@ class SwarmModel(mesa.Model):
             [[0.0, arena.width], [0.0, arena.height]], torus=False, random=self.random
         )
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
-        self.comms = CommNetwork(self.env, arena, self.rng, comm_range, latency, message_loss)
+        self.comms = CommNetwork(
+            self.env, arena, self.rng, comm_range, latency, message_loss, shadowing
+        )
         self.ledger = EnergyLedger(self.env, PowerModes(powers))
         self.recorder = Recorder(self.env, self.STATES)
         self.coverage: CoverageRaster | None = None
@@ -131,7 +136,7 @@ class SwarmModel(mesa.Model):
             arena,
             self.rng,
             controller=controller,
-            positions_out=self._write_positions,
+            positions_out=self.place,
             params=flight,
             dt=params.dt,
             on_collision=self._log_collision,
@@ -273,6 +278,18 @@ class SwarmModel(mesa.Model):
         """The run's event log."""
         return self.recorder.events()
 
+    def samples(self) -> pd.DataFrame:
+        """The model's own time series (``time`` plus its metrics), if it records one; sweeps
+        keep it beside the state counts and reports draw its curves.
+        """
+        return self.recorder.samples()
+
+    def place(self, ids: np.ndarray, positions: np.ndarray) -> None:
+        """Put robots at ``positions`` (m) in the Mesa space (the physics does this for flyers;
+        a model moving robots by whole steps calls it).
+        """
+        self.space.agent_positions[self._row_of[np.asarray(ids, dtype=np.int64)]] = positions
+
     def positions(self) -> pd.DataFrame:
         """Sampled robot positions (time, robot, x, y, state, comm), every ``trace_interval`` s.
 
@@ -309,9 +326,6 @@ class SwarmModel(mesa.Model):
                     [a.unique_id in graph for a in agents],
                 )
             yield self.env.timeout(interval)
-
-    def _write_positions(self, ids: np.ndarray, positions: np.ndarray) -> None:
-        self.space.agent_positions[self._row_of[ids]] = positions
 
     def _log_collision(self, kind: str, a: int, b: int | None) -> None:
         self.recorder.log("collision", a, against=kind, other=b)

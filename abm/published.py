@@ -8,12 +8,14 @@ tests and benchmarks read the paper's numbers from one place. Nothing here holds
 number.
 """
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+
+import pandas as pd
 
 from abm.errors import ConfigError
 
-__all__ = ["CHECKS", "KINDS", "MacroSpec", "Published", "ReportLayout"]
+__all__ = ["CHECKS", "KINDS", "Claim", "MacroSpec", "Published", "ReportLayout", "Verdict"]
 
 #: How our value is computed from the runs of the condition.
 KINDS = ("level", "change", "pair", "ratio", "r", "convex")
@@ -103,6 +105,10 @@ class ReportLayout:
         compare_metric: the column of that chart.
         optimum: columns whose normalised sum is minimised over ``x`` (the optimal value).
         correlate: two columns whose condition means are correlated (Pearson r).
+        curves: columns of the model's time series (``SwarmModel.samples``) drawn against
+            ``curve_x``, mean and spread over the runs of each condition.
+        curve_x: the time column of those curves.
+        curve_spread: "sd" (standard deviation over runs, as the papers' error bars) or "se".
         labels: column -> axis label with unit.
         notes: column -> how to read it (shown under the figure).
 
@@ -118,6 +124,9 @@ class ReportLayout:
     compare_metric: str | None = None
     optimum: tuple[str, ...] = ()
     correlate: tuple[str, str] | None = None
+    curves: tuple[str, ...] = ()
+    curve_x: str = "time"
+    curve_spread: str = "sd"
     labels: Mapping[str, str] = field(default_factory=dict)
     notes: Mapping[str, str] = field(default_factory=dict)
 
@@ -162,3 +171,51 @@ class MacroSpec:
     published_summary: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     lambdas: Mapping[str, float] | None = None
     source: str = ""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """What a sweep's runs say about one claim.
+
+    Attributes:
+        ours: our measured value(s), as text.
+        holds: True / False; None when these runs cannot decide (``why`` says why).
+        why: the reason, or the rule applied.
+
+    """
+
+    ours: str
+    holds: bool | None
+    why: str = ""
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A checkable claim of a paper and the test a sweep's runs put it to.
+
+    Attributes:
+        id: the claim's label (e.g. "C01").
+        source: where the paper makes it (section, figure).
+        statement: the claim, in the paper's words or close to them.
+        kind: "Q" (the paper gives a number) or "QL" (a direction, ordering or shape).
+        setup: the runs that test it, in words.
+        test: ``f(runs, samples) -> Verdict | None`` on the tidy run rows (one per run) and
+            the model's time series (``samples``, may be None); None when these runs lack the
+            set-up. A claim no simulation can test has no test and says why in ``untestable``.
+        untestable: why a claim without a test cannot be tested (or where else it is tested).
+
+    """
+
+    id: str
+    source: str
+    statement: str
+    kind: str
+    setup: str
+    test: Callable[[pd.DataFrame, pd.DataFrame | None], Verdict | None] | None = None
+    untestable: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("Q", "QL"):
+            raise ConfigError(f"kind must be 'Q' or 'QL', got {self.kind!r}")
+        if self.test is None and not self.untestable:
+            raise ConfigError(f"claim {self.id}: without a test, say why in untestable")

@@ -12,8 +12,9 @@ __all__ = ["Recorder"]
 class Recorder:
     """Collects what happens during a run.
 
-    ``log`` appends one event (time, kind, robot, extra fields); ``count`` keeps the number of
-    robots in each state and appends a row to the state series whenever a count changes.
+    ``log`` appends one event (time, kind, robot, extra fields); ``move`` keeps the number of
+    robots in each state and appends a row to the state series whenever a count changes;
+    ``sample`` appends a row of the model's own measurements (a time series of metrics).
 
     Args:
         env: the clock.
@@ -27,6 +28,7 @@ class Recorder:
         self.counts = dict.fromkeys(self.states, 0)
         self._events: list[dict] = []
         self._series: list[tuple] = []
+        self._samples: list[dict] = []
         self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str], list[bool]]] = []
 
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
@@ -46,6 +48,14 @@ class Recorder:
             self._series[-1] = row
         else:
             self._series.append(row)
+
+    def sample(self, **values: float) -> None:
+        """Record the model's measurements at ``env.now`` (one row of :meth:`samples`)."""
+        self._samples.append({"time": self.env.now, **values})
+
+    def samples(self) -> pd.DataFrame:
+        """The measurements recorded with :meth:`sample`, one row per sample (``time`` first)."""
+        return pd.DataFrame(self._samples)
 
     def snapshot(
         self, robots: np.ndarray, positions: np.ndarray, states: list[str], comm: list[bool]

@@ -8,7 +8,9 @@ without one, from the swept parameters):
   Table 1 as curves);
 * :func:`stacked_bars`: components (e.g. energy per mode) stacked per ``x`` value, one panel per
   ``hue`` value, with the standard error of the total (Stirling et al. Figs. 7, 9, 10b);
-* :func:`compare_bars`: one metric for each value of a compared parameter (hover vs attach).
+* :func:`compare_bars`: one metric for each value of a compared parameter (hover vs attach);
+* :func:`curve_panels`: the model's time series (e.g. coverage against time), mean and spread
+  over the runs of each condition (Purohit et al. Figs. 5-9, 11, 15).
 """
 
 from pathlib import Path
@@ -25,7 +27,15 @@ import seaborn as sns  # noqa: E402
 from abm.published import ReportLayout  # noqa: E402
 from analysis.stats import ok_runs  # noqa: E402
 
-__all__ = ["compare_bars", "label", "metric_panels", "save_figures", "stacked_bars"]
+__all__ = [
+    "compare_bars",
+    "curve_panels",
+    "label",
+    "metric_panels",
+    "save_curves",
+    "save_figures",
+    "stacked_bars",
+]
 
 _BAR_COLOURS = ("#d1495b", "#00798c", "#edae49", "#66a182", "#2e4057", "#8d96a3")
 
@@ -173,3 +183,60 @@ def save_figures(
         plt.close(fig)
         paths[name] = path
     return paths
+
+
+def curve_panels(
+    samples: pd.DataFrame,
+    runs: pd.DataFrame,
+    layout: ReportLayout,
+    metrics: list[str],
+    conditions: list[str],
+) -> plt.Figure:
+    """Each sampled metric against ``layout.curve_x``: one line per condition (the values of
+    ``conditions`` a run had), the mean over its runs with a band of one standard deviation
+    (``curve_spread="sd"``) or standard error.
+    """
+    keep = ["run_id", *conditions]
+    data = samples.merge(runs[keep], on="run_id") if conditions else samples
+    label_of = (
+        data[conditions].astype(str).agg(", ".join, axis=1) if conditions else pd.Series("all")
+    )
+    data = data.assign(_condition=label_of.to_numpy() if conditions else "all runs")
+    fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 4.2), squeeze=False)
+    x = layout.curve_x
+    for ax, metric in zip(axes[0], metrics, strict=True):
+        grouped = data.groupby(["_condition", x], sort=True)[metric]
+        table = grouped.agg(["mean", "std", "count"]).reset_index()
+        for condition, part in table.groupby("_condition", sort=False):
+            spread = part["std"].fillna(0.0)
+            if layout.curve_spread == "se":
+                spread = spread / np.sqrt(part["count"])
+            (line,) = ax.plot(part[x], part["mean"], lw=1.6, label=condition)
+            ax.fill_between(part[x], part["mean"] - spread, part["mean"] + spread,
+                            color=line.get_color(), alpha=0.2, lw=0)  # fmt: skip
+        ax.set_xlabel(label(layout, x))
+        ax.set_ylabel(label(layout, metric))
+        ax.grid(alpha=0.3)
+    axes[0][-1].legend(title=", ".join(conditions) or None, frameon=False, fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def save_curves(
+    samples: pd.DataFrame,
+    runs: pd.DataFrame,
+    layout: ReportLayout,
+    metrics: list[str],
+    conditions: list[str],
+    folder: str | Path,
+    dpi: int = 110,
+) -> Path:
+    """Draw :func:`curve_panels` of the runs in ``runs`` and save it as ``curves.png``."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    fig = curve_panels(samples[samples["run_id"].isin(runs["run_id"])], runs, layout, metrics,
+                       conditions)  # fmt: skip
+    path = folder / "curves.png"
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path

@@ -1,27 +1,29 @@
-"""One self-contained HTML report per sweep, for any model (``abm report``).
+"""One self-contained HTML report of one or several sweeps of a model (``abm report``).
 
-The report reads the sweep's dataset and the model's declared ``PUBLISHED`` records and
-``REPORT`` layout (its ``published.py``): every published number beside ours for the same
-condition with whether the direction agrees, the paper's figure types, two-way ANOVA over the
-swept factors, percent changes, the optimal value of the swept parameter, Pearson's r, the
-condition means, how the runs ended and the runs that failed. A model without a layout gets one
+The report reads the sweeps' datasets and the model's declared ``PUBLISHED`` records,
+``CLAIMS`` and ``REPORT`` layout (its ``published.py``): every published number beside ours for
+the same condition with whether the direction agrees; every claim with ours and a verdict; then
+per sweep the paper's figure types, the time-series curves (mean and spread over runs), two-way
+ANOVA over the swept factors, percent changes, the optimal value of the swept parameter,
+Pearson's r, the condition means and the runs that failed. A model without a layout gets one
 from its swept parameters.
 """
 
 import datetime
 import json
-from dataclasses import replace
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from abm.errors import ABMError
-from abm.published import Published, ReportLayout
+from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from analysis import stats
 from analysis.compare import NOT_IN_SWEEP, compare_published
-from analysis.figures import label, save_figures
+from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
 from analysis.sweep import load_results
 
@@ -61,58 +63,147 @@ def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame
     return replace(layout, x=x, hue=hue, compare=compare)
 
 
-def write_report(sweep_dir: str | Path, out: str | Path | None = None) -> Path:
-    """Write ``report.html`` (and the figure PNGs in ``figures/``) for a sweep folder.
+@dataclass
+class _Sweep:
+    """One sweep folder, loaded."""
+
+    folder: Path
+    manifest: dict
+    runs: pd.DataFrame  # every row (finished and failed), with a ``sweep`` column
+    samples: pd.DataFrame  # the model's time series of its runs (may be empty)
+
+    @property
+    def name(self) -> str:
+        return self.manifest.get("name", self.folder.name)
+
+
+def _load(folder: str | Path) -> _Sweep:
+    folder = Path(folder)
+    manifest_path = folder / "sweep.json"
+    if not manifest_path.is_file():
+        raise ABMError(f"{folder} is not a sweep folder (no sweep.json); run `abm sweep` first")
+    manifest = json.loads(manifest_path.read_text())
+    name = manifest.get("name", folder.name)
+    runs = load_results(folder).assign(sweep=name)
+    samples = load_results(folder, samples=True)
+    return _Sweep(folder, manifest, runs, samples)
+
+
+def write_report(
+    sweep_dirs: str | Path | Sequence[str | Path], out: str | Path | None = None
+) -> Path:
+    """Write one HTML report (and its figure PNGs) for one or several sweep folders.
+
+    Several folders must hold sweeps of the same model (e.g. one per figure of its paper):
+    the published numbers and the claims are checked on all their runs together; figures,
+    curves and statistics are drawn per sweep.
 
     Args:
-        sweep_dir: a folder written by :func:`analysis.sweep.execute` (``abm sweep``).
-        out: the HTML file (default ``<sweep_dir>/report.html``).
+        sweep_dirs: folders written by :func:`analysis.sweep.execute` (``abm sweep``).
+        out: the HTML file (default ``<first folder>/report.html``).
 
     Returns:
         The path of the HTML file.
 
     """
-    sweep_dir = Path(sweep_dir)
-    manifest_path = sweep_dir / "sweep.json"
-    if not manifest_path.is_file():
-        raise ABMError(f"{sweep_dir} is not a sweep folder (no sweep.json); run `abm sweep` first")
-    manifest = json.loads(manifest_path.read_text())
-    df = load_results(sweep_dir)
-    out = Path(out) if out is not None else sweep_dir / "report.html"
-    cls, problem = _model(manifest)
-    runs = stats.ok_runs(df)
-    failed = df[df["status"] == "failed"] if "status" in df else df.iloc[0:0]
-    layout = layout_for(None if cls is None else cls.REPORT, manifest, runs)
-    figures = save_figures(runs, layout, sweep_dir / "figures") if len(runs) else {}
+    if isinstance(sweep_dirs, str | Path):
+        sweep_dirs = [sweep_dirs]
+    sweeps = [_load(folder) for folder in sweep_dirs]
+    if not sweeps:
+        raise ABMError("give at least one sweep folder")
+    targets = {s.manifest.get("target") or s.manifest.get("model") for s in sweeps}
+    if len(targets) > 1:
+        raise ABMError(f"the sweeps are of different models ({', '.join(sorted(targets))})")
+    out = Path(out) if out is not None else sweeps[0].folder / "report.html"
+    cls, problem = _model(sweeps[0].manifest)
+    every = pd.concat([s.runs for s in sweeps], ignore_index=True)
     published = list(cls.PUBLISHED) if cls is not None else []
-    name = manifest.get("name", sweep_dir.name)
+    claims = list(cls.CLAIMS) if cls is not None else []
+    names = ", ".join(s.name for s in sweeps)
     return render_page(
         "sweep_report.html.j2",
         out,
-        title=f"{'Reproduction' if published else 'Sweep'} report: {name}",
-        subtitle=manifest.get("description", ""),
-        meta=_meta(manifest, df, failed, sweep_dir),
+        title=f"{'Reproduction' if published or claims else 'Sweep'} report: {names}",
+        subtitle=" ".join(s.manifest.get("description", "") for s in sweeps if len(sweeps) == 1),
+        meta=_meta(sweeps, every),
         problem=problem,
-        comparison=_comparison(df, published),
+        comparison=_comparison(every, published),
+        claims=_claims(sweeps, claims),
         not_in_sweep=NOT_IN_SWEEP,
-        figures=[
-            {
-                "src": image_data(path),
-                "caption": _CAPTIONS[key].format(
-                    x=label(layout, layout.x or ""),
-                    metric=label(layout, layout.compare_metric or ""),
-                    compare=label(layout, layout.compare or ""),
-                ),
-            }
-            for key, path in figures.items()
-        ],
-        anova=_anova(runs, layout) if len(runs) else [],
-        sections=_factor_sections(runs, layout, published) if len(runs) else [],
-        failed=table(failed.drop(columns=["traceback"], errors="ignore").head(20))
+        blocks=[_block(s, cls, published, len(sweeps) > 1) for s in sweeps],
+    )
+
+
+def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> dict:
+    """One sweep's figures, curves, statistics and failures."""
+    runs = stats.ok_runs(sweep.runs)
+    failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]
+    layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)
+    folder = sweep.folder / "figures"
+    figures = save_figures(runs, layout, folder) if len(runs) else {}
+    shown = [
+        {
+            "src": image_data(path),
+            "caption": _CAPTIONS[key].format(
+                x=label(layout, layout.x or ""),
+                metric=label(layout, layout.compare_metric or ""),
+                compare=label(layout, layout.compare or ""),
+            ),
+        }
+        for key, path in figures.items()
+    ]
+    conditions = _swept(sweep.manifest, runs)
+    curves = [m for m in layout.curves if m in sweep.samples]
+    if curves and len(runs):
+        path = save_curves(sweep.samples, runs, layout, curves, conditions, folder)
+        shown.append({"src": image_data(path), "caption": _curve_caption(layout, conditions)})
+    grid = sweep.manifest.get("grid", {})
+    return {
+        "title": f"{sweep.name}: {sweep.manifest.get('description', '')}" if titled else "",
+        "setup": "; ".join(f"{k} = {v}" for k, v in grid.items())
+        + f"; {sweep.manifest.get('replications', '?')} runs each, sweep seed "
+        + f"{sweep.manifest.get('seed', '?')}",
+        "figures": shown,
+        "anova": _anova(runs, layout) if len(runs) else [],
+        "sections": _factor_sections(runs, layout, published) if len(runs) else [],
+        "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
         if len(failed)
         else None,
-        n_failed=len(failed),
-    )
+        "n_failed": len(failed),
+    }
+
+
+def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
+    spread = "standard deviation" if layout.curve_spread == "sd" else "standard error"
+    by = ", ".join(conditions) or "all runs"
+    return f"Mean ± {spread} over the runs of each condition ({by}) against {layout.curve_x}."
+
+
+def _claims(sweeps: list[_Sweep], claims: list[Claim]) -> list[dict] | None:
+    """Every claim with ours and its verdict on all the sweeps' runs."""
+    if not claims:
+        return None
+    runs = stats.ok_runs(pd.concat([s.runs for s in sweeps], ignore_index=True))
+    frames = [s.samples for s in sweeps if not s.samples.empty]
+    samples = None
+    if frames:
+        samples = pd.concat(frames, ignore_index=True)
+        params = runs.drop(columns=[c for c in samples.columns if c != "run_id" and c in runs])
+        samples = samples.merge(params, on="run_id")
+    rows = []
+    for claim in claims:
+        verdict = None if claim.test is None else claim.test(runs, samples)
+        if claim.test is None:
+            ours, shown, why = "", "not testable", claim.untestable
+        elif verdict is None:
+            ours, shown, why = "", NOT_IN_SWEEP, claim.setup
+        else:
+            shown = {True: "holds", False: "does not hold", None: "not testable"}[verdict.holds]
+            ours, why = verdict.ours, verdict.why
+        rows.append({"id": claim.id, "source": claim.source, "claim": claim.statement,
+                     "type": claim.kind, "set-up": claim.setup, "ours": ours,
+                     "verdict": shown, "why": why})  # fmt: skip
+    return rows
 
 
 def _model(manifest: dict) -> tuple[type | None, str | None]:
@@ -123,21 +214,26 @@ def _model(manifest: dict) -> tuple[type | None, str | None]:
         return None, f"the model of this sweep cannot be loaded here ({exc}); no published numbers"
 
 
-def _meta(manifest: dict, df: pd.DataFrame, failed: pd.DataFrame, folder: Path) -> list:
-    grid = manifest.get("grid", {})
+def _meta(sweeps: list[_Sweep], every: pd.DataFrame) -> list:
+    failed = int((every["status"] == "failed").sum()) if "status" in every else 0
     rows = [
-        ("model", manifest.get("model", "?")),
-        ("grid", "; ".join(f"{k} = {v}" for k, v in grid.items())),
-        ("replications", manifest.get("replications", "?")),
-        ("sweep seed", manifest.get("seed", "?")),
-        ("runs finished / failed", f"{len(df) - len(failed)} / {len(failed)}"),
+        ("model", sweeps[0].manifest.get("model", "?")),
+        ("sweeps", ", ".join(f"{s.name} ({len(s.runs)} runs)" for s in sweeps)),
+        ("runs finished / failed", f"{len(every) - failed} / {failed}"),
     ]
-    if "end_reason" in df:
-        kinds = df["end_reason"].dropna().astype(str).str.split(":").str[0].value_counts()
+    if len(sweeps) == 1:
+        manifest = sweeps[0].manifest
+        rows += [
+            ("grid", "; ".join(f"{k} = {v}" for k, v in manifest.get("grid", {}).items())),
+            ("replications", manifest.get("replications", "?")),
+            ("sweep seed", manifest.get("seed", "?")),
+        ]
+    if "end_reason" in every:
+        kinds = every["end_reason"].dropna().astype(str).str.split(":").str[0].value_counts()
         # runs that hit the time limit are outliers in every mean: the reader must see them
         rows.append(("runs ended by", ", ".join(f"{k} {n}" for k, n in kinds.items())))
     rows += [
-        ("data", str(folder.resolve())),
+        ("data", ", ".join(str(s.folder.resolve()) for s in sweeps)),
         ("generated", datetime.datetime.now().isoformat(timespec="seconds")),
     ]
     return rows

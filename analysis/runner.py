@@ -31,12 +31,15 @@ class RunResult:
             (so a run's counts say how long it lasted), with a ``time`` column; None unless
             asked for.
         wall_time: seconds of wall time the run took.
+        samples: the model's own time series (``SwarmModel.samples``) when asked for the
+            counts and the model records one; else None.
 
     """
 
     summary: dict
     counts: pd.DataFrame | None
     wall_time: float
+    samples: pd.DataFrame | None = None
 
 
 def run_model(
@@ -52,20 +55,22 @@ def run_model(
         model: a registered model name, ``"module:Class"`` or a model class.
         params: constructor keywords (fields of the model's params).
         seed: the model's seed.
-        counts: also return the state counts over time.
+        counts: also return the state counts (and the model's samples) over time.
 
     """
     start = time.perf_counter()
     instance = model_class(model)(seed=seed, **dict(params or {}))
     instance.run()
     summary = instance.summary()
-    table = None
+    table = samples = None
     if counts:
         table = instance.state_counts()
         end = table.iloc[[-1]].copy()
         end["time"] = float(instance.time)
         table = pd.concat([table, end], ignore_index=True)
-    return RunResult(summary, table, time.perf_counter() - start)
+        samples = instance.samples()
+        samples = None if samples.empty else samples
+    return RunResult(summary, table, time.perf_counter() - start, samples)
 
 
 @dataclass(frozen=True)
@@ -96,10 +101,10 @@ def run_one(spec: RunSpec) -> dict:
     """Run one sweep run; never raises for the model's own errors.
 
     Returns:
-        ``{"row": dict, "series": DataFrame | None}``. The row holds ``run_id``, ``rep``,
-        ``seed``, ``spawn_key``, the parameters, the model's summary, ``status`` ("ok" or
-        "failed"), ``error`` and ``traceback`` (failures only), ``wall_time`` (s) and
-        ``worker`` (host:pid).
+        ``{"row": dict, "series": DataFrame | None, "samples": DataFrame | None}``. The row
+        holds ``run_id``, ``rep``, ``seed``, ``spawn_key``, the parameters, the model's
+        summary, ``status`` ("ok" or "failed"), ``error`` and ``traceback`` (failures only),
+        ``wall_time`` (s) and ``worker`` (host:pid).
 
     """
     row = {
@@ -109,7 +114,7 @@ def run_one(spec: RunSpec) -> dict:
         "spawn_key": f"{spec.spawn_key[0]},{spec.spawn_key[1]}",
         **spec.params,
     }
-    series = None
+    series = samples = None
     start = time.perf_counter()
     try:
         result = run_model(spec.target, spec.params, spec.seed, counts=spec.time_series)
@@ -119,6 +124,8 @@ def run_one(spec: RunSpec) -> dict:
         row.update(status="ok", error=None, traceback=None)
         if result.counts is not None:
             series = result.counts.assign(run_id=spec.run_id)
+        if result.samples is not None:
+            samples = result.samples.assign(run_id=spec.run_id)
     except Exception as exc:  # a failing run is a result, not the end of the sweep
         if _interrupted(exc):
             raise KeyboardInterrupt from exc
@@ -129,7 +136,7 @@ def run_one(spec: RunSpec) -> dict:
         )
     row["wall_time"] = time.perf_counter() - start
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
-    return {"row": row, "series": series}
+    return {"row": row, "series": series, "samples": samples}
 
 
 def _interrupted(exc: BaseException) -> bool:

@@ -1,5 +1,6 @@
 import networkx as nx
 import numpy as np
+import pytest
 import simpy
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -76,3 +77,66 @@ def test_messages_arrive_after_the_latency_as_events():
     net.send(0, 1, "hello", lambda s, d, p: log.append((s, d, p, env.now)))
     env.run()
     assert log == [(0, 1, "hello", 0.1)]
+
+
+def _network(shadowing=None, seed=0, free=None):
+    import simpy
+
+    from abm.comms import CommNetwork
+
+    free = np.ones((10, 40), dtype=bool) if free is None else free
+    return CommNetwork(simpy.Environment(), Arena(free), np.random.default_rng(seed), 10.0, 0.1,
+                       shadowing=shadowing)  # fmt: skip
+
+
+def test_shadowing_links_follow_the_log_normal_probability():
+    """P(up at d) = Phi(10 n log10(R/d) / sd): 1/2 at the nominal range, and the share of links
+    drawn at each distance matches it."""
+    from scipy.stats import norm
+
+    from abm.comms import Shadowing
+
+    radio = Shadowing(exponent=3.0, sd=6.0)
+    assert radio.probability(np.array([10.0]), 10.0)[0] == pytest.approx(0.5)
+    for d in (5.0, 10.0, 16.0):
+        net = _network(radio, seed=int(d))
+        net.add("a", [1.0, 5.0])
+        hits = 0
+        for k in range(2000):
+            net.add(("b", k), [1.0 + d, 5.0])
+            hits += ("b", k) in net.neighbours("a")
+            net.remove(("b", k))
+        want = norm.cdf(30.0 * np.log10(10.0 / d) / 6.0)
+        assert hits / 2000 == pytest.approx(want, abs=0.035)
+    disc = Shadowing(sd=0.0)
+    assert list(disc.probability(np.array([9.9, 10.1]), 10.0)) == [1.0, 0.0]
+
+
+def test_radio_through_walls_or_not():
+    from abm.comms import Shadowing
+
+    free = np.ones((10, 40), dtype=bool)
+    free[:, 5] = False  # a wall between x = 5 and 6 m
+    for through, linked in ((True, True), (False, False)):
+        net = _network(Shadowing(through_walls=through), free=free)
+        net.add("a", [2.5, 5.0])
+        net.add("b", [8.5, 5.0])
+        assert net.graph.has_edge("a", "b") is linked
+    plain = _network(None, free=free)  # the default: a disc with line of sight
+    plain.add("a", [2.5, 5.0])
+    plain.add("b", [8.5, 5.0])
+    assert not plain.graph.has_edge("a", "b")
+
+
+def test_moving_a_node_redraws_its_links_and_reports_the_changes():
+    net = _network(None)
+    changes = []
+    net.on_link_change(lambda kind, a, b: changes.append((kind, {a, b})))
+    net.add("anchor", [5.0, 5.0])
+    net.add("explorer", [8.0, 5.0])
+    assert changes == [("up", {"anchor", "explorer"})]
+    assert net.move("explorer", [20.0, 5.0]) == []
+    assert changes[-1] == ("down", {"anchor", "explorer"})
+    assert net.move("explorer", [12.0, 5.0]) == ["anchor"]
+    assert changes[-1] == ("up", {"anchor", "explorer"}) and len(changes) == 3
+    assert np.array_equal(net.position("explorer"), [12.0, 5.0])

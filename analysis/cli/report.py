@@ -4,15 +4,17 @@ import argparse
 from pathlib import Path
 
 VERB = "report"
-HELP = "write an HTML reproduction report (figures, ANOVA, published vs ours) of a sweep"
+HELP = "write an HTML reproduction report (published vs ours, claims, figures, ANOVA) of sweeps"
 EXAMPLE = "abm report out/sweeps/corridor"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm report``."""
-    parser.add_argument("sweep", type=Path, help="a sweep folder written by `abm sweep`")
     parser.add_argument(
-        "--out", type=Path, default=None, help="HTML file (default: <sweep>/report.html)"
+        "sweep", type=Path, nargs="+", help="sweep folders written by `abm sweep` (one model)"
+    )
+    parser.add_argument(
+        "--out", type=Path, default=None, help="HTML file (default: <first sweep>/report.html)"
     )
 
 
@@ -21,11 +23,13 @@ def main(args: argparse.Namespace) -> int:
     from abm.errors import ConfigError
     from analysis.report import write_report
 
-    if not (args.sweep / "sweep.json").is_file():
-        raise ConfigError(
-            f"{args.sweep} is not a sweep folder (no sweep.json); run `abm sweep FILE` first"
-        )
+    for folder in args.sweep:
+        if not (folder / "sweep.json").is_file():
+            raise ConfigError(
+                f"{folder} is not a sweep folder (no sweep.json); run `abm sweep FILE` first"
+            )
     path = write_report(args.sweep, args.out)
     print(f"wrote {path}")
-    print(f"wrote {path.parent / 'figures'}")
+    for folder in args.sweep:
+        print(f"wrote {folder / 'figures'}")
     return 0

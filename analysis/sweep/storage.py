@@ -7,6 +7,8 @@
         runs/<run_id>.parquet      one row per finished run (written at once, atomic rename)
         failed/<run_id>.parquet    one row per run that raised: error and traceback
         series/<run_id>.parquet    the run's state counts over time (when ``time_series``)
+        samples/<run_id>.parquet   the model's own time series (when ``time_series`` and the
+                                   model records one)
 """
 
 import concurrent.futures as cf
@@ -38,8 +40,9 @@ def store(out: Path, result: dict) -> None:
     row = result["row"]
     run_id = row["run_id"]
     if row["status"] == "ok":
-        if result["series"] is not None:
-            _write_atomic(result["series"], out / "series" / f"{run_id}.parquet")
+        for kind in ("series", "samples"):
+            if result.get(kind) is not None:
+                _write_atomic(result[kind], out / kind / f"{run_id}.parquet")
         _write_atomic(pd.DataFrame([row]), out / "runs" / f"{run_id}.parquet")
         (out / "failed" / f"{run_id}.parquet").unlink(missing_ok=True)
     else:
@@ -57,20 +60,23 @@ def _read_folder(folder: Path) -> list[pd.DataFrame]:
         return list(pool.map(pd.read_parquet, files))
 
 
-def load_results(out: str | Path, *, failed: bool = True, series: bool = False) -> pd.DataFrame:
+def load_results(
+    out: str | Path, *, failed: bool = True, series: bool = False, samples: bool = False
+) -> pd.DataFrame:
     """Read a sweep's dataset: one row per run (finished first, then failures).
 
     Args:
         out: the sweep's folder.
         failed: include the rows of runs that raised (``status == "failed"``).
-        series: return the concatenated time series (``series/``) instead of the run rows.
+        series: return the concatenated state counts over time (``series/``) instead.
+        samples: return the concatenated model time series (``samples/``) instead.
 
     """
     out = Path(out)
     if not out.is_dir():
         raise FileNotFoundError(f"no sweep folder {str(out)!r}")
-    if series:
-        frames = _read_folder(out / "series")
+    if series or samples:
+        frames = _read_folder(out / ("series" if series else "samples"))
         return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     frames = _read_folder(out / "runs")
     if failed:
@@ -105,7 +111,7 @@ def prepare_out(out: Path, sweep: Sweep) -> None:
         manifest["grid"] = grid
         manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
         manifest["created"] = old.get("created")
-    for sub in ("runs", "failed", "series"):
+    for sub in ("runs", "failed", "series", "samples"):
         (out / sub).mkdir(parents=True, exist_ok=True)
         for tmp in (out / sub).glob(".*.tmp"):  # left by a killed sweep
             tmp.unlink(missing_ok=True)

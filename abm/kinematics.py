@@ -1,0 +1,38 @@
+"""Kinematic moves per time step, for models whose robots move in whole commands (turn, then
+fly forward for one step) rather than under the continuous flight dynamics of
+:mod:`abm.physics`.
+
+Headings follow the compass: degrees clockwise from north, so a move of length d at heading
+phi is ``d * (sin phi, cos phi)`` in (x, y). A move whose end point is not free, or whose
+straight path enters a wall cell, does not happen (the bump model): the robot stays where it
+is and the move is reported as blocked. So no robot ever enters or crosses a wall.
+"""
+
+import numpy as np
+
+from abm.arena import Arena
+
+__all__ = ["bump_moves", "heading_vectors"]
+
+
+def heading_vectors(heading: np.ndarray) -> np.ndarray:
+    """Unit vectors ``(n, 2)`` of compass headings (degrees clockwise from north)."""
+    rad = np.radians(np.asarray(heading, dtype=float))
+    return np.stack([np.sin(rad), np.cos(rad)], axis=-1)
+
+
+def bump_moves(
+    arena: Arena, positions: np.ndarray, heading: np.ndarray, distance: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Move every robot ``distance`` (m) along its ``heading`` (deg), all at once.
+
+    Returns:
+        ``(positions, blocked)``: the new positions ``(n, 2)`` (the old one where blocked) and
+        a boolean ``(n,)`` that is True where the move would have entered a wall.
+
+    """
+    positions = np.atleast_2d(np.asarray(positions, dtype=float))
+    distance = np.broadcast_to(np.asarray(distance, dtype=float), (len(positions),))
+    end = positions + distance[:, None] * heading_vectors(heading).reshape(-1, 2)
+    blocked = ~arena.is_free(end) | arena.segment_crosses_wall(positions, end)
+    return np.where(blocked[:, None], positions, end), blocked
