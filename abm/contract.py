@@ -25,7 +25,7 @@ def check_model(cls: type) -> None:
     subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
     docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
     fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
-    ``MACRO``, ``PUBLISHED``, ``REPORT`` and ``APP`` of the documented types.
+    ``MACRO``, ``PUBLISHED``, ``REPORT``, ``APP`` and ``QUICK`` of the documented types.
     """
     _check(cls)
 
@@ -76,6 +76,9 @@ def _check(cls: type) -> None:
         raise ContractError(f"{name}.REPORT must be an abm.published.ReportLayout or None")
     if cls.APP is not None and not isinstance(cls.APP, str):
         raise ContractError(f"{name}.APP must be a module name (str) or None")
+    unknown = set(cls.QUICK) - {f.name for f in dataclasses.fields(cls.Params)}
+    if unknown:
+        raise ContractError(f"{name}.QUICK names no parameter: {', '.join(sorted(unknown))}")
 
 
 def _check_constructor(cls: type, name: str) -> None:

@@ -30,7 +30,7 @@ from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
-from abm.styles import StateStyle, resolve_styles
+from abm.styles import Layer, StateStyle, resolve_styles
 
 __all__ = ["SwarmModel"]
 
@@ -52,6 +52,9 @@ class SwarmModel(mesa.Model):
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
+    - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
+      already shows every part of the model (empty when the defaults do); the contract tests
+      run every model with them.
 
     What every model instance offers the tools: ``params``, ``coverage`` (a
     :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
@@ -70,6 +73,8 @@ class SwarmModel(mesa.Model):
         shadowing: the radio's log-normal shadowing (None: a disc with line of sight).
         powers: power (W) drawn in each mode; None when the model has no energy model.
         flight: flight dynamics of the flyers.
+        physics: False for a model whose robots never fly under the continuous dynamics (they
+            move by whole steps, :mod:`abm.kinematics`): ``self.physics`` is then None.
         controller: the vectorised flight controller (may be set later as
             ``physics.controller``).
 
@@ -84,6 +89,7 @@ class SwarmModel(mesa.Model):
     CLAIMS: ClassVar[Sequence[Claim]] = ()
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
+    QUICK: ClassVar[Mapping[str, object]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
@@ -101,6 +107,7 @@ class SwarmModel(mesa.Model):
         shadowing: Shadowing | None = None,
         powers: Mapping[str, float] | None = None,
         flight: FlightParams | None = None,
+        physics: bool = True,
         controller: Controller | None = None,
     ) -> None:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
@@ -131,16 +138,20 @@ class SwarmModel(mesa.Model):
         self.ledger = EnergyLedger(self.env, PowerModes(powers))
         self.recorder = Recorder(self.env, self.STATES)
         self.coverage: CoverageRaster | None = None
-        self.physics = Physics(
-            self.env,
-            arena,
-            self.rng,
-            controller=controller,
-            positions_out=self.place,
-            params=flight,
-            dt=params.dt,
-            on_collision=self._log_collision,
-        )
+        self.wall_collisions = 0
+        self.robot_collisions = 0
+        self.physics: Physics | None = None
+        if physics:
+            self.physics = Physics(
+                self.env,
+                arena,
+                self.rng,
+                controller=controller,
+                positions_out=self.place,
+                params=flight,
+                dt=params.dt,
+                on_collision=self.collision,
+            )
         self.done = self.env.event()
         self.end_reason: str | None = None
         limit = self.env.timeout(self.time_limit)
@@ -232,6 +243,10 @@ class SwarmModel(mesa.Model):
         """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
         return None
 
+    def layers(self) -> list[Layer]:
+        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds)."""
+        return []
+
     def reporters(self) -> dict:
         """Mesa DataCollector model reporters: robots per state, ``coverage`` (% of the free
         area, when the model covers) and ``energy`` (J, when it has an energy model).
@@ -252,13 +267,12 @@ class SwarmModel(mesa.Model):
         (% of the free area) when the model covers; ``energy_total`` (J) when it has an energy
         model.
         """
-        physics = self.physics
         out = {
             "time": float(self.env.now),
             "end_reason": self.end_reason or "running",
-            "collisions": physics.wall_collisions + physics.robot_collisions,
-            "wall_collisions": physics.wall_collisions,
-            "robot_collisions": physics.robot_collisions,
+            "collisions": self.wall_collisions + self.robot_collisions,
+            "wall_collisions": self.wall_collisions,
+            "robot_collisions": self.robot_collisions,
         }
         if self.coverage is not None:
             out["coverage_area"] = 100.0 * self.coverage.fraction
@@ -327,7 +341,14 @@ class SwarmModel(mesa.Model):
                 )
             yield self.env.timeout(interval)
 
-    def _log_collision(self, kind: str, a: int, b: int | None) -> None:
+    def collision(self, kind: str, a: int, b: int | None = None) -> None:
+        """Count and log a new contact: ``kind`` "wall" (robot ``a`` bumped a wall) or "robot"
+        (``a`` and ``b`` touched; counted twice, as Stirling et al. count them).
+        """
+        if kind == "robot":
+            self.robot_collisions += 2
+        else:
+            self.wall_collisions += 1
         self.recorder.log("collision", a, against=kind, other=b)
 
 

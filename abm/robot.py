@@ -72,7 +72,7 @@ class Robot(ContinuousSpaceAgent):
         The model's own structures (e.g. a beacon network) are the model's to update first.
         """
         model = self.model
-        if self.unique_id in model.physics.ids:
+        if model.physics is not None and self.unique_id in model.physics.ids:
             model.physics.stop(self.unique_id)
         if self.process is not None and self.process.is_alive:
             self.process.interrupt("removed")

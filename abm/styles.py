@@ -8,7 +8,9 @@ A model lists its states in ``STATES`` and may give each a :class:`StateStyle` i
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 
-__all__ = ["PALETTE", "StateStyle", "resolve_styles"]
+import numpy as np
+
+__all__ = ["PALETTE", "Layer", "StateStyle", "resolve_styles"]
 
 #: Okabe-Ito colours, in the order undeclared states take them.
 PALETTE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000")
@@ -48,3 +50,26 @@ def resolve_styles(
     for state in states:
         out[state] = declared.get(state) or StateStyle(next(spare))
     return out
+
+
+@dataclass(frozen=True, eq=False)
+class Layer:
+    """Something more a model wants drawn over its arena (``SwarmModel.layers``): a cloud of
+    points, or a raster of values in [0, 1] shown as the colour's opacity.
+
+    Attributes:
+        label: legend text.
+        points: ``(n, 2)`` positions (m), or None.
+        raster: ``(rows, cols)`` values in [0, 1], row 0 south, or None.
+        extent: ``(x0, x1, y0, y1)`` (m) the raster spans.
+        colour: its colour.
+        size: marker area of the points (pt^2).
+
+    """
+
+    label: str
+    points: np.ndarray | None = None
+    raster: np.ndarray | None = None
+    extent: tuple[float, float, float, float] | None = None
+    colour: str = "#000000"
+    size: float = 4.0

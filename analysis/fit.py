@@ -91,8 +91,9 @@ def read_runs(
             f"{folder} kept no time series: run the sweep with time_series = true (abm fit does)"
         )
     manifest = json.loads((folder / "sweep.json").read_text())
+    keys = list(manifest["grid"]) + [k for p in manifest.get("points", []) for k in p]
     conditions = [
-        k for k in manifest["grid"] if k in summaries and summaries[k].astype(str).nunique() > 1
+        k for k in dict.fromkeys(keys) if k in summaries and summaries[k].astype(str).nunique() > 1
     ]
     info = summaries[["run_id", *conditions]]
     counts = series[series["run_id"].isin(summaries["run_id"])].merge(info, on="run_id")

@@ -40,8 +40,10 @@ _CAPTIONS = {
 
 
 def _swept(manifest: dict, runs: pd.DataFrame) -> list[str]:
-    """Grid parameters that take more than one value in the runs."""
-    return [k for k in manifest.get("grid", {}) if k in runs and runs[k].nunique() > 1]
+    """Grid (and points) parameters that take more than one value in the runs."""
+    keys = list(manifest.get("grid", {}))
+    keys += [k for p in manifest.get("points", []) for k in p if k not in keys]
+    return [k for k in dict.fromkeys(keys) if k in runs and runs[k].nunique() > 1]
 
 
 def _numeric(runs: pd.DataFrame, column: str) -> bool:

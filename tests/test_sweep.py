@@ -202,3 +202,28 @@ def test_time_series_are_kept_when_asked(tmp_path):
     series = load_results(tmp_path, series=True)
     assert {"time", "ground", "explorer", "beacon", "run_id"} <= set(series.columns)
     assert os.path.isfile(tmp_path / "sweep.json")
+
+
+def test_points_are_taken_together_and_combined_with_the_grid(tmp_path):
+    path = tmp_path / "split.toml"
+    path.write_text(
+        'model = "beacon-explorer"\nreplications = 2\n[grid]\nworld = ["corridor"]\n'
+        "[[points]]\nn_robots = 3\nlaunch_period = 6.0\n"
+        "[[points]]\nn_robots = 5\nlaunch_period = 12.0\n"
+    )
+    sweep = load_sweep(path)
+    assert sweep.n_runs == 4
+    assert sweep.conditions() == [
+        {"world": "corridor", "n_robots": 3, "launch_period": 6.0},
+        {"world": "corridor", "n_robots": 5, "launch_period": 12.0},
+    ]
+    for text, match in [
+        ('model = "beacon-explorer"\n[[points]]\nwings = 2\n', "'wings'"),
+        ('model = "beacon-explorer"\n[grid]\nn_robots = [3]\n[[points]]\nn_robots = 4\n',
+         "varies already"),
+        ('model = "beacon-explorer"\npoints = [1]\n', r"points\[0\] must be a non-empty table"),
+        ('model = "beacon-explorer"\n', "missing key 'grid'"),
+    ]:  # fmt: skip
+        path.write_text(text)
+        with pytest.raises(ConfigError, match=match):
+            load_sweep(path)

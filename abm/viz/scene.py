@@ -16,7 +16,7 @@ from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from abm.styles import StateStyle, resolve_styles
+from abm.styles import Layer, StateStyle, resolve_styles
 
 __all__ = [
     "ARROW_COLOUR",
@@ -47,6 +47,7 @@ class Scene:
         covered: boolean coverage raster ``[rows, cols]`` (pixels of ``SceneView.pixel`` m), or
             None when the model keeps none.
         arrows: ``(points, vectors)`` in m, e.g. the beacons' desired directions, or None.
+        layers: the model's extra :class:`~abm.styles.Layer` s (point clouds, rasters).
 
     """
 
@@ -56,6 +57,7 @@ class Scene:
     links: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)))
     covered: np.ndarray | None = None
     arrows: tuple[np.ndarray, np.ndarray] | None = None
+    layers: list[Layer] = field(default_factory=list)
 
 
 def scene_of(model) -> Scene:
@@ -79,6 +81,7 @@ def scene_of(model) -> Scene:
         links=links,
         covered=None if model.coverage is None else model.coverage.covered,
         arrows=model.arrows() if model.ARROWS_LABEL else None,
+        layers=list(model.layers()),
     )
 
 
@@ -141,6 +144,8 @@ class SceneView:
         self._links = LineCollection([], colors=LINK_COLOUR, linewidths=1.4, zorder=2)
         ax.add_collection(self._links)
         self._quiver = None
+        self._layers: dict[str, object] = {}
+        self._layer_specs: dict[str, Layer] = {}
         self._robots = {}
         for state, style in self.styles.items():
             self._robots[state] = ax.scatter(
@@ -178,6 +183,7 @@ class SceneView:
         if self._quiver is not None:
             self._quiver.remove()
             self._quiver = None
+        self._draw_layers(scene.layers)
         if self.arrows_label and scene.arrows is not None:
             points, vectors = (np.asarray(a, dtype=float).reshape(-1, 2) for a in scene.arrows)
             keep = np.hypot(*vectors.T) > 0 if len(vectors) else np.zeros(0, dtype=bool)
@@ -196,6 +202,33 @@ class SceneView:
                     headlength=4.0,
                     zorder=5.5,  # over the beacons they start from, under the explorers
                 )
+
+    def _draw_layers(self, layers: list[Layer]) -> None:
+        """Extra point clouds and rasters, each artist made once and then updated."""
+        for layer in layers:
+            artist = self._layers.get(layer.label)
+            if layer.raster is not None:
+                rgba = np.zeros((*layer.raster.shape, 4))
+                rgba[..., :3] = to_rgba(layer.colour)[:3]
+                rgba[..., 3] = 0.6 * np.clip(layer.raster, 0.0, 1.0)
+                if artist is None:
+                    self._layers[layer.label] = self.ax.imshow(
+                        rgba, origin="lower", extent=layer.extent, interpolation="nearest",
+                        zorder=1.5,
+                    )  # fmt: skip
+                    self.ax.set_xlim(0, self.width)
+                    self.ax.set_ylim(0, self.height)
+                else:
+                    artist.set_data(rgba)
+            elif layer.points is not None:
+                points = np.asarray(layer.points, dtype=float).reshape(-1, 2)
+                if artist is None:
+                    self._layers[layer.label] = self.ax.scatter(
+                        *points.T, s=layer.size, color=layer.colour, linewidths=0, zorder=3,
+                    )  # fmt: skip
+                else:
+                    artist.set_offsets(points)
+            self._layer_specs[layer.label] = layer
 
     def legend_handles(self) -> list:
         """Legend entries: each state with its current count, links, arrows, coverage, walls."""
@@ -227,5 +260,11 @@ class SceneView:
             )
         if self.pixel is not None:
             handles.append(Patch(facecolor=COVERED_COLOUR, label="covered area"))
+        for label, layer in self._layer_specs.items():
+            if layer.raster is not None:
+                handles.append(Patch(facecolor=layer.colour, alpha=0.6, label=label))
+            else:
+                handles.append(Line2D([], [], linestyle="none", marker="o", markersize=4,
+                                      color=layer.colour, alpha=0.6, label=label))  # fmt: skip
         handles.append(Patch(facecolor=WALL_COLOUR, label="wall"))
         return handles

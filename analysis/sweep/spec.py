@@ -2,7 +2,9 @@
 
 Every grid key is a field of the model's params (so every parameter is sweepable), checked
 against its type and range before any run starts; ``seed`` is not a key (per-run seeds are
-spawned from the sweep seed).
+spawned from the sweep seed). Besides the Cartesian ``grid``, a sweep may list ``points``:
+parameter sets taken together (e.g. a 10-node swarm split 2 + 8, 3 + 7, ...); every grid point
+is combined with every point.
 """
 
 import itertools
@@ -20,7 +22,16 @@ from abm.registry import model_class, name_of, target_of
 __all__ = ["Sweep", "TOML_KEYS", "check_int", "load_sweep"]
 
 #: Keys a sweep file may hold.
-TOML_KEYS = ("name", "description", "model", "seed", "replications", "time_series", "grid")
+TOML_KEYS = (
+    "name",
+    "description",
+    "model",
+    "seed",
+    "replications",
+    "time_series",
+    "grid",
+    "points",
+)
 _RESERVED = ("seed", "rng")
 
 
@@ -32,6 +43,7 @@ class Sweep:
         model: a registered model name, ``"module:Class"`` or a model class.
         grid: parameter -> list of values (a scalar means one value).
         replications: runs per grid point.
+        points: parameter sets taken together, each combined with every grid point.
         seed: the sweep seed; per-run seeds are spawned from it.
         name: the sweep's name (default output folder ``out/sweeps/<name>``).
         time_series: also keep each run's state counts over time.
@@ -46,6 +58,7 @@ class Sweep:
     name: str = "sweep"
     time_series: bool = False
     description: str = ""
+    points: Sequence[Mapping[str, object]] = ()
     model_cls: type = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -55,7 +68,9 @@ class Sweep:
         check_int("seed", self.seed, 0)
         if not isinstance(self.time_series, bool):
             raise ConfigError(f"time_series must be true or false, got {self.time_series!r}")
-        object.__setattr__(self, "grid", check_grid(cls, self.grid))
+        points = check_points(cls, self.points, self.grid)
+        object.__setattr__(self, "points", points)
+        object.__setattr__(self, "grid", check_grid(cls, self.grid, allow_empty=bool(points)))
 
     @property
     def target(self) -> str:
@@ -65,14 +80,16 @@ class Sweep:
     @property
     def n_runs(self) -> int:
         """Grid points times replications."""
-        return int(np.prod([len(v) for v in self.grid.values()])) * self.replications
+        grid = int(np.prod([len(v) for v in self.grid.values()]))
+        return grid * max(len(self.points), 1) * self.replications
 
     def conditions(self) -> list[dict]:
         """Every grid point as a dict of constructor keywords, in grid order."""
         keys = list(self.grid)
-        return [
+        grid = [
             dict(zip(keys, vals, strict=True)) for vals in itertools.product(*self.grid.values())
         ]
+        return [{**g, **p} for g in grid for p in (self.points or [{}])]
 
     def manifest(self) -> dict:
         """A JSON-able description (written as ``sweep.json`` beside the runs)."""
@@ -86,6 +103,7 @@ class Sweep:
             "replications": self.replications,
             "time_series": self.time_series,
             "grid": {k: list(v) for k, v in self.grid.items()},
+            "points": [dict(p) for p in self.points],
         }
 
 
@@ -95,9 +113,25 @@ def check_int(name: str, value, low: int) -> None:
         raise ConfigError(f"{name} must be an integer >= {low}, got {value!r}")
 
 
-def check_grid(model_cls: type, grid: Mapping) -> dict[str, tuple]:
+def check_points(model_cls: type, points: Sequence, grid: Mapping) -> tuple[dict, ...]:
+    """Every point a table of parameters the model accepts, none also a grid key."""
+    if isinstance(points, Mapping) or not isinstance(points, Sequence):
+        raise ConfigError(f"points must be a list of tables ([[points]]), got {points!r}")
+    checked = []
+    for k, point in enumerate(points):
+        if not isinstance(point, Mapping) or not point:
+            raise ConfigError(f"points[{k}] must be a non-empty table, got {point!r}")
+        shared = sorted(set(point) & set(grid))
+        if shared:
+            raise ConfigError(f"points[{k}] sets {shared[0]!r}, which the grid varies already")
+        one = check_grid(model_cls, {key: [value] for key, value in point.items()})
+        checked.append({key: values[0] for key, values in one.items()})
+    return tuple(checked)
+
+
+def check_grid(model_cls: type, grid: Mapping, allow_empty: bool = False) -> dict[str, tuple]:
     """Every key a field of the model's params, every value one that field accepts."""
-    if not isinstance(grid, Mapping) or not grid:
+    if not isinstance(grid, Mapping) or (not grid and not allow_empty):
         raise ConfigError("grid is empty: give at least one parameter and its values")
     accepted = [f.name for f in param_fields(model_cls.Params)]
     checked = {}
@@ -145,9 +179,11 @@ def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
         raise ConfigError(
             f"{path}: unknown key {unknown[0]!r}; accepted keys: {', '.join(TOML_KEYS)}"
         )
-    for key in ("model", "grid"):
-        if key not in data:
-            raise ConfigError(f"{path}: missing key {key!r}")
+    if "model" not in data:
+        raise ConfigError(f"{path}: missing key 'model'")
+    if "grid" not in data and "points" not in data:
+        raise ConfigError(f"{path}: missing key 'grid' (or 'points')")
+    data.setdefault("grid", {})
     if not isinstance(data["grid"], dict):
         raise ConfigError(f"{path}: 'grid' must be a table ([grid]), got {data['grid']!r}")
     try:
@@ -159,6 +195,7 @@ def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
             name=data.get("name", path.stem),
             time_series=data.get("time_series", False),
             description=data.get("description", ""),
+            points=data.get("points", ()),
         )
     except ConfigError as exc:
         raise ConfigError(f"{path}: {exc}") from exc

@@ -109,6 +109,8 @@ def prepare_out(out: Path, sweep: Sweep) -> None:
             k: list(dict.fromkeys(old["grid"].get(k, []) + v)) for k, v in manifest["grid"].items()
         }
         manifest["grid"] = grid
+        points = old.get("points", [])
+        manifest["points"] = points + [p for p in manifest["points"] if p not in points]
         manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
         manifest["created"] = old.get("created")
     for sub in ("runs", "failed", "series", "samples"):
