@@ -52,13 +52,16 @@ pytestmark = [
     pytest.mark.timeout(200),
 ]
 
-#: Per model: Step clicks, the model time then, the states whose robots must be drawn by then
-#: and a slider label its page shows. A registered model missing here gets the generic checks
-#: (arena drawn, no page error, the clock advances, "seed" slider).
+#: Per model: Step clicks, the model time then, the states whose robots must be drawn by then,
+#: a slider label its page shows and the colours of its layers that must be drawn too. A
+#: registered model missing here gets the generic checks (arena drawn, no page error, the clock
+#: advances, "seed" slider).
 CASES = {
-    "beacon-explorer": (9, "9.0", ("beacon", "ground", "explorer"), "launch period t (s)"),
-    "stigmergy": (2, "1.0", ("beacon",), "pheromone radius C_rb (m)"),
-    "tiny": (8, "8.0", ("walking",), "launch_period (s)"),
+    "beacon-explorer": (9, "9.0", ("beacon", "ground", "explorer"), "launch period t (s)", ()),
+    "stigmergy": (2, "1.0", ("beacon",), "pheromone radius C_rb (m)", ()),
+    "tiny": (8, "8.0", ("walking",), "launch_period (s)", ()),
+    # the testbed's anchors land by 35 s (seed 1); then particle clouds and the GlobalMap
+    "sugarmap": (45, "45.0", ("anchor", "exploring"), "particles per explorer", ("#E69F00",)),
 }
 
 
@@ -72,7 +75,7 @@ def _case(name: str) -> tuple:
     if name in CASES:
         return CASES[name]
     step = model_class(name).Params().step_duration
-    return (2, f"{2 * step:.1f}", (), "seed")
+    return (2, f"{2 * step:.1f}", (), "seed", ())
 
 
 @pytest.fixture(params=sorted({*model_names(), *CASES}))
@@ -130,7 +133,7 @@ def _space_image(page) -> np.ndarray:
 
 def test_page_draws_arena_robots_and_plots(viz_url, tmp_path):
     name, url = viz_url
-    steps, time_text, states, slider = _case(name)
+    steps, time_text, states, slider, colours = _case(name)
     cls = model_class(name)
     styles = resolve_styles(cls.STATES, cls.STATE_STYLES)
     problems = []
@@ -169,6 +172,8 @@ def test_page_draws_arena_robots_and_plots(viz_url, tmp_path):
             after = _space_image(page)
             for state in states:
                 assert _pixels_near(after, styles[state].colour) > 20, f"no {state} robot drawn"
+            for colour in colours:
+                assert _pixels_near(after, colour, tol=20) > 20, f"no layer in {colour} drawn"
             plots = page.locator("img").nth(1).screenshot()
             plots = np.asarray(Image.open(io.BytesIO(plots)).convert("RGB"))
             first = styles[states[0] if states else cls.STATES[0]]

@@ -214,7 +214,7 @@ class SceneView:
                 if artist is None:
                     self._layers[layer.label] = self.ax.imshow(
                         rgba, origin="lower", extent=layer.extent, interpolation="nearest",
-                        zorder=1.5,
+                        zorder=0.5,  # over the walls, under the covered area: pink = believed only
                     )  # fmt: skip
                     self.ax.set_xlim(0, self.width)
                     self.ax.set_ylim(0, self.height)

@@ -1,0 +1,490 @@
+"""The tests of SugarMap's checkable claims (spec §8), on a sweep's tidy run rows.
+
+Each function takes the runs (one row per run: parameters and summary) and the model's time
+series (may be None) and returns a :class:`abm.published.Verdict`, or None when the runs lack
+the claim's set-up. Conditions are selected by parameter values, so the same runs may serve
+several claims (Fig. 5's SugarMap runs are Fig. 6's 6-anchor runs). Means are over runs;
+"greater" is judged on the means and the Welch p-value is shown beside them.
+"""
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pandas as pd
+from scipy import stats as sps
+
+from abm.published import Verdict
+
+__all__ = ["REFERENCE", "TESTS"]
+
+#: The reference set-up (spec §7): open square, 4 explorers, published noise, literal headings.
+REFERENCE = {"arena": "open", "n_explorers": 4, "noise_scale": 1.0, "heading_model": "literal"}
+#: SugarMap's reference: 6 anchors, 10 particles, eq. 8 weights.
+SUGARMAP = {**REFERENCE, "algorithm": "sugarmap", "n_anchors": 6, "n_particles": 10}
+
+
+def _select(runs: pd.DataFrame, **condition: object) -> pd.DataFrame:
+    for key, value in condition.items():
+        if key not in runs:
+            return runs.iloc[0:0]
+        column = runs[key]
+        if isinstance(value, float | int) and not isinstance(value, bool):
+            runs = runs[np.isclose(column.astype(float), value)]
+        else:
+            runs = runs[column == value]
+    return runs
+
+
+def _col(runs: pd.DataFrame, column: str) -> np.ndarray:
+    return runs[column].astype(float).dropna().to_numpy() if column in runs else np.zeros(0)
+
+
+def _mean_sd(values: np.ndarray) -> str:
+    return f"{values.mean():.1f} +- {values.std(ddof=1) if len(values) > 1 else 0:.1f}"
+
+
+def _welch(a: np.ndarray, b: np.ndarray) -> float:
+    """One-sided Welch p-value for mean(a) > mean(b)."""
+    if len(a) < 2 or len(b) < 2:
+        return float("nan")
+    return float(sps.ttest_ind(a, b, equal_var=False, alternative="greater").pvalue)
+
+
+def _rank(values: Sequence[float], factor: Sequence[float]) -> float:
+    rho = sps.spearmanr(factor, values).statistic if len(set(factor)) > 1 else np.nan
+    return float(rho)
+
+
+def _series(runs: pd.DataFrame, by: str, metric: str) -> dict:
+    """Per value of ``by``: the metric's values over the runs."""
+    return {k: _col(g, metric) for k, g in runs.groupby(by)} if by in runs else {}
+
+
+def _checkpoints(runs: pd.DataFrame, wanted: Sequence[int]) -> list[int]:
+    return [t for t in wanted if f"coverage_{t}" in runs and runs[f"coverage_{t}"].notna().all()]
+
+
+# ---------------------------------------------------------------------- Fig. 5
+def c01(runs, samples, walk: str = "lattice") -> Verdict | None:
+    sm = _select(runs, **SUGARMAP)
+    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk=walk)
+    other = "bounce" if walk == "lattice" else "lattice"
+    alt = _select(runs, **REFERENCE, algorithm="random_walk", random_walk=other)
+    taus = [t for t in _checkpoints(sm, (250, 500, 1000, 2000)) if t in _checkpoints(rw, [t])]
+    if sm.empty or rw.empty or not taus:
+        return None
+    parts, ok = [], True
+    for t in taus:
+        a, b = _col(sm, f"coverage_{t}"), _col(rw, f"coverage_{t}")
+        ok &= a.mean() > b.mean() or (a.mean() >= 99 and b.mean() >= 99)
+        parts.append(f"{t} s: SM {a.mean():.0f} vs RW {b.mean():.0f} % (p={_welch(a, b):.2g})")
+    for level in (50, 80):
+        a, b = _col(sm, f"t{level}"), _col(rw, f"t{level}")
+        if len(a) and len(b):
+            ok &= a.mean() < b.mean()
+            parts.append(f"T{level} {a.mean():.0f} vs {b.mean():.0f} s")
+    why = f"{walk} random walk"
+    if not alt.empty:
+        b = _col(alt, "coverage_1000")
+        why += f"; the {other} walk has {b.mean():.0f} % at 1000 s"
+    return Verdict("; ".join(parts), bool(ok), why)
+
+
+def c02(runs, samples) -> Verdict | None:
+    sm, om = _select(runs, **SUGARMAP), _select(runs, **REFERENCE, algorithm="omstc")
+    taus = [t for t in _checkpoints(sm, (250, 500, 1000, 2000, 3000)) if t in _checkpoints(om, [t])]
+    if sm.empty or om.empty or not taus:
+        return None
+    ok = all(_col(om, f"coverage_{t}").mean() >= _col(sm, f"coverage_{t}").mean() for t in taus)
+    a, b = _col(om, "t90"), _col(sm, "t90")
+    t90 = f"T90 OMSTC {a.mean():.0f} s vs SM {np.nanmean(b) if len(b) else np.nan:.0f} s"
+    ok &= len(a) > 0 and (len(b) < len(sm) or a.mean() < b.mean())
+    shown = ", ".join(
+        f"{t} s: {_col(om, f'coverage_{t}').mean():.0f} vs {_col(sm, f'coverage_{t}').mean():.0f} %"
+        for t in taus
+    )
+    return Verdict(f"OMSTC vs SM {shown}; {t90}", bool(ok), "OMSTC >= SM at every checkpoint")
+
+
+def c03(runs, samples) -> Verdict | None:
+    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    if rw.empty or "coverage_3000" not in rw:
+        return None
+    a, b = _col(rw, "coverage_1500"), _col(rw, "coverage_3000")
+    return Verdict(
+        f"lattice RW {a.mean():.0f} % at 1500 s, {b.mean():.0f} % at 3000 s",
+        bool(b.mean() > a.mean()),
+        "still rising after 1500 s (complete coverage itself needs runs far longer than 3000 s)",
+    )
+
+
+def c04(runs, samples) -> Verdict | None:
+    sm = _select(runs, **SUGARMAP)
+    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    if sm.empty or rw.empty or "coverage_1000" not in sm:
+        return None
+    a, b = _col(rw, "coverage_1000"), _col(sm, "coverage_1000")
+    return Verdict(
+        f"SD at 1000 s: RW {a.std(ddof=1):.1f}, SM {b.std(ddof=1):.1f} points",
+        bool(a.std(ddof=1) > b.std(ddof=1)),
+    )
+
+
+# ---------------------------------------------------------------------- Fig. 6
+def _anchors(runs) -> pd.DataFrame:
+    sm = _select(runs, **{k: v for k, v in SUGARMAP.items() if k != "n_anchors"})
+    return sm if sm["n_anchors"].nunique() >= 3 else sm.iloc[0:0]
+
+
+def c05(runs, samples) -> Verdict | None:
+    sm = _anchors(runs)
+    if sm.empty:
+        return None
+    parts, ok = [], True
+    for t in _checkpoints(sm, (500, 1000, 2000)):
+        rho = _rank(_col(sm, f"coverage_{t}"), sm["n_anchors"].astype(float))
+        ok &= rho > 0
+        parts.append(f"rho {rho:+.2f} at {t} s")
+    means = sm.groupby("n_anchors")["coverage_1000"].mean()
+    parts.append("1000 s by anchors: " + ", ".join(f"{k}: {v:.0f}" for k, v in means.items()))
+    return Verdict("; ".join(parts), bool(ok), "Spearman rho of coverage vs anchors > 0")
+
+
+def c06(runs, samples) -> Verdict | None:
+    sm = _anchors(runs)
+    means = sm.groupby("n_anchors")["coverage_1000"].mean() if not sm.empty else {}
+    if not all(k in means for k in (2, 4, 8, 10)):
+        return None
+    low, high = means[4] - means[2], means[10] - means[8]
+    return Verdict(f"gain 2->4: {low:+.1f}, 8->10: {high:+.1f} points", bool(low > high))
+
+
+def c07(runs, samples) -> Verdict | None:
+    sm = _anchors(runs)
+    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    two, six = _select(sm, n_anchors=2), _select(sm, n_anchors=6)
+    if two.empty or six.empty:
+        return None
+    sd2, sd6 = _col(two, "coverage_1000").std(ddof=1), _col(six, "coverage_1000").std(ddof=1)
+    me2, me6 = _col(two, "map_error").mean(), _col(six, "map_error").mean()
+    fm2, fm6 = np.nanmean(_col(two, "false_match_rate")), np.nanmean(_col(six, "false_match_rate"))
+    sd_rw = _col(rw, "coverage_1000").std(ddof=1) if not rw.empty else np.nan
+    ok = sd2 >= sd6 and me2 > me6 and fm2 > fm6
+    return Verdict(
+        f"SD at 1000 s: 2 anchors {sd2:.1f}, 6 anchors {sd6:.1f}, RW {sd_rw:.1f}; map error "
+        f"{me2:.3f} vs {me6:.3f}; false-match rate {fm2:.2f} vs {fm6:.2f}",
+        bool(ok),
+        "all three: SD, map error and false matches higher with 2 anchors",
+    )
+
+
+def c21(runs, samples) -> Verdict | None:
+    sm = _anchors(runs)
+    if sm.empty:
+        return None
+    rates = sm.groupby("n_anchors")["false_match_rate"].mean()
+    rho = _rank(rates.to_numpy(), rates.index.to_numpy(float))
+    low = rates[rates.index <= 3].mean()
+    high = rates[rates.index >= 5].mean()
+    return Verdict(
+        "false-match rate by anchors: " + ", ".join(f"{k}: {v:.2f}" for k, v in rates.items()),
+        bool(rho < 0 and low > high),
+        "falls with the anchor count; higher at 2-3 than at >= 5",
+    )
+
+
+# ---------------------------------------------------------------------- Fig. 7
+def _explorers(runs) -> pd.DataFrame:
+    sm = _select(runs, **{k: v for k, v in SUGARMAP.items() if k != "n_explorers"})
+    return sm if sm["n_explorers"].nunique() >= 3 else sm.iloc[0:0]
+
+
+def c08(runs, samples) -> Verdict | None:
+    sm = _explorers(runs)
+    if sm.empty:
+        return None
+    parts, ok = [], True
+    for t in _checkpoints(sm, (250, 500, 1000)):
+        means = sm.groupby("n_explorers")[f"coverage_{t}"].mean()
+        rising = bool(np.all(np.diff(means.to_numpy()) > 0) or means.min() >= 99)
+        ok &= rising
+        parts.append(f"{t} s: " + ", ".join(f"{k}: {v:.0f}" for k, v in means.items()))
+    return Verdict("; ".join(parts), bool(ok), "mean coverage rises with every added explorer")
+
+
+def _t50(runs) -> pd.Series:
+    return runs.groupby("n_explorers")["t50"].mean()
+
+
+def c09(runs, samples) -> Verdict | None:
+    sm = _explorers(runs)
+    t50 = _t50(sm) if not sm.empty else pd.Series(dtype=float)
+    if 1 not in t50 or t50.isna().any():
+        return None
+    parts, ok = [], True
+    for n in (k for k in t50.index if 1 < k <= 4):
+        speedup = t50[1] / t50[n]
+        ok &= abs(speedup - n) <= 0.3 * n
+        parts.append(f"{n}: {speedup:.2f}x")
+    return Verdict("T50(1) / T50(n): " + ", ".join(parts), bool(ok), "within +-30 % of n")
+
+
+def c10(runs, samples) -> Verdict | None:
+    sm = _explorers(runs)
+    t50 = _t50(sm) if not sm.empty else pd.Series(dtype=float)
+    if 1 not in t50 or t50.isna().any():
+        return None
+    efficiency = {n: t50[1] / (n * t50[n]) for n in t50.index}
+    overlap = sm.groupby("n_explorers")["overlap"].mean()
+    falls = bool(np.all(np.diff(list(efficiency.values())) <= 0.05))
+    rises = bool(overlap.iloc[-1] > overlap.iloc[0])
+    return Verdict(
+        "efficiency " + ", ".join(f"{n}: {e:.2f}" for n, e in efficiency.items())
+        + "; overlap " + ", ".join(f"{n}: {v:.2f}" for n, v in overlap.items()),
+        falls and rises,
+        "efficiency T50(1)/(n T50(n)) falls (tolerance 0.05) and overlap rises with n",
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------- Fig. 8
+def _split(runs) -> pd.DataFrame:
+    base = {k: v for k, v in SUGARMAP.items() if k not in ("n_anchors", "n_explorers")}
+    sm = _select(runs, **base)
+    if sm.empty:
+        return sm
+    sm = sm[(sm["n_anchors"] + sm["n_explorers"]) == 10]
+    return sm if sm["n_explorers"].nunique() >= 4 else sm.iloc[0:0]
+
+
+def c11(runs, samples) -> Verdict | None:
+    sm = _split(runs)
+    if sm.empty:
+        return None
+    part = sm[(sm["n_explorers"] >= 2) & (sm["n_explorers"] <= 6)]
+    parts, ok = [], True
+    for t in _checkpoints(part, (500, 1000)):
+        means = part.groupby("n_explorers")[f"coverage_{t}"].mean()
+        ok &= bool(_rank(means.to_numpy(), means.index.to_numpy(float)) > 0)
+        parts.append(f"{t} s: " + ", ".join(f"{k}E: {v:.0f}" for k, v in means.items()))
+    return Verdict("; ".join(parts), bool(ok), "rises with explorers from 2 to 6")
+
+
+def c12(runs, samples) -> Verdict | None:
+    sm = _split(runs)
+    means = sm.groupby("n_explorers")["coverage_1000"].mean() if not sm.empty else {}
+    if not all(k in means for k in (5, 6, 7, 8)):
+        return None
+    g56, g67, g78 = means[6] - means[5], means[7] - means[6], means[8] - means[7]
+    return Verdict(
+        f"gains at 1000 s: 5->6 {g56:+.1f}, 6->7 {g67:+.1f}, 7->8 {g78:+.1f} points",
+        bool(g67 < g56 and g78 < g56),
+        "the knee at 4 anchors / 6 explorers",
+    )
+
+
+def c13(runs, samples) -> Verdict | None:
+    sm = _split(runs)
+    if sm.empty or "map_error_3000" not in sm or "map_error_500" not in sm:
+        return None
+    growth = (sm["map_error_3000"] - sm["map_error_500"]).groupby(sm["n_anchors"]).mean()
+    few = growth[growth.index <= 3]
+    if few.empty or 6 not in growth:
+        return None
+    return Verdict(
+        "map error growth 500 -> 3000 s: "
+        + ", ".join(f"{k}A: {v:+.3f}" for k, v in growth.items()),
+        bool((few > 0).all() and (few > growth[6]).all()),
+        "grows for 2-3 anchors, faster than for 6",
+    )
+
+
+# ---------------------------------------------------------------------- Fig. 9
+def _particles(runs, noise: float = 1.0) -> pd.DataFrame:
+    base = {**SUGARMAP, "n_explorers": 2, "noise_scale": noise}
+    sm = _select(runs, **{k: v for k, v in base.items() if k != "n_particles"})
+    sm = sm[sm["coverage_400"].notna()] if "coverage_400" in sm else sm.iloc[0:0]
+    return sm if sm["n_particles"].nunique() >= 3 else sm.iloc[0:0]
+
+
+def c14(runs, samples) -> Verdict | None:
+    sm = _particles(runs)
+    if sm.empty:
+        return None
+    means = sm.groupby("n_particles")["coverage_400"].mean()
+    rho = _rank(means.to_numpy(), means.index.to_numpy(float))
+    ok = rho > 0 and means.iloc[-1] > means.iloc[0]
+    return Verdict(
+        "coverage at 400 ticks: " + ", ".join(f"{k}: {v:.1f}" for k, v in means.items()),
+        bool(ok),
+        f"Spearman rho over particle counts {rho:+.2f}",
+    )
+
+
+def c15(runs, samples) -> Verdict | None:
+    sm = _particles(runs)
+    if sm.empty:
+        return None
+    means = sm.groupby("n_particles")["overlap_400"].mean()
+    rho = _rank(means.to_numpy(), means.index.to_numpy(float))
+    return Verdict(
+        "overlap at 400 ticks: " + ", ".join(f"{k}: {v:.2f}" for k, v in means.items()),
+        bool(rho < 0),
+        f"Spearman rho {rho:+.2f}",
+    )
+
+
+def c16(runs, samples) -> Verdict | None:
+    plateau = {}
+    for noise in (1.0, 2.0):
+        sm = _particles(runs, noise)
+        if sm.empty:
+            return None
+        stats = sm.groupby("n_particles")["coverage_400"].agg(["mean", "std"])
+        best = stats["mean"].idxmax()
+        spread = 0.0 if np.isnan(stats.loc[best, "std"]) else stats.loc[best, "std"]  # 1 run
+        near = stats[stats["mean"] >= stats.loc[best, "mean"] - spread]
+        plateau[noise] = int(near.index.min())
+    return Verdict(
+        f"particles at the plateau: noise x1 {plateau[1.0]}, x2 {plateau[2.0]}",
+        plateau[2.0] > plateau[1.0],
+        "the smallest count within 1 SD of the best",
+    )
+
+
+# ---------------------------------------------------------------------- Fig. 11, 15
+def c17(runs, samples) -> Verdict | None:
+    base = {k: v for k, v in SUGARMAP.items() if k != "arena"}
+    sm = _select(runs, **base)
+    arenas = [a for a in ("circle", "ushape", "serpentine") if (sm.get("arena") == a).any()]
+    if len(arenas) < 3:
+        return None
+    groups = {a: _select(sm, arena=a) for a in arenas}
+    ok, worst = True, 0.0
+    for t in _checkpoints(sm, (250, 500, 1000, 2000, 3000)):
+        for i, g in enumerate(arenas):
+            for h in arenas[i + 1 :]:
+                a, b = _col(groups[g], f"coverage_{t}"), _col(groups[h], f"coverage_{t}")
+                gap = abs(a.mean() - b.mean()) - (a.std(ddof=1) + b.std(ddof=1))
+                worst = max(worst, gap)
+                ok &= gap <= 0
+    t80 = {a: np.nanmean(_col(g, "t80")) for a, g in groups.items()}
+    spread = (
+        max(t80.values()) / min(t80.values()) - 1
+        if all(np.isfinite(list(t80.values())))
+        else np.inf
+    )
+    ok &= spread <= 0.25
+    return Verdict(
+        "T80 " + ", ".join(f"{a}: {v:.0f} s" for a, v in t80.items())
+        + f"; largest |mean gap| - (SD + SD): {worst:+.1f} points",
+        bool(ok),
+        "every pair within SD_g + SD_h at every checkpoint, T80 within 25 %",
+    )  # fmt: skip
+
+
+def _testbed(runs) -> pd.DataFrame:
+    return _select(runs, algorithm="sugarmap", arena="testbed", n_anchors=5, n_explorers=2)
+
+
+def c18(runs, samples) -> Verdict | None:
+    tb = _testbed(runs)
+    if tb.empty or "coverage_180" not in tb:
+        return None
+    values = _col(tb, "coverage_180")
+    return Verdict(
+        f"{_mean_sd(values)} % at 180 s ({len(values)} runs)",
+        bool(75 <= values.mean() <= 95),
+        "85 % +- 10 points (the paper's testbed)",
+    )
+
+
+def c19(runs, samples) -> Verdict | None:
+    tb = _testbed(runs)
+    if tb.empty or samples is None or "tau" not in samples:
+        return None
+    curve = samples[samples["run_id"].isin(tb["run_id"])].groupby("tau")["coverage"].mean()
+    if curve.index.max() < 180:
+        return None
+    at = {t: float(curve[curve.index <= t].iloc[-1]) for t in (0, 90, 180)}
+    first, second = at[90] - at[0], at[180] - at[90]
+    return Verdict(
+        f"mean coverage {at[0]:.0f} / {at[90]:.0f} / {at[180]:.0f} % at 0 / 90 / 180 s",
+        bool(np.all(np.diff(curve.to_numpy()) >= -1e-9) and first > second),
+        "monotone, rising faster in the first half (decelerating)",
+    )
+
+
+# ---------------------------------------------------------------------- overlap and noise
+def c23(runs, samples) -> Verdict | None:
+    sm = _select(runs, **SUGARMAP)
+    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    if sm.empty or rw.empty or "overlap_1000" not in sm:
+        return None
+    a, b = _col(sm, "overlap_1000"), _col(rw, "overlap_1000")
+    return Verdict(f"overlap at 1000 s: SM {a.mean():.2f}, RW {b.mean():.2f}",
+                   bool(a.mean() < b.mean()))  # fmt: skip
+
+
+def _noise(runs) -> pd.DataFrame:
+    base = {k: v for k, v in SUGARMAP.items() if k not in ("noise_scale", "n_explorers")}
+    sm = _select(runs, **base, n_explorers=2)
+    sm = sm[sm["coverage_400"].notna()] if "coverage_400" in sm else sm.iloc[0:0]
+    return sm if sm["noise_scale"].nunique() >= 3 else sm.iloc[0:0]
+
+
+def c24(runs, samples) -> Verdict | None:
+    sm = _noise(runs)
+    if sm.empty:
+        return None
+    overlap = sm.groupby("noise_scale")["overlap_400"].mean()
+    rho = _rank(overlap.to_numpy(), overlap.index.to_numpy(float))
+    return Verdict(
+        "overlap at 400 ticks by noise scale: "
+        + ", ".join(f"x{k:g}: {v:.2f}" for k, v in overlap.items()),
+        bool(rho > 0),
+        f"Spearman rho {rho:+.2f}",
+    )  # fmt: skip
+
+
+def c27(runs, samples) -> Verdict | None:
+    sm = _noise(runs)
+    om = _select(runs, **{**REFERENCE, "n_explorers": 2}, algorithm="omstc")
+    if sm.empty or om.empty or "overlap_400" not in om:
+        return None
+    quiet = _col(_select(sm, noise_scale=0.0), "overlap_400").mean()
+    noisy = _col(_select(sm, noise_scale=1.0), "overlap_400").mean()
+    ideal = _col(om, "overlap_400").mean()
+    return Verdict(
+        f"overlap at 400 ticks: SM noise 0 {quiet:.2f}, SM noise x1 {noisy:.2f}, OMSTC {ideal:.2f}",
+        bool(abs(quiet - ideal) < abs(noisy - ideal)),
+        "noise-free SugarMap nearer OMSTC than noisy SugarMap",
+    )
+
+
+#: Claim id -> its test.
+TESTS: dict[str, Callable] = {
+    "C01": c01,
+    "C01b": lambda runs, samples: c01(runs, samples, walk="bounce"),
+    "C02": c02,
+    "C03": c03,
+    "C04": c04,
+    "C05": c05,
+    "C06": c06,
+    "C07": c07,
+    "C08": c08,
+    "C09": c09,
+    "C10": c10,
+    "C11": c11,
+    "C12": c12,
+    "C13": c13,
+    "C14": c14,
+    "C15": c15,
+    "C16": c16,
+    "C17": c17,
+    "C18": c18,
+    "C19": c19,
+    "C21": c21,
+    "C23": c23,
+    "C24": c24,
+    "C27": c27,
+}

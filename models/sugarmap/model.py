@@ -1,0 +1,472 @@
+"""SugarMapModel: location-less coverage by a micro-aerial swarm (Purohit et al. 2013).
+
+The story of a run, as SimPy processes on the 1 s tick (spec §4, §5.1):
+
+1. **Dispersion** (Fig. 3): the anchors take off from the entrance on random headings; every
+   dispersion period each flying anchor asks the others for an RToF reading: if one does not
+   answer it turns back (retraces), if none is within the proximity threshold it lands for
+   good, otherwise it takes a new random heading. At InitCutoff the rest land where they are.
+   The coverage clock tau starts when the last anchor has landed.
+2. **Coverage** (the base station, one process): each tick the planner of every explorer picks
+   a command (turn, move forward one tick), the explorers execute it with the published
+   actuation noise (bumping into walls they cannot see), measure their RToF signature to the
+   anchors they can reach, and the base station runs each explorer's particle filter (predict,
+   revisit test, reweight, resample) and merges the particles' maps into the NodeMaps and the
+   GlobalMap (eqs. 1-10) the planner reads next tick.
+
+The baselines use the same arena, motion and noise: a random walk (lattice or bounce) and
+OMSTC, spanning-tree coverage with true positions (the paper's ideal reference).
+
+True coverage (the plotted metric) counts the navigable cells that have held an explorer's true
+position at the end of a tick; the brain's estimate (cells with GlobalMap >= COVER_TH) is
+recorded beside it, with the map's error, the pose error and the revisit statistics.
+"""
+
+import numpy as np
+
+from abm.comms import Shadowing
+from abm.coverage import CoverageRaster
+from abm.errors import ConfigError
+from abm.kinematics import bump_moves
+from abm.model import SwarmModel
+from abm.robot import Robot
+from abm.styles import Layer, StateStyle
+from models.sugarmap import published
+from models.sugarmap.arenas import load_arena, start_cells
+from models.sugarmap.baselines import OMSTC, BounceWalk, lattice_turns
+from models.sugarmap.params import SugarMapParams
+from models.sugarmap.particles import MapGrid, ParticleFilter, global_map
+from models.sugarmap.planner import CoveragePlanner
+from models.sugarmap.rtof import RToF
+
+__all__ = ["CHECKPOINTS", "SugarMapModel"]
+
+#: Coverage times (tau, s) the summary reports coverage at (those within the horizon).
+CHECKPOINTS = (90, 180, 250, 400, 500, 1000, 1500, 2000, 3000)
+#: A match whose two true positions are farther apart than this is a false match (m).
+FALSE_MATCH = 2.0
+
+
+def wrap(angle: np.ndarray) -> np.ndarray:
+    """Angles (deg) wrapped to (-180, 180]."""
+    return 180.0 - np.mod(180.0 - np.asarray(angle, dtype=float), 360.0)
+
+
+class SugarMapModel(SwarmModel):
+    """SugarMap, random walk or OMSTC coverage of an indoor arena by a swarm of MAVs.
+
+    Every field of :class:`SugarMapParams` is a keyword of the constructor, e.g.
+    ``SugarMapModel(algorithm="sugarmap", n_anchors=6, n_explorers=4, seed=1)``.
+
+    Args:
+        seed: seed of the model's random generator.
+        **params: fields of :class:`SugarMapParams`.
+
+    """
+
+    Params = SugarMapParams
+    STATES = ("waiting", "dispersing", "anchor", "exploring", "stopped")
+    STATE_STYLES = {
+        "waiting": StateStyle("#999999", marker="s", size=40.0, layer=4.0),
+        "dispersing": StateStyle("#56B4E9", marker="^", size=45.0, layer=6.0),
+        "anchor": StateStyle("#0072B2", marker="*", size=120.0, layer=5.0),
+        "exploring": StateStyle("#D55E00", marker="o", size=45.0, layer=6.0),
+        "stopped": StateStyle("#000000", marker="X", size=45.0, layer=6.0),
+    }
+    PUBLISHED = published.PUBLISHED
+    CLAIMS = published.CLAIMS
+    REPORT = published.REPORT
+    APP = "models.sugarmap.app"
+    QUICK = {"arena": "testbed", "n_anchors": 5, "n_explorers": 2, "init_cutoff": 60.0}
+
+    def __init__(self, *, seed: int | None = None, **params: object) -> None:
+        p = self.make_params(**params)
+        arena = load_arena(p.arena)
+        super().__init__(
+            p,
+            arena,
+            seed=seed,
+            comm_range=p.radio_range,
+            shadowing=Shadowing(p.path_loss_exponent, p.shadowing_sd, through_walls=True),
+            physics=False,
+        )
+        self.cell = arena.resolution
+        self.coverage = CoverageRaster(arena, radius=0.01 * self.cell, around="cell")
+        cells = start_cells(arena.free, p.n_explorers, self._entrance_cell(p.entrance))
+        self.starts = (np.array(cells, dtype=float) + 0.5) * self.cell
+        self.t_deploy: float | None = None
+        self.cutoff_fired = False
+        self.anchor_robots = [
+            Robot(self, self._entrance(i), "dispersing", "fly") for i in range(p.anchors)
+        ]
+        self.explorer_robots = [Robot(self, s, "waiting", "fly") for s in self.starts]
+        self.grid = MapGrid.around(arena.width, arena.height, self.cell, p.margin)
+        self.filter: ParticleFilter | None = None
+        self.env.process(self._run())
+
+    def _entrance_cell(self, entrance: tuple[float, float] | None) -> tuple[int, int] | None:
+        """The arena cell of the ``entrance`` point, or ConfigError naming it if not free."""
+        if entrance is None:
+            return None
+        point = np.asarray(entrance, dtype=float).reshape(-1)
+        if point.shape != (2,) or not self.arena.is_free(point[None])[0]:
+            raise ConfigError(
+                f"entrance {tuple(entrance)} must be a free point (x, y) in m of arena "
+                f"{self.arena.name!r} ({self.arena.width:g} m x {self.arena.height:g} m)"
+            )
+        ix, iy = self.arena.cell_of(point[None])
+        return int(ix[0]), int(iy[0])
+
+    def _entrance(self, i: int) -> np.ndarray:
+        """Anchor i starts on the explorers' start cells, round-robin, +-5 cm jitter (D1)."""
+        return self.starts[i % len(self.starts)] + self.rng.uniform(-0.05, 0.05, 2)
+
+    # ------------------------------------------------------------------ the story
+    def _run(self):
+        yield from self._disperse()
+        self.t_deploy = self.env.now
+        self.recorder.log("deployed", cutoff=self.cutoff_fired, anchors=len(self.anchor_robots))
+        self._start_coverage()
+        horizon = self.params.horizon
+        while self.env.now - self.t_deploy < horizon - 1e-9:
+            yield self.env.timeout(self.params.dt)
+            self._tick()
+        self.finish("horizon")
+
+    def _disperse(self):
+        """Fig. 3, constrained dispersion of the anchors (spec §4, D1-D18)."""
+        p = self.params
+        robots = self.anchor_robots
+        ids = [r.unique_id for r in robots]
+        if not robots:
+            return
+        for robot in robots:
+            self.comms.add(robot.unique_id, robot.position.copy())
+            self.recorder.log("launch", robot.unique_id)
+        pos = np.array([r.position for r in robots])
+        heading = self.rng.uniform(0.0, 360.0, len(robots))
+        flying = np.ones(len(robots), dtype=bool)
+        proximity = p.proximity_for(self.arena.free_area)
+        start, next_check = self.env.now, self.env.now + p.dispersion_period
+        while flying.any() and self.env.now - start < p.init_cutoff - 1e-9:
+            yield self.env.timeout(p.dt)
+            rows = np.nonzero(flying)[0]
+            step = p.speed * p.dt * (1.0 + self._noise(p.speed_noise, len(rows)))
+            pos[rows], blocked = bump_moves(self.arena, pos[rows], heading[rows], step)
+            heading[rows[blocked]] = self.rng.uniform(0.0, 360.0, int(blocked.sum()))
+            for r in rows:
+                self.comms.move(ids[r], pos[r])
+            self.place(np.array(ids)[rows], pos[rows])
+            if self.env.now < next_check - 1e-9:
+                continue
+            next_check = self.env.now + p.dispersion_period
+            for r in rows:
+                heading[r] = self._check(r, ids, pos, heading[r], proximity, flying)
+        self.cutoff_fired = bool(flying.any())
+        for r in np.nonzero(flying)[0]:
+            self._land(r)
+
+    def _check(self, r, ids, pos, heading, proximity, flying) -> float:
+        """One anchor's RToF check (D9-D15): retrace, land, or a new random heading."""
+        others = [i for i in range(len(ids)) if i != r]
+        if not others:
+            self._land(r, flying)
+            return heading
+        linked = set(self.comms.neighbours(ids[r]))
+        if any(ids[o] not in linked for o in others):
+            return (heading + 180.0) % 360.0  # an anchor did not answer: retrace
+        rtof = np.hypot(*(pos[others] - pos[r]).T) + self.rng.normal(
+            0.0, self.params.rtof_noise, len(others)
+        )
+        if rtof.min() > proximity:
+            self._land(r, flying)
+            return heading
+        return float(self.rng.uniform(0.0, 360.0))
+
+    def _land(self, r: int, flying: np.ndarray | None = None) -> None:
+        robot = self.anchor_robots[r]
+        if flying is not None:
+            flying[r] = False
+        robot.set_state("anchor")
+        robot.set_mode("landed")
+        self.recorder.log("land", robot.unique_id, x=robot.position[0], y=robot.position[1])
+
+    def _noise(self, share: float, n: int) -> np.ndarray:
+        """N standard-normal draws times ``share`` and the noise scale (a relative error)."""
+        return self.rng.standard_normal(n) * share * self.params.noise_scale
+
+    # ------------------------------------------------------------------ coverage phase
+    def _start_coverage(self) -> None:
+        p = self.params
+        n = len(self.explorer_robots)
+        self.explorer_ids = np.array([r.unique_id for r in self.explorer_robots])
+        self.pos = self.starts.copy()
+        self.truth_heading = np.zeros(n)  # executed heading (deg), all face north (A35)
+        self.command_heading = np.zeros(n)  # the last commanded absolute heading
+        self.presumed = self.starts.copy()
+        self.active = np.ones(n, dtype=bool)
+        self.idle = np.zeros(n, dtype=bool)
+        self.last_cell = [None] * n
+        self.entries = 0
+        self.true_matches = self.false_matches = 0
+        for robot in self.explorer_robots:
+            robot.set_state("exploring")
+            self.comms.add(robot.unique_id, robot.position.copy())
+        self.coverage.stamp(self.pos, self.env.now)
+        self._count_entries()
+        self.anchor_ids = {r.unique_id: i for i, r in enumerate(self.anchor_robots)}
+        anchors = np.array([r.position for r in self.anchor_robots]).reshape(-1, 2)
+        self.rtof = RToF(
+            anchors, p.rtof_noise, p.rtof_bias, (self.arena.width, self.arena.height), self.rng
+        )
+        self.planners = []
+        self.bounce = None
+        self.omstc = None
+        if p.algorithm == "sugarmap":
+            self.filter = ParticleFilter(
+                self.starts,
+                p.particles,
+                p.anchors,
+                self.grid,
+                sig_th=p.signature_threshold,
+                heading_model=p.heading_model,
+                turn_noise=p.turn_noise * p.noise_scale,
+                speed_noise=p.speed_noise * p.noise_scale,
+                weights=p.resolved("weights"),
+                sigma_m=p.resolved("sigma_m"),
+                resample=p.resolved("resample"),
+                min_match_age=p.resolved("min_match_age"),
+                sig_norm=p.resolved("sig_norm"),
+            )
+            self.stored_truth = [[] for _ in range(n)]
+            ix, iy = self.grid.cells(self.starts)
+            self.planners = [
+                CoveragePlanner(
+                    (int(x), int(y)),
+                    cover_th=p.cover_th,
+                    backtrack=p.resolved("backtrack"),
+                    beta=p.resolved("beta"),
+                    blocked_ttl=p.resolved("blocked_ttl"),
+                    pick=p.resolved("pick"),
+                )
+                for x, y in zip(ix, iy, strict=True)
+            ]
+            self.global_map = global_map(self.filter.node_maps())
+        elif p.algorithm == "random_walk" and p.resolved("random_walk") == "bounce":
+            self.bounce = BounceWalk(n, self.rng)
+        elif p.algorithm == "omstc":
+            roots = [tuple(int(c) for c in cell) for cell in np.floor(self.starts / self.cell)]
+            self.omstc = OMSTC(self.arena.free, roots)
+        self.blocked = np.zeros(n, dtype=bool)
+        self._sample()
+
+    def _tick(self) -> None:
+        """S1-S5 of spec §5.1 for every explorer."""
+        heading, speed, moving = self._commands()  # S1
+        turn = wrap(heading - self.command_heading)
+        self.command_heading = np.where(moving, heading, self.command_heading)
+        self._execute(heading, turn, speed, moving)  # S2
+        for e, rid in enumerate(self.explorer_ids):  # S3: radio links at the true positions
+            self.comms.move(int(rid), self.pos[e])
+        if self.filter is not None:
+            self._estimate(heading, turn, speed, moving)  # S3 signatures, S4 the filter
+        self._sample()  # S5
+
+    def _commands(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The commanded absolute heading (deg), speed (m/s) and who moves, this tick."""
+        p = self.params
+        n = len(self.pos)
+        heading = self.command_heading.copy()
+        speed = np.full(n, p.speed)
+        moving = self.active.copy()
+        if p.algorithm == "random_walk":
+            if self.bounce is None:
+                heading = self.command_heading + lattice_turns(self.rng, n)
+            else:
+                heading = self.bounce.headings(self.blocked, self.rng)
+        elif p.algorithm == "omstc":
+            covered = self.coverage.covered
+            for e in range(n):
+                cmd = self.omstc.command(e, self.pos[e], covered, self.cell, p.speed, p.dt)
+                if cmd is None:
+                    moving[e] = False
+                    self.idle[e] = True
+                else:
+                    heading[e], speed[e] = cmd
+        else:
+            cells = self._planner_cells()
+            for e in np.nonzero(self.active)[0]:
+                target = self.planners[e].decide(cells[e], self.global_map, self.env.now, self.rng)
+                self.idle[e] = target is None
+                if target is None:
+                    moving[e] = False
+                else:
+                    heading[e] = target
+        return np.mod(heading, 360.0), speed, moving
+
+    def _planner_cells(self) -> list[tuple[int, int]]:
+        """Where the planner believes each explorer is (P1): the mean particle or the
+        command-integrated pose, as a cell of the estimate grid.
+        """
+        pose = self.params.resolved("planner_pose")
+        points = self.filter.mean_positions() if pose == "particles" else self.presumed
+        ix, iy = self.grid.cells(points)
+        return [(int(x), int(y)) for x, y in zip(ix, iy, strict=True)]
+
+    def _execute(self, heading, turn, speed, moving) -> None:
+        """The commands with actuation noise (spec §3.3) and the bump model."""
+        p = self.params
+        n = len(self.pos)
+        n_phi = self._noise(p.turn_noise, n) * np.abs(turn)
+        n_v = self._noise(p.speed_noise, n)
+        if p.heading_model == "literal":
+            executed = heading + n_phi
+        else:
+            executed = self.truth_heading + turn + n_phi
+        self.truth_heading = np.where(moving, executed, self.truth_heading)
+        distance = np.where(moving, np.maximum(speed * (1.0 + n_v), 0.0) * p.dt, 0.0)
+        new, blocked = bump_moves(self.arena, self.pos, self.truth_heading, distance)
+        self.blocked = blocked & moving
+        for e in np.nonzero(self.blocked)[0]:
+            self.collision("wall", int(self.explorer_ids[e]))
+            if self.planners:
+                self.planners[e].blocked(self.env.now)
+            if self.omstc is not None:
+                self.omstc.blocked(e)
+        self.pos = new
+        go = moving & ~self.blocked
+        rad = np.radians(heading)
+        self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
+            [np.sin(rad[go]), np.cos(rad[go])], axis=1
+        )
+        self.place(self.explorer_ids, self.pos)
+        self.coverage.stamp(self.pos, self.env.now)
+        self._count_entries()
+
+    def _count_entries(self) -> None:
+        """Cell entries (for overlap = entries / distinct cells covered)."""
+        cells = np.floor(self.pos / self.cell).astype(int)
+        for e, cell in enumerate(map(tuple, cells)):
+            if cell != self.last_cell[e]:
+                self.entries += 1
+                self.last_cell[e] = cell
+
+    def _estimate(self, heading, turn, speed, moving) -> None:
+        """S3-S4: signatures at the true positions, then each explorer's particle filter."""
+        visible = np.zeros((len(self.pos), len(self.anchor_robots)), dtype=bool)
+        for e, rid in enumerate(self.explorer_ids):
+            for other in self.comms.neighbours(int(rid)):
+                if other in self.anchor_ids:
+                    visible[e, self.anchor_ids[other]] = True
+        signatures = self.rtof.measure(self.pos, visible, self.rng)
+        self.filter.predict(
+            self.rng, heading, turn, speed, moving & ~self.blocked, dt=self.params.dt
+        )
+        for e in range(len(self.pos)):
+            if not self.active[e]:
+                continue
+            if not visible[e].any():  # no anchor in range: stop exploring (spec §5.4)
+                self.active[e] = False
+                self.explorer_robots[e].set_state("stopped")
+                self.recorder.log("stopped", int(self.explorer_ids[e]))
+                continue
+            match = self.filter.correct(self.rng, e, signatures[e], self.env.now)
+            truth = self.stored_truth[e]
+            if match.matched:
+                gap = np.hypot(*(self.pos[e] - truth[match.index]))
+                self.false_matches += int(gap > FALSE_MATCH)
+                self.true_matches += int(gap <= FALSE_MATCH)
+            else:
+                truth.append(self.pos[e].copy())
+        self.global_map = global_map(self.filter.node_maps())
+
+    def layers(self) -> list[Layer]:
+        """The brain's belief over the arena: the GlobalMap and every particle (SugarMap)."""
+        if self.filter is None:
+            return []
+        g = self.grid
+        (x0, y0), (rows, cols) = g.origin, g.shape
+        extent = (x0, x0 + cols * g.cell, y0, y0 + rows * g.cell)
+        return [
+            Layer("GlobalMap (belief)", raster=self.global_map, extent=extent, colour="#CC79A7"),
+            Layer("particles", points=self.filter.pos.reshape(-1, 2), colour="#E69F00", size=22.0),
+        ]
+
+    # ------------------------------------------------------------------ measurements
+    def _navigable_estimate(self) -> np.ndarray:
+        """The GlobalMap on the arena's cells (the frames coincide at tau = 0)."""
+        m = self.params.margin
+        rows, cols = self.arena.free.shape
+        return self.global_map[m : m + rows, m : m + cols]
+
+    def _sample(self) -> None:
+        free = self.arena.free
+        values = {
+            "tau": self.env.now - self.t_deploy,
+            "coverage": 100.0 * self.coverage.fraction,
+            "overlap": self.entries / max(int(self.coverage.covered.sum()), 1),
+            "idle": int(self.idle.sum()),
+        }
+        if self.filter is not None:
+            g = self._navigable_estimate()
+            truth = self.coverage.covered[free]
+            values.update(
+                coverage_est=100.0 * float((g[free] >= self.params.cover_th).mean()),
+                map_error=float(np.abs(g[free] - truth).mean()),
+                pose_error=float(np.hypot(*(self.filter.mean_positions() - self.pos).T).mean()),
+                signatures=int(self.filter.n_stored.sum()),
+                matches=self.true_matches + self.false_matches,
+                false_matches=self.false_matches,
+            )
+        self.recorder.sample(**values)
+
+    def metrics(self) -> dict:
+        """The run's results: coverage at the checkpoints, times to 50/80/90 %, the estimate's
+        quality and the revisit statistics (SugarMap only).
+        """
+        p = self.params
+        out = {
+            "algorithm": p.algorithm,
+            "arena": self.arena.name,
+            "random_walk": p.resolved("random_walk") if p.algorithm == "random_walk" else None,
+            "noise_scale": p.noise_scale,
+            "heading_model": p.heading_model,
+            "n_anchors": p.anchors,
+            "n_explorers": p.n_explorers,
+            "n_particles": p.particles if p.algorithm == "sugarmap" else 0,
+            "t_deploy": self.t_deploy,
+            "cutoff_fired": self.cutoff_fired,
+        }
+        if self.t_deploy is None:
+            return out
+        samples = self.samples()
+        tau = samples["tau"].to_numpy()
+        coverage = samples["coverage"].to_numpy()
+        for checkpoint in CHECKPOINTS:
+            if checkpoint > p.horizon + 1e-9:
+                continue
+            reached = checkpoint <= tau[-1] + 1e-9  # not when time_limit cut the run short
+            k = int(np.searchsorted(tau, checkpoint + 1e-9)) - 1
+            out[f"coverage_{checkpoint}"] = float(coverage[k]) if reached else np.nan
+            out[f"overlap_{checkpoint}"] = float(samples["overlap"].iloc[k]) if reached else np.nan
+            if "map_error" in samples:
+                error = float(samples["map_error"].iloc[k]) if reached else np.nan
+                out[f"map_error_{checkpoint}"] = error
+        for level in (50, 80, 90):
+            reached = np.nonzero(coverage >= level)[0]
+            out[f"t{level}"] = float(tau[reached[0]]) if len(reached) else np.nan
+        out["overlap"] = float(samples["overlap"].iloc[-1])
+        out["idle"] = int(self.idle.sum())
+        if self.filter is not None:
+            last = samples.iloc[-1]
+            matches = self.true_matches + self.false_matches
+            out.update(
+                coverage_est=float(last["coverage_est"]),
+                map_error=float(last["map_error"]),
+                pose_error=float(last["pose_error"]),
+                signatures=int(last["signatures"]),
+                matches=matches,
+                false_match_rate=self.false_matches / matches if matches else np.nan,
+                stopped=int((~self.active).sum()),
+            )
+        return out

@@ -1,0 +1,120 @@
+"""What Purohit et al. (2013) publish about SugarMap: the one number (85 % of the testbed in
+3 minutes), every checkable claim (spec §8, C01-C27) with its test, and the figure layout
+(coverage against time, mean +- SD over 10 runs, as Figs. 5-9, 11 and 15).
+
+The paper's plots carry no values in its text: every other result is an ordering or a shape,
+so the claims, not numbers, are what a reproduction is judged on.
+"""
+
+from abm.published import Claim, Published, ReportLayout
+from models.sugarmap.claims import TESTS
+
+__all__ = ["CLAIMS", "PUBLISHED", "REPORT", "TESTBED_COVERAGE"]
+
+#: The testbed (5 m x 3 m, 5 anchors, 2 explorers) covers 85 % in 180 s (Sect. 4.4).
+TESTBED_COVERAGE = 85.0
+
+PUBLISHED = [
+    Published(
+        "testbed",
+        "coverage after 3 minutes (%)",
+        {"algorithm": "sugarmap", "arena": "testbed", "n_anchors": 5, "n_explorers": 2},
+        TESTBED_COVERAGE,
+        "level",
+        "coverage_180",
+        "at least",
+        threshold=TESTBED_COVERAGE - 10.0,
+        source="Sect. 4.4, Fig. 15",
+    ),
+]
+
+_UNIT = "a model check, not a sweep; tested by"
+
+#: (id, source, statement, kind, set-up); the test is TESTS[id] where one exists.
+_CLAIMS = [
+    ("C01", "Sect. 4.2, Fig. 5", "SugarMap performs better than random walk, achieving a faster "
+     "rate of coverage", "QL", "Fig. 5: open square, 4 explorers; lattice random walk"),
+    ("C01b", "Sect. 4.2, Fig. 5", "as C01, against the bounce (straight-line) random walk",
+     "QL", "Fig. 5 with random_walk='bounce'"),
+    ("C02", "Sect. 4, 4.2", "OMSTC (true positions) is the ideal reference SugarMap approaches: "
+     "random walk < SugarMap < OMSTC", "QL", "Fig. 5"),
+    ("C03", "Sect. 4", "even random walk algorithms eventually attain complete coverage", "QL",
+     "Fig. 5, lattice random walk"),
+    ("C04", "Sect. 4.3.1", "a random walk shows high variance", "QL", "Fig. 5"),
+    ("C05", "Sect. 4.3.1, Fig. 6", "coverage improves with the number of anchors", "QL",
+     "Fig. 6: anchors 2-10, 4 explorers"),
+    ("C06", "Sect. 4.3.1", "the benefit of more anchors diminishes after a point", "QL", "Fig. 6"),
+    ("C07", "Sect. 4.3.1", "with 2 anchors signatures are not unique enough: estimation suffers "
+     "and coverage shows high variance similar to a random walk", "QL", "Fig. 6 and Fig. 5"),
+    ("C08", "Sect. 4.3.2, Fig. 7", "the more explorers, the greater the coverage", "QL",
+     "Fig. 7: explorers 1-8, 6 anchors"),
+    ("C09", "Sect. 4.3.2", "an almost linear increase in speed of coverage with explorers", "QL",
+     "Fig. 7, up to 4 explorers"),
+    ("C10", "Sect. 4.3.2", "the benefit of more explorers diminishes after a point (overlap)",
+     "QL", "Fig. 7"),
+    ("C11", "Sect. 4.3.3, Fig. 8", "in a 10-node swarm the coverage rate is set largely by the "
+     "number of explorers: more explorers, faster", "QL", "Fig. 8: anchors + explorers = 10"),
+    ("C12", "Sect. 4.3.3", "the gain from extra explorers diminishes when anchors fall below 4",
+     "QL", "Fig. 8"),
+    ("C13", "Sect. 4.3.3", "with few anchors the accuracy of the estimate decreases with time",
+     "QL", "Fig. 8, 2-3 anchors"),
+    ("C14", "Sect. 4.3.4, Fig. 9", "the more particles, the better the estimation and the faster "
+     "the coverage", "QL", "Fig. 9: 2 explorers, 6 anchors, 400 ticks"),
+    ("C15", "Sect. 4.3.4", "more particles give lower overlap in the sensed area", "QL", "Fig. 9"),
+    ("C16", "Sect. 4.3.4", "larger sensor noise requires more particles", "QL",
+     "extra: noise x1, x2 with particles 1-100, 400 ticks"),
+    ("C17", "Sect. 4.3.5, Fig. 11", "the curves of the three geometries follow each other "
+     "closely", "QL", "Fig. 11: circle, U-shape, serpentine corridor"),
+    ("C18", "Sect. 4.4, Fig. 15", "the 7-node testbed swarm covers 85 % of the arena in 3 "
+     "minutes", "Q", "Fig. 15: testbed arena, 5 anchors, 2 explorers, 180 s"),
+    ("C19", "Sect. 4.4, Fig. 15", "simulation and testbed follow each other closely as time "
+     "progresses", "QL", "Fig. 15 (only the endpoint is published: the curve's shape)"),
+    ("C20", "Sect. 4.4, Fig. 14", "single RToF values vary a lot; the combined signature has "
+     "very low variance", "QL", "the RToF model"),
+    ("C21", "Sect. 3.1", "unique signatures need more than 4 anchors", "QL", "Fig. 6"),
+    ("C22", "Sect. 7", "SugarMap beats random walk especially in larger places with fewer nodes",
+     "QL", "a 10 m arena against the 20 m one"),
+    ("C23", "Sect. 4.3.2", "SugarMap coordinates movements to reduce overlap", "QL", "Fig. 5"),
+    ("C24", "abstract, Sect. 1", "the redundancy of the paths matches the motion uncertainty",
+     "QL", "extra: noise scale 0-2"),
+    ("C25", "Sect. 4.1", "at 0.25-0.45 m per 1 s tick a node moves to the next cell within a "
+     "tick", "Q", "the motion model"),
+    ("C26", "Sect. 4.3.6", "SIG_TH is the mean signature distance of 20 signatures in a 2 m disc "
+     "at 5 places", "Q", "the calibration"),
+    ("C27", "Sect. 4.3.6", "with COVER_TH the planner avoids revisiting confidently covered "
+     "cells", "QL", "extra: noise 0 against OMSTC"),
+]  # fmt: skip
+
+_UNTESTABLE = {
+    "C20": f"{_UNIT} tests/test_sugarmap.py::test_single_rtof_varies_more_than_the_signature",
+    "C22": "needs a 10 m x 10 m arena the paper's figures do not have; not run",
+    "C25": f"{_UNIT} tests/test_sugarmap.py::test_a_node_enters_the_next_cell_in_one_tick",
+    "C26": f"{_UNIT} tests/test_sugarmap_particles.py (calibrate_sig_th) and "
+    "python -m models.sugarmap.calibrate",
+}
+
+#: Every claim of spec §8 with its test (or why it has none).
+CLAIMS = [
+    Claim(i, source, statement, kind, setup, TESTS.get(i), _UNTESTABLE.get(i, ""))
+    for i, source, statement, kind, setup in _CLAIMS
+]
+
+#: Coverage (true, and the brain's estimate) against the coverage clock tau.
+REPORT = ReportLayout(
+    metrics=("coverage_500", "coverage_1000", "t50", "t80"),
+    curves=("coverage", "coverage_est"),
+    curve_x="tau",
+    curve_spread="sd",
+    labels={
+        "tau": "Time after deployment tau (s)",
+        "coverage": "True coverage (% of navigable cells)",
+        "coverage_est": "Estimated coverage (% with P >= COVER_TH)",
+        "coverage_500": "Coverage at 500 s (%)",
+        "coverage_1000": "Coverage at 1000 s (%)",
+        "t50": "Time to 50 % (s)",
+        "t80": "Time to 80 % (s)",
+        "n_anchors": "Anchors",
+        "n_explorers": "Explorers",
+        "n_particles": "Particles",
+    },
+)
