@@ -41,6 +41,6 @@ def save_swarm_png(model, path: str | Path, title: str | None = None) -> Path:
     fig, ax = plt.subplots(figsize=(8, 7))
     draw_swarm(model, ax, title)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")  # a long legend is never cut off
     plt.close(fig)
     return path

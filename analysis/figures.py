@@ -202,12 +202,16 @@ def curve_panels(
         data[conditions].astype(str).agg(", ".join, axis=1) if conditions else pd.Series("all")
     )
     data = data.assign(_condition=label_of.to_numpy() if conditions else "all runs")
+    # lines in the order of the condition values (2, 3, 10 rather than "10", "2", "3")
+    ordered = data.drop_duplicates("_condition").sort_values([*conditions, "_condition"])
+    order = {c: i for i, c in enumerate(ordered["_condition"])}
     fig, axes = plt.subplots(1, len(metrics), figsize=(5.2 * len(metrics), 4.2), squeeze=False)
     x = layout.curve_x
     for ax, metric in zip(axes[0], metrics, strict=True):
         grouped = data.groupby(["_condition", x], sort=True)[metric]
         table = grouped.agg(["mean", "std", "count"]).reset_index()
-        for condition, part in table.groupby("_condition", sort=False):
+        parts = sorted(table.groupby("_condition", sort=False), key=lambda kv: order[kv[0]])
+        for condition, part in parts:
             spread = part["std"].fillna(0.0)
             if layout.curve_spread == "se":
                 spread = spread / np.sqrt(part["count"])

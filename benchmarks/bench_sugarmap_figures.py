@@ -7,14 +7,15 @@ Usage:
     python benchmarks/bench_sugarmap_figures.py --only fig5 fig15     # some figures
 
 Each sweep goes through the common sweep runner (resumable: runs already stored are skipped, so
-use a fresh ``--out`` to time the whole set). Prints the machine's load before and after, each
-sweep's runs and wall time, the total, and where the report went. The same report comes from
-``abm report <out>/sugarmap_*``.
+use a fresh ``--out`` to time the whole set); all of them share one process pool. Prints the
+machine's load before and after, each sweep's runs and when it finished, the total, and where
+the report went. The same report comes from ``abm report <out>/sugarmap_*``.
 """
 
 import argparse
 import os
 import time
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from pathlib import Path
 
 from analysis.report import write_report
@@ -29,6 +30,13 @@ def _load() -> str:
     return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
 
 
+def _timed(sweep, folder: Path, pool: ProcessPoolExecutor) -> tuple:
+    """Run one sweep on the shared pool: its runs and the seconds until it finished."""
+    t0 = time.perf_counter()
+    runs = execute(sweep, folder, executor=pool, progress=False)
+    return runs, time.perf_counter() - t0
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("out/sugarmap_figures"))
@@ -40,17 +48,25 @@ def main() -> None:
     if args.only:
         files = [f for f in files if f.stem.removeprefix("sugarmap_") in args.only]
     print(_load())
-    folders, total_runs, start = [], 0, time.perf_counter()
-    for path in files:
-        sweep = load_sweep(path, args.replications)
-        folder = args.out / sweep.name
-        t0 = time.perf_counter()
-        runs = execute(sweep, folder, workers=args.workers, progress=False)
-        seconds = time.perf_counter() - t0
-        ok = int((runs["status"] == "ok").sum())
-        total_runs += len(runs)
-        folders.append(folder)
-        print(f"{sweep.name:24s} {ok:4d}/{len(runs):<4d} runs ok  {seconds:7.1f} s", flush=True)
+    sweeps = [load_sweep(path, args.replications) for path in files]
+    folders = [args.out / sweep.name for sweep in sweeps]
+    start = time.perf_counter()
+    # One pool for all the sweeps, fed by all of them at once: no pool start-up per sweep and
+    # no idle cores while one sweep waits for its last run.
+    with ProcessPoolExecutor(args.workers or os.cpu_count()) as pool:
+        with ThreadPoolExecutor(len(sweeps)) as feeders:
+            jobs = {
+                feeders.submit(_timed, sweep, folder, pool): sweep.name
+                for sweep, folder in zip(sweeps, folders, strict=True)
+            }
+            total_runs = 0
+            for job in as_completed(jobs):
+                runs, seconds = job.result()
+                ok = int((runs["status"] == "ok").sum())
+                total_runs += len(runs)
+                print(
+                    f"{jobs[job]:24s} {ok:4d}/{len(runs):<4d} runs ok, done after {seconds:6.1f} s"
+                )
     total = time.perf_counter() - start
     print(f"{'all sweeps':24s} {total_runs:9d} runs     {total:7.1f} s ({total / 60:.1f} min)")
     print(_load())
