@@ -131,9 +131,16 @@ def c04(runs, samples) -> Verdict | None:
 
 
 # ---------------------------------------------------------------------- Fig. 6
+def _varying(runs: pd.DataFrame, factor: str, **setup: object) -> pd.DataFrame:
+    """SugarMap's reference runs (with ``setup`` changed) at every value of ``factor``; none
+    unless the factor takes at least 3 values.
+    """
+    sm = _select(runs, **{k: v for k, v in {**SUGARMAP, **setup}.items() if k != factor})
+    return sm if sm[factor].nunique() >= 3 else sm.iloc[0:0]
+
+
 def _anchors(runs) -> pd.DataFrame:
-    sm = _select(runs, **{k: v for k, v in SUGARMAP.items() if k != "n_anchors"})
-    return sm if sm["n_anchors"].nunique() >= 3 else sm.iloc[0:0]
+    return _varying(runs, "n_anchors")
 
 
 def c05(runs, samples) -> Verdict | None:
@@ -195,8 +202,7 @@ def c21(runs, samples) -> Verdict | None:
 
 # ---------------------------------------------------------------------- Fig. 7
 def _explorers(runs) -> pd.DataFrame:
-    sm = _select(runs, **{k: v for k, v in SUGARMAP.items() if k != "n_explorers"})
-    return sm if sm["n_explorers"].nunique() >= 3 else sm.iloc[0:0]
+    return _varying(runs, "n_explorers")
 
 
 def c08(runs, samples) -> Verdict | None:
@@ -300,10 +306,10 @@ def c13(runs, samples) -> Verdict | None:
 
 # ---------------------------------------------------------------------- Fig. 9
 def _particles(runs, noise: float = 1.0) -> pd.DataFrame:
-    base = {**SUGARMAP, "n_explorers": 2, "noise_scale": noise}
-    sm = _select(runs, **{k: v for k, v in base.items() if k != "n_particles"})
-    sm = sm[sm["coverage_400"].notna()] if "coverage_400" in sm else sm.iloc[0:0]
-    return sm if sm["n_particles"].nunique() >= 3 else sm.iloc[0:0]
+    if "coverage_400" not in runs:
+        return runs.iloc[0:0]
+    kept = runs[runs["coverage_400"].notna()]
+    return _varying(kept, "n_particles", n_explorers=2, noise_scale=noise)
 
 
 def c14(runs, samples) -> Verdict | None:

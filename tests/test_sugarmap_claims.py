@@ -1,0 +1,70 @@
+"""The claim tests of models/sugarmap/claims.py decide the report's verdicts: on made-up runs
+they must say "holds" when the published effect is there and "does not hold" when it is
+reversed, and stay silent (None) when the runs lack the claim's set-up."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from models.sugarmap.claims import TESTS
+
+CHECKPOINTS = (250, 500, 1000, 1500, 2000, 3000)
+REFERENCE = {"arena": "open", "n_explorers": 4, "noise_scale": 1.0, "heading_model": "literal"}
+
+
+def _runs(algorithm: str, level: float, n: int = 10, **setup) -> pd.DataFrame:
+    """n runs whose coverage at every checkpoint is ``level`` x tau / 3000 plus noise."""
+    rng = np.random.default_rng(int(level))  # fixed: the same made-up runs every time
+    sugarmap = algorithm == "sugarmap"
+    rows = []
+    for _ in range(n):
+        row = {
+            **REFERENCE,
+            "algorithm": algorithm,
+            "n_anchors": 6 if sugarmap else 0,
+            "n_particles": 10 if sugarmap else 0,
+            "random_walk": "lattice" if algorithm == "random_walk" else None,
+            **setup,
+        }
+        for tau in CHECKPOINTS:
+            row[f"coverage_{tau}"] = min(100.0, level * tau / 3000 + rng.normal(0, 1))
+        for target in (50, 80, 90):
+            row[f"t{target}"] = 3000 * target / level if level > target else np.nan
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _verdict(claim: str, runs: pd.DataFrame):
+    return TESTS[claim](runs, None)
+
+
+@pytest.mark.parametrize(("sugarmap", "walk", "holds"), [(90, 40, True), (40, 90, False)])
+def test_c01_follows_the_order_of_sugarmap_and_the_random_walk(sugarmap, walk, holds):
+    runs = pd.concat([_runs("sugarmap", sugarmap), _runs("random_walk", walk)])
+    assert _verdict("C01", runs).holds is holds
+
+
+@pytest.mark.parametrize(("omstc", "holds"), [(300, True), (50, False)])
+def test_c02_needs_omstc_at_least_as_fast_as_sugarmap(omstc, holds):
+    runs = pd.concat([_runs("sugarmap", 90), _runs("omstc", omstc)])
+    assert _verdict("C02", runs).holds is holds
+
+
+@pytest.mark.parametrize(("coverage", "holds"), [(85.0, True), (93.0, True), (60.0, False)])
+def test_c18_is_the_testbed_level_within_ten_points(coverage, holds):
+    rows = _runs("sugarmap", 90, arena="testbed", n_anchors=5, n_explorers=2)
+    rows["coverage_180"] = coverage + np.linspace(-2, 2, len(rows))
+    assert _verdict("C18", rows).holds is holds
+
+
+def test_c08_needs_coverage_rising_with_every_explorer():
+    rising = pd.concat([_runs("sugarmap", 20 * n, n_explorers=n) for n in (1, 2, 4)])
+    assert _verdict("C08", rising).holds
+    falling = pd.concat([_runs("sugarmap", 100 - 20 * n, n_explorers=n) for n in (1, 2, 4)])
+    assert not _verdict("C08", falling).holds
+
+
+def test_a_claim_without_its_set_up_in_the_runs_gives_no_verdict():
+    only_sugarmap = _runs("sugarmap", 90)
+    for claim in ("C01", "C02", "C08", "C14", "C17", "C18"):
+        assert _verdict(claim, only_sugarmap) is None
