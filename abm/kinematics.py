@@ -12,7 +12,12 @@ import numpy as np
 
 from abm.arena import Arena
 
-__all__ = ["bump_moves", "heading_vectors"]
+__all__ = ["bump_moves", "heading_vectors", "wrap_degrees"]
+
+
+def wrap_degrees(angle: np.ndarray) -> np.ndarray:
+    """Angles (deg) wrapped to (-180, 180]: a turn of 270 is a turn of -90."""
+    return 180.0 - np.mod(180.0 - np.asarray(angle, dtype=float), 360.0)
 
 
 def heading_vectors(heading: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.arena import Arena
-from abm.kinematics import bump_moves, heading_vectors
+from abm.kinematics import bump_moves, heading_vectors, wrap_degrees
 
 
 def test_compass_headings():
@@ -54,3 +54,11 @@ def test_a_move_into_the_wall_is_blocked_and_a_move_along_it_is_not():
     new, blocked = bump_moves(arena, start, np.array([90.0, 0.0]), np.array([0.4, 0.4]))
     assert list(blocked) == [True, False]
     assert np.array_equal(new[0], start[0]) and np.allclose(new[1], [2.75, 3.4])
+
+
+@given(st.floats(-1e4, 1e4, allow_nan=False))
+def test_wrapped_angles_lie_in_the_half_open_circle_and_point_the_same_way(angle):
+    wrapped = float(wrap_degrees(angle))
+    assert -180.0 < wrapped <= 180.0
+    assert np.allclose(heading_vectors(np.array([wrapped])), heading_vectors(np.array([angle])))
+    assert wrap_degrees(180.0) == 180.0 and wrap_degrees(-180.0) == 180.0

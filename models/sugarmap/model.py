@@ -27,7 +27,7 @@ import numpy as np
 from abm.comms import Shadowing
 from abm.coverage import CoverageRaster
 from abm.errors import ConfigError
-from abm.kinematics import bump_moves
+from abm.kinematics import bump_moves, wrap_degrees
 from abm.model import SwarmModel
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
@@ -45,11 +45,6 @@ __all__ = ["CHECKPOINTS", "SugarMapModel"]
 CHECKPOINTS = (90, 180, 250, 400, 500, 1000, 1500, 2000, 3000)
 #: A match whose two true positions are farther apart than this is a false match (m).
 FALSE_MATCH = 2.0
-
-
-def wrap(angle: np.ndarray) -> np.ndarray:
-    """Angles (deg) wrapped to (-180, 180]."""
-    return 180.0 - np.mod(180.0 - np.asarray(angle, dtype=float), 360.0)
 
 
 class SugarMapModel(SwarmModel):
@@ -263,7 +258,7 @@ class SugarMapModel(SwarmModel):
     def _tick(self) -> None:
         """S1-S5 of spec §5.1 for every explorer."""
         heading, speed, moving = self._commands()  # S1
-        turn = wrap(heading - self.command_heading)
+        turn = wrap_degrees(heading - self.command_heading)
         self.command_heading = np.where(moving, heading, self.command_heading)
         self._execute(heading, turn, speed, moving)  # S2
         for e, rid in enumerate(self.explorer_ids):  # S3: radio links at the true positions

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from abm.errors import ConfigError, check_choice, check_range
+from abm.kinematics import wrap_degrees
 
 __all__ = ["MapGrid", "Match", "ParticleFilter", "calibrate_sig_th", "eq8_weights",
            "global_map", "signature_distance"]  # fmt: skip
@@ -198,11 +199,6 @@ def global_map(node_maps: np.ndarray) -> np.ndarray:
     return 1.0 - np.prod(1.0 - node_maps, axis=0)
 
 
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    """Angles (deg) wrapped to (-180, 180]."""
-    return 180.0 - (180.0 - angle) % 360.0
-
-
 class ParticleFilter:
     """The particles of every explorer, as arrays over (explorers, particles).
 
@@ -362,7 +358,7 @@ class ParticleFilter:
 
         """
         heading = self._per_explorer("heading", heading)
-        turn = _wrap(self._per_explorer("turn", turn))
+        turn = wrap_degrees(self._per_explorer("turn", turn))
         speed = self._per_explorer("speed", speed)
         moved = self._per_explorer("moved", moved, bool)
         check_range("dt", dt, 0.0, low_open=True)
