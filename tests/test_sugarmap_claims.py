@@ -68,3 +68,13 @@ def test_a_claim_without_its_set_up_in_the_runs_gives_no_verdict():
     only_sugarmap = _runs("sugarmap", 90)
     for claim in ("C01", "C02", "C08", "C14", "C17", "C18"):
         assert _verdict(claim, only_sugarmap) is None
+
+
+@pytest.mark.parametrize(("big", "small", "holds"), [(3.0, 2.0, True), (2.0, 3.0, False)])
+def test_c22_needs_the_larger_advantage_in_the_larger_place(big, small, holds):
+    parts = []
+    for arena, ratio in (("open", big), ("open10", small)):
+        for n, extra in ((2, 0.3), (4, 0.0)):  # fewer nodes: a larger advantage in both
+            parts.append(_runs("sugarmap", 30 * (ratio + extra), arena=arena, n_explorers=n))
+            parts.append(_runs("random_walk", 30, arena=arena, n_explorers=n))
+    assert _verdict("C22", pd.concat(parts)).holds is holds

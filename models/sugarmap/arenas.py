@@ -7,6 +7,7 @@ each (Sect. 4.3.5); no dimensions. These are the spec's readings [R], all but th
 sits at index 0 and the testbed's "[1,1], [2,1]" are bitmap indices (spec A34):
 
 - ``open`` (9.1): the plain square of Figs. 5-9;
+- ``open10`` (ours): a 10 m x 10 m open square, the smaller place of claim C22;
 - ``circle`` (9.2, geometry a): the 10 m-radius disc inscribed in the square, four 1 m x 1 m
   obstacles;
 - ``ushape`` (9.3, geometry b): a 10 m x 20 m room joined by the U's base to a 2 m hallway;
@@ -64,6 +65,15 @@ def _open() -> np.ndarray:
     """9.1: x, y in 1..40 navigable."""
     codes = _walled()
     codes[1:41, 1:41] = NAVIGABLE
+    return codes
+
+
+def _open10() -> np.ndarray:
+    """A 10 m x 10 m open square (ours, for claim C22: "especially in larger places"): x, y in
+    1..20 navigable inside its own one-cell border.
+    """
+    codes = _walled(22, 22)
+    codes[1:21, 1:21] = NAVIGABLE
     return codes
 
 
@@ -134,6 +144,7 @@ ARENAS: dict[str, ArenaInfo] = {
     info.name: info
     for info in (
         ArenaInfo("open", "20 m x 20 m open square (spec 9.1)", _open, 1600),
+        ArenaInfo("open10", "10 m x 10 m open square (ours, claim C22)", _open10, 400),
         ArenaInfo("circle", "geometry (a): 10 m disc, four obstacles (spec 9.2)", _circle, 1248),
         ArenaInfo("ushape", "geometry (b): room and 2 m hallway, a U (spec 9.3)", _ushape, 1024),
         ArenaInfo(

@@ -185,6 +185,33 @@ def c07(runs, samples) -> Verdict | None:
     )
 
 
+def c22(runs, samples) -> Verdict | None:
+    """SugarMap's advantage (mean coverage at 500 s over the lattice walk's) is larger in the
+    20 m square than in the 10 m one at each swarm size, and with 2 explorers than with 4 in
+    each square.
+    """
+    base = {k: v for k, v in REFERENCE.items() if k not in ("arena", "n_explorers")}
+    ratio = {}
+    for arena in ("open", "open10"):
+        for n in (2, 4):
+            sm = _select(runs, **base, arena=arena, n_explorers=n, algorithm="sugarmap",
+                         n_anchors=6, n_particles=10)  # fmt: skip
+            rw = _select(runs, **base, arena=arena, n_explorers=n, algorithm="random_walk",
+                         random_walk="lattice")  # fmt: skip
+            a, b = _col(sm, "coverage_500"), _col(rw, "coverage_500")
+            if not len(a) or not len(b):
+                return None
+            ratio[arena, n] = a.mean() / b.mean()
+    larger = all(ratio["open", n] > ratio["open10", n] for n in (2, 4))
+    fewer = all(ratio[arena, 2] > ratio[arena, 4] for arena in ("open", "open10"))
+    shown = ", ".join(f"{a} {n} explorers {r:.2f}x" for (a, n), r in ratio.items())
+    return Verdict(
+        f"SM / RW coverage at 500 s: {shown}",
+        bool(larger and fewer),
+        f"larger place: {'yes' if larger else 'no'}; fewer nodes: {'yes' if fewer else 'no'}",
+    )
+
+
 def c21(runs, samples) -> Verdict | None:
     sm = _anchors(runs)
     if sm.empty:
@@ -490,6 +517,7 @@ TESTS: dict[str, Callable] = {
     "C18": c18,
     "C19": c19,
     "C21": c21,
+    "C22": c22,
     "C23": c23,
     "C24": c24,
     "C27": c27,

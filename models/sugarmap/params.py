@@ -47,7 +47,8 @@ class SugarMapParams(SwarmParams):
         algorithm: "sugarmap" (anchors, RToF signatures, particle filters, the planner of
             Fig. 4), "random_walk" or "omstc" (spanning-tree coverage with true positions, the
             paper's ideal reference), Sect. 4.2.
-        arena: a built-in arena ("open" 20 m x 20 m square, "circle", "ushape", "serpentine",
+        arena: a built-in arena ("open" 20 m x 20 m square, "open10" 10 m x 10 m (ours, for
+            claim C22), "circle", "ushape", "serpentine",
             "corridor": Fig. 10's geometries as our spec reads them; "testbed" 5 m x 3 m,
             Sect. 4.4) or a bitmap file of 0.5 m cells (dark = wall or obstacle).
         entrance: the point (x, y) (m) where the swarm enters the arena; the nodes start on
