@@ -18,6 +18,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from pathlib import Path
 
+from abm.pools import process_pool
 from analysis.report import write_report
 from analysis.sweep.execute import execute
 from analysis.sweep.spec import load_sweep
@@ -53,7 +54,7 @@ def main() -> None:
     start = time.perf_counter()
     # One pool for all the sweeps, fed by all of them at once: no pool start-up per sweep and
     # no idle cores while one sweep waits for its last run.
-    with ProcessPoolExecutor(args.workers or os.cpu_count()) as pool:
+    with process_pool(args.workers or os.cpu_count()) as pool:
         with ThreadPoolExecutor(len(sweeps)) as feeders:
             jobs = {
                 feeders.submit(_timed, sweep, folder, pool): sweep.name

@@ -10,7 +10,7 @@ import time
 
 import pandas as pd
 
-from analysis.pools import process_pool
+from abm.pools import process_pool
 from analysis.runner import run_model
 from models.beacon_explorer.published import CORRIDOR_24_VS_6 as PAPER_24_VS_6
 from models.beacon_explorer.published import COVERAGE as PAPER_COVERAGE

@@ -11,7 +11,7 @@ from functools import partial
 import pandas as pd
 import pytest
 
-from analysis.pools import process_pool
+from abm.pools import process_pool
 from analysis.runner import run_model
 from models.beacon_explorer.published import CORRIDOR_24_VS_6, HOVER_RATIO
 

@@ -6,10 +6,9 @@ nearest the paper's, then keeps the pair that best matches mean and standard dev
 re-measured on more worlds. The result is copied by hand into :data:`abm.worlds.corridor.BRANCHING`.
 """
 
-from concurrent.futures import ProcessPoolExecutor
-
 import numpy as np
 
+from abm.pools import process_pool
 from abm.worlds.corridor import branch_count, grow_corridor
 
 __all__ = ["PAPER_BRANCHES", "branch_stats", "calibrate", "main"]
@@ -69,7 +68,7 @@ def _search(level: str) -> tuple[str, float, int, float, float]:
 
 def calibrate() -> dict[str, tuple[float, int, float, float]]:
     """Return ``complexity -> (p_branch, min_gap, measured mean, measured sd)``."""
-    with ProcessPoolExecutor() as pool:
+    with process_pool() as pool:
         rows = list(pool.map(_search, PAPER_BRANCHES))
     return {level: (p, gap, mean, sd) for level, p, gap, mean, sd in rows}
 

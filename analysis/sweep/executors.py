@@ -14,7 +14,7 @@ import signal
 from collections.abc import Iterator, Sequence
 
 from abm.errors import ConfigError
-from analysis.pools import process_pool
+from abm.pools import process_pool
 from analysis.runner import RunSpec, run_one
 from analysis.sweep.spec import check_int
 from analysis.sweep.storage import SweepError
