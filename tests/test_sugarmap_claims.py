@@ -78,3 +78,14 @@ def test_c22_needs_the_larger_advantage_in_the_larger_place(big, small, holds):
             parts.append(_runs("sugarmap", 30 * (ratio + extra), arena=arena, n_explorers=n))
             parts.append(_runs("random_walk", 30, arena=arena, n_explorers=n))
     assert _verdict("C22", pd.concat(parts)).holds is holds
+
+
+def test_c17_ignores_runs_of_other_arenas_that_stop_earlier():
+    geometries = pd.concat(
+        [_runs("sugarmap", level, arena=a) for a, level in (("circle", 80), ("ushape", 81),
+                                                             ("serpentine", 30))]
+    )  # fmt: skip
+    short = _runs("sugarmap", 90, arena="open10")
+    short[[f"coverage_{t}" for t in (1000, 1500, 2000, 3000)]] = np.nan  # stopped at 500 s
+    alone, mixed = _verdict("C17", geometries), _verdict("C17", pd.concat([geometries, short]))
+    assert alone.holds is False and mixed.ours == alone.ours

@@ -388,7 +388,9 @@ def c16(runs, samples) -> Verdict | None:
 def c17(runs, samples) -> Verdict | None:
     base = {k: v for k, v in SUGARMAP.items() if k != "arena"}
     sm = _select(runs, **base)
-    arenas = [a for a in ("circle", "ushape", "serpentine") if (sm.get("arena") == a).any()]
+    geometries = ("circle", "ushape", "serpentine")
+    sm = sm[sm["arena"].isin(geometries)] if "arena" in sm else sm.iloc[0:0]
+    arenas = [a for a in geometries if (sm["arena"] == a).any()]
     if len(arenas) < 3:
         return None
     groups = {a: _select(sm, arena=a) for a in arenas}
