@@ -60,6 +60,11 @@ def _series(runs: pd.DataFrame, by: str, metric: str) -> dict:
     return {k: _col(g, metric) for k, g in runs.groupby(by)} if by in runs else {}
 
 
+def _walk(runs: pd.DataFrame, walk: str = "lattice") -> pd.DataFrame:
+    """The random walk's runs on the reference set-up (``walk``: "lattice" or "bounce")."""
+    return _select(runs, **REFERENCE, algorithm="random_walk", random_walk=walk)
+
+
 def _checkpoints(runs: pd.DataFrame, wanted: Sequence[int]) -> list[int]:
     return [t for t in wanted if f"coverage_{t}" in runs and runs[f"coverage_{t}"].notna().all()]
 
@@ -67,9 +72,9 @@ def _checkpoints(runs: pd.DataFrame, wanted: Sequence[int]) -> list[int]:
 # ---------------------------------------------------------------------- Fig. 5
 def c01(runs, samples, walk: str = "lattice") -> Verdict | None:
     sm = _select(runs, **SUGARMAP)
-    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk=walk)
+    rw = _walk(runs, walk)
     other = "bounce" if walk == "lattice" else "lattice"
-    alt = _select(runs, **REFERENCE, algorithm="random_walk", random_walk=other)
+    alt = _walk(runs, other)
     taus = [t for t in _checkpoints(sm, (250, 500, 1000, 2000)) if t in _checkpoints(rw, [t])]
     if sm.empty or rw.empty or not taus:
         return None
@@ -107,7 +112,7 @@ def c02(runs, samples) -> Verdict | None:
 
 
 def c03(runs, samples) -> Verdict | None:
-    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    rw = _walk(runs)
     if rw.empty or "coverage_3000" not in rw:
         return None
     a, b = _col(rw, "coverage_1500"), _col(rw, "coverage_3000")
@@ -120,7 +125,7 @@ def c03(runs, samples) -> Verdict | None:
 
 def c04(runs, samples) -> Verdict | None:
     sm = _select(runs, **SUGARMAP)
-    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    rw = _walk(runs)
     if sm.empty or rw.empty or "coverage_1000" not in sm:
         return None
     a, b = _col(rw, "coverage_1000"), _col(sm, "coverage_1000")
@@ -168,7 +173,7 @@ def c06(runs, samples) -> Verdict | None:
 
 def c07(runs, samples) -> Verdict | None:
     sm = _anchors(runs)
-    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    rw = _walk(runs)
     two, six = _select(sm, n_anchors=2), _select(sm, n_anchors=6)
     if two.empty or six.empty:
         return None
@@ -452,7 +457,7 @@ def c19(runs, samples) -> Verdict | None:
 # ---------------------------------------------------------------------- overlap and noise
 def c23(runs, samples) -> Verdict | None:
     sm = _select(runs, **SUGARMAP)
-    rw = _select(runs, **REFERENCE, algorithm="random_walk", random_walk="lattice")
+    rw = _walk(runs)
     if sm.empty or rw.empty or "overlap_1000" not in sm:
         return None
     a, b = _col(sm, "overlap_1000"), _col(rw, "overlap_1000")
