@@ -43,7 +43,7 @@ def _swept(manifest: dict, runs: pd.DataFrame) -> list[str]:
     """Grid (and points) parameters that take more than one value in the runs."""
     keys = list(manifest.get("grid", {}))
     keys += [k for p in manifest.get("points", []) for k in p if k not in keys]
-    return [k for k in dict.fromkeys(keys) if k in runs and runs[k].nunique() > 1]
+    return [k for k in dict.fromkeys(keys) if k in runs and runs[k].nunique(dropna=False) > 1]
 
 
 def _numeric(runs: pd.DataFrame, column: str) -> bool:
@@ -160,14 +160,15 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         path = save_curves(sweep.samples, runs, layout, curves, conditions, folder)
         shown.append({"src": image_data(path), "caption": _curve_caption(layout, conditions)})
     grid = sweep.manifest.get("grid", {})
+    points = [", ".join(f"{k}={v}" for k, v in p.items()) for p in sweep.manifest.get("points", [])]
     return {
         "title": f"{sweep.name}: {sweep.manifest.get('description', '')}" if titled else "",
-        "setup": "; ".join(f"{k} = {v}" for k, v in grid.items())
+        "setup": "; ".join([*(f"{k} = {v}" for k, v in grid.items()), *(f"({p})" for p in points)])
         + f"; {sweep.manifest.get('replications', '?')} runs each, sweep seed "
         + f"{sweep.manifest.get('seed', '?')}",
         "figures": shown,
         "anova": _anova(runs, layout) if len(runs) else [],
-        "sections": _factor_sections(runs, layout, published) if len(runs) else [],
+        "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
         if len(failed)
         else None,
@@ -272,9 +273,15 @@ def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
 
 
 def _factor_sections(
-    runs: pd.DataFrame, layout: ReportLayout, published: list[Published]
+    runs: pd.DataFrame,
+    layout: ReportLayout,
+    published: list[Published],
+    conditions: list[str] | None = None,
 ) -> list[dict]:
-    """Percent changes, optimum, Pearson's r and condition means (titles, notes, tables)."""
+    """Percent changes, optimum, Pearson's r and condition means (titles, notes, tables); the
+    means are per condition of every swept parameter (``conditions``), so no factor is
+    averaged over.
+    """
     sections = []
     x, hue = layout.x, layout.hue
     metrics = _metrics(runs, layout)
@@ -311,11 +318,14 @@ def _factor_sections(
                 f"(df = {r['df']}, p = {r['p']:.2g})."
             )
             sections.append({"title": "Correlation", "note": note, "table": None})
-    factors = _factors(runs, layout)
+    factors = list(dict.fromkeys([*_factors(runs, layout), *(conditions or [])]))
     extra = [m for m in ("coverage_area", "energy_total", *layout.stacked) if m in runs]
     shown = [m for m in dict.fromkeys([*metrics, *extra]) if _numeric(runs, m)]
     if shown:
-        means = stats.condition_means(runs, metrics=shown, by=factors)
+        # a points-only key is missing (NaN) in the other points' runs: name it, keep the runs
+        unset = {f: runs[f].astype(object).where(runs[f].notna(), "(default)") for f in factors
+                 if runs[f].isna().any()}  # fmt: skip
+        means = stats.condition_means(runs.assign(**unset), metrics=shown, by=factors)
         wide = (
             means.pivot_table(index=factors, columns="metric", values="mean")
             .rename_axis(columns=None)

@@ -128,3 +128,20 @@ def test_cli_report_prints_where_it_wrote(tmp_path, capsys):
     assert f"wrote {folder / 'report.html'}" in capsys.readouterr().out
     assert main(["report", str(tmp_path / "nothing")]) == 2
     assert "not a sweep folder" in capsys.readouterr().err
+
+
+def test_a_points_only_key_is_a_condition_of_its_own_in_the_means(tmp_path):
+    # a sweep whose [[points]] set hover_beacons on some runs only: those runs, and the others
+    # (where the key is unset), each get their own row instead of being averaged together
+    df = corridor_results()
+    df = df[df["complexity"] == "high"].copy()
+    df["hover_beacons"] = np.where(df["launch_period"] == 6.0, True, None)
+    df.loc[df["hover_beacons"].notna(), "energy_total"] = 1e9
+    folder = tmp_path / "points"
+    write_sweep(folder, df)
+    manifest = json.loads((folder / "sweep.json").read_text())
+    manifest["points"] = [{"hover_beacons": True}]
+    (folder / "sweep.json").write_text(json.dumps(manifest))
+    text = write_report(folder).read_text()
+    assert "(hover_beacons=True)" in text  # the set-up line names the points
+    assert "(default)" in text and "1e+09" in text  # their means are not mixed with the rest
