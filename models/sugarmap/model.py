@@ -201,7 +201,7 @@ class SugarMapModel(SwarmModel):
         self.presumed = self.starts.copy()
         self.active = np.ones(n, dtype=bool)
         self.idle = np.zeros(n, dtype=bool)
-        self.last_cell = [None] * n
+        self.last_cell = np.full((n, 2), -1)  # no cell yet: the start cell is an entry
         self.entries = 0
         self.true_matches = self.false_matches = 0
         for robot in self.explorer_robots:
@@ -341,10 +341,8 @@ class SugarMapModel(SwarmModel):
     def _count_entries(self) -> None:
         """Cell entries (for overlap = entries / distinct cells covered)."""
         cells = np.floor(self.pos / self.cell).astype(int)
-        for e, cell in enumerate(map(tuple, cells)):
-            if cell != self.last_cell[e]:
-                self.entries += 1
-                self.last_cell[e] = cell
+        self.entries += int((cells != self.last_cell).any(axis=1).sum())
+        self.last_cell = cells
 
     def _estimate(self, heading, turn, speed, moving) -> None:
         """S3-S4: signatures at the true positions, then each explorer's particle filter."""
