@@ -21,7 +21,7 @@ from abm.published import MacroSpec
 from abm.registry import model_class
 from analysis.html import figure_data, render_page, table
 from analysis.macro import fit_lambdas, fit_recurrence, predict_from_lambdas, refine_lambdas, rmsd
-from analysis.sweep import load_results, run_sweep
+from analysis.sweep import load_results, run_sweep, swept_keys
 
 __all__ = ["analyse", "fit_runs", "macro_spec", "read_runs", "write_fit_report"]
 
@@ -91,10 +91,7 @@ def read_runs(
             f"{folder} kept no time series: run the sweep with time_series = true (abm fit does)"
         )
     manifest = json.loads((folder / "sweep.json").read_text())
-    keys = list(manifest["grid"]) + [k for p in manifest.get("points", []) for k in p]
-    conditions = [
-        k for k in dict.fromkeys(keys) if k in summaries and summaries[k].astype(str).nunique() > 1
-    ]
+    conditions = swept_keys(manifest, summaries)
     info = summaries[["run_id", *conditions]]
     counts = series[series["run_id"].isin(summaries["run_id"])].merge(info, on="run_id")
     return summaries, counts.sort_values(["run_id", "time"], kind="stable"), conditions

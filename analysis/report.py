@@ -25,7 +25,7 @@ from analysis import stats
 from analysis.compare import NOT_IN_SWEEP, compare_published
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
-from analysis.sweep import load_results
+from analysis.sweep import load_results, swept_keys
 
 __all__ = ["layout_for", "write_report"]
 
@@ -39,13 +39,6 @@ _CAPTIONS = {
 }
 
 
-def _swept(manifest: dict, runs: pd.DataFrame) -> list[str]:
-    """Grid (and points) parameters that take more than one value in the runs."""
-    keys = list(manifest.get("grid", {}))
-    keys += [k for p in manifest.get("points", []) for k in p if k not in keys]
-    return [k for k in dict.fromkeys(keys) if k in runs and runs[k].nunique(dropna=False) > 1]
-
-
 def _numeric(runs: pd.DataFrame, column: str) -> bool:
     return pd.api.types.is_numeric_dtype(runs[column]) and runs[column].dtype != bool
 
@@ -54,7 +47,7 @@ def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame
     """The layout for these runs: the model's, with ``x`` and ``hue`` kept only where they
     vary; otherwise the first numeric swept parameter as ``x`` and another as ``hue``.
     """
-    swept = _swept(manifest, runs)
+    swept = swept_keys(manifest, runs)
     numeric = [k for k in swept if _numeric(runs, k)]
     layout = declared or ReportLayout(metrics=tuple(m for m in COMMON_METRICS if m in runs))
     x = layout.x if layout.x in swept else (numeric[0] if numeric else None)
@@ -154,7 +147,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         }
         for key, path in figures.items()
     ]
-    conditions = _swept(sweep.manifest, runs)
+    conditions = swept_keys(sweep.manifest, runs)
     curves = [m for m in layout.curves if m in sweep.samples]
     if curves and len(runs):
         path = save_curves(sweep.samples, runs, layout, curves, conditions, folder)

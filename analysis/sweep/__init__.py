@@ -18,7 +18,7 @@ from analysis.sweep.execute import execute, run_sweep
 from analysis.sweep.executors import EXECUTORS
 from analysis.sweep.seeding import plan
 from analysis.sweep.spec import Sweep, load_sweep
-from analysis.sweep.storage import SweepError, load_results
+from analysis.sweep.storage import SweepError, load_results, swept_keys
 
 __all__ = [
     "EXECUTORS",
@@ -31,4 +31,5 @@ __all__ = [
     "plan",
     "run_one",
     "run_sweep",
+    "swept_keys",
 ]

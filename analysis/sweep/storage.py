@@ -22,7 +22,7 @@ import pandas as pd
 from abm.errors import ABMError
 from analysis.sweep.spec import Sweep
 
-__all__ = ["SweepError", "done_ids", "load_results", "prepare_out", "store"]
+__all__ = ["SweepError", "done_ids", "load_results", "prepare_out", "store", "swept_keys"]
 
 
 class SweepError(ABMError):
@@ -122,3 +122,17 @@ def prepare_out(out: Path, sweep: Sweep) -> None:
     tmp = path.with_name(".sweep.json.tmp")
     tmp.write_text(json.dumps(manifest, indent=2, default=str))
     os.replace(tmp, path)
+
+
+def swept_keys(manifest: dict, runs: pd.DataFrame) -> list[str]:
+    """The parameters of a sweep's ``grid`` and ``points`` that take more than one value in
+    ``runs``, in the file's order. A run where a points-only key is unset counts as a value of
+    its own; values are compared as text, so a list-valued parameter is fine too.
+    """
+    keys = [*manifest.get("grid", {}), *(k for p in manifest.get("points", []) for k in p)]
+    return [k for k in dict.fromkeys(keys) if k in runs and _as_text(runs[k]).nunique() > 1]
+
+
+def _as_text(column: pd.Series) -> pd.Series:
+    """Each value as text, a missing one as "None"/"nan" (``astype(str)`` keeps NA missing)."""
+    return column.astype(object).map(str)
