@@ -1,0 +1,318 @@
+"""TangiblePSOModel: swarm distribution for surveillance by PSO whose particles must fly
+(Saska et al. 2016).
+
+Every PSO particle is a virtual swarm of n_r MAVs (Mesa agents in the framework's space; the
+altitude is their third coordinate, kept beside the space's x, y). The story of a run, one SimPy
+process on the simulated clock (Sect. 5, Fig. 6):
+
+1. The population starts at the depot (Sect. 4) or, each particle, at random in a circle of
+   diameter equal to the localisation distance (Fig. 9); the velocities are random.
+2. Each iteration: the PSO rules (eqs. 2-5) propose p_j(t); proposals outside the area, in a
+   no-fly zone or too close to another MAV are shifted (Fig. 5a); each MAV gets a path (a
+   visibility-graph path with goal swapping, or a straight line without motion planning); the
+   swarms follow their paths while the clock runs for the transition's flight time and stop
+   where a constraint would break (the feasibility check); the realised positions p''_j(t) set
+   the velocities (eq. 6) and are evaluated by the cost of eq. 1.
+3. After t_max iterations the solution is the history of the best particle.
+"""
+
+import networkx as nx
+import numpy as np
+
+from abm.errors import ConfigError
+from abm.model import SwarmModel
+from abm.polygons import inside_any, offset_polygon
+from abm.pso import inertia_weight, update_bests, velocity_update
+from abm.robot import Robot
+from abm.styles import Layer, StateStyle
+from abm.visgraph import VisibilityPlanner
+from models.tangible_pso import published
+from models.tangible_pso.cost import CoverageCost
+from models.tangible_pso.feasibility import OUTCOMES, follow, localised
+from models.tangible_pso.params import TangiblePSOParams
+from models.tangible_pso.scenario import load_scenario
+from models.tangible_pso.transition import plan_paths, shift_proposals
+
+__all__ = ["TangiblePSOModel"]
+
+#: Draws of the random initial circle before giving up (each draws every particle at once).
+INIT_TRIES = 2000
+
+
+class TangiblePSOModel(SwarmModel):
+    """Tangible PSO: every particle a virtual MAV swarm that must fly to its new position.
+
+    Every field of :class:`TangiblePSOParams` is a keyword of the constructor, e.g.
+    ``TangiblePSOModel(neighbours=2, motion_planning=False, seed=1)``.
+
+    Args:
+        seed: seed of the model's random generator.
+        **params: fields of :class:`TangiblePSOParams`.
+
+    """
+
+    Params = TangiblePSOParams
+    STATES = OUTCOMES
+    STATE_STYLES = {
+        "free": StateStyle("#56B4E9", marker="o", size=14.0, layer=4.0, label="virtual MAV: free"),
+        "stopped": StateStyle("#E69F00", marker="s", size=16.0, layer=5.0,
+                              label="virtual MAV: stopped by a swarm constraint"),
+        "blocked": StateStyle("#D55E00", marker="X", size=22.0, layer=6.0,
+                              label="virtual MAV: stopped at a no-fly zone"),
+    }  # fmt: skip
+    ARROWS_LABEL = "localisation links of the best swarm"
+    PUBLISHED = published.PUBLISHED
+    CLAIMS = published.CLAIMS
+    REPORT = published.REPORT
+    APP = "models.tangible_pso.app"
+    QUICK = {"particles": 10, "iterations": 12}
+
+    def __init__(self, *, seed: int | None = None, **params: object) -> None:
+        p = self.make_params(**params)
+        scenario = load_scenario(p.scenario)
+        depot = scenario.depot if p.depot is None else np.asarray(p.depot, dtype=float)
+        scenario.check_depot(depot, "depot")
+        super().__init__(p, scenario.arena(), seed=seed, comm_range=p.loc_range, physics=False)
+        self.task = scenario
+        self.depot = depot
+        self.cost = CoverageCost(scenario.aoi, scenario.a_max, p.camera_angle, p.z_opt)
+        self.planner = (
+            VisibilityPlanner(scenario.zones, p.mav_radius)
+            if p.motion_planning and scenario.zones
+            else None
+        )
+        #: The no-fly zones grown by the MAV radius: what no MAV centre may enter.
+        self.zones = [offset_polygon(z, p.mav_radius) for z in scenario.zones]
+        width = max((len(z) for z in self.zones), default=3)
+        self._zone_arr = np.zeros((len(self.zones), width, 2))
+        self._zone_len = np.array([len(z) for z in self.zones], dtype=np.int64)
+        for i, z in enumerate(self.zones):
+            self._zone_arr[i, : len(z)] = z
+        w, h = scenario.size
+        r = p.mav_radius
+        self.low = np.array([r, r, p.z_opt])
+        self.high = np.array([w - r, h - r, p.z_max])
+        self.x = self._initial_positions()
+        n_p, n = p.particles, p.n_mavs
+        self.robots = [
+            Robot(self, self.x[j, i, :2], "free", "fly") for j in range(n_p) for i in range(n)
+        ]
+        self.robot_ids = np.array([r.unique_id for r in self.robots])
+        self._state_idx = np.zeros(n_p * n, dtype=np.int8)
+        self.place(self.robot_ids, self.x[..., :2].reshape(-1, 2))
+        self.iteration = 0
+        self.best_cost = np.full(n_p, np.inf)
+        self.best_x = self.x.copy()
+        self.g = update_bests(self.cost(self.x), self.x, self.best_cost, self.best_x)
+        self.best_found = np.zeros(n_p, dtype=np.int64)  # iteration of each personal best
+        self.history = [self.x.copy()]  # realised positions after every iteration
+        self.plans: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        self._zone_blocked: list[np.ndarray] = []  # (P,) per iteration: an MAV met a zone
+        self._moved: list[np.ndarray] = []  # (P,) per iteration: the longest MAV move (m)
+        self.proposals_in_zone = 0
+        self.conflicts = self.resolved = 0
+        self._sample()
+        self.env.process(self._optimise())
+
+    # ------------------------------------------------------------------ start
+    def _initial_positions(self) -> np.ndarray:
+        """Every particle's first swarm ``(P, n, 3)``, feasible (Sect. 4 / Fig. 9)."""
+        p = self.params
+        n_p, n = p.particles, p.n_mavs
+        if p.init == "depot":
+            angle = 2 * np.pi * np.arange(n) / n
+            ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (
+                p.depot_radius if n > 1 else 0
+            )
+            swarm = np.column_stack([self.depot + ring, np.full(n, p.z_opt)])
+            if not self._start_ok(swarm[None])[0]:
+                raise ConfigError(
+                    f"depot_radius {p.depot_radius:g} m puts the {n} MAVs' ring outside the area, "
+                    f"in a zone, closer than d_min or without {p.neighbours} localised neighbours"
+                )
+            return np.repeat(swarm[None], n_p, axis=0)
+        out = np.empty((n_p, n, 3))
+        todo = np.arange(n_p)
+        for _ in range(INIT_TRIES):
+            radius = 0.5 * p.loc_range * np.sqrt(self.rng.random((len(todo), n)))
+            angle = self.rng.uniform(0, 2 * np.pi, (len(todo), n))
+            xy = self.depot + np.stack([np.cos(angle), np.sin(angle)], -1) * radius[..., None]
+            swarm = np.concatenate([xy, np.full((len(todo), n, 1), p.z_opt)], axis=-1)
+            ok = self._start_ok(swarm)
+            out[todo[ok]] = swarm[ok]
+            todo = todo[~ok]
+            if not len(todo):
+                return out
+        raise ConfigError(
+            f"init 'circle': no feasible start for {n} MAVs in a circle of diameter loc_range "
+            f"{p.loc_range:g} m around the depot {tuple(self.depot)} (d_min {p.d_min:g} m)"
+        )
+
+    def _start_ok(self, swarms: np.ndarray) -> np.ndarray:
+        """Which swarms lie in the area, outside the zones, and keep the constraints."""
+        p = self.params
+        in_area = ((swarms >= self.low - 1e-9) & (swarms <= self.high + 1e-9)).all(axis=(-1, -2))
+        clear = ~inside_any(swarms[..., :2], self.zones).any(axis=-1)
+        return in_area & clear & localised(swarms, p.neighbours, p.d_min, p.loc_range)
+
+    # ------------------------------------------------------------------ the story
+    def _optimise(self):
+        p = self.params
+        n_p, n = p.particles, p.n_mavs
+        shape = (n_p, n, 3) if p.initial_velocity == "component" else (n_p, 1, 3)
+        u = self.rng.uniform(-p.initial_speed, p.initial_speed, shape)
+        u = np.broadcast_to(u, (n_p, n, 3)).reshape(n_p, n * 3)
+        for t in range(1, p.iterations + 1):
+            w = inertia_weight(t, p.iterations, p.w_start, p.w_end)
+            x = self.x.reshape(n_p, -1)
+            u = velocity_update(
+                u, x, self.best_x.reshape(n_p, -1), self.best_x[self.g].reshape(-1), self.rng,
+                c1=p.c1, c2=p.c2, w=w, u_max=p.u_max,
+            )  # fmt: skip
+            proposal = (x + u).reshape(n_p, n, 3)
+            goal, in_zone = shift_proposals(proposal, self.zones, self.low, self.high, p.d_min)
+            self.proposals_in_zone += int(in_zone.sum())
+            plans = plan_paths(self.planner, self.x, goal, p.d_min)
+            self.conflicts += plans.conflicts
+            self.resolved += plans.resolved
+            realised, outcome, travelled = follow(
+                self.x, plans.points, plans.count, self._zone_arr, self._zone_len,
+                p.neighbours, p.d_min, p.loc_range, p.speed * p.dt, p.stop_rule == "swarm",
+            )  # fmt: skip
+            yield self.env.timeout(float(travelled.max(initial=0.0)) / p.speed)
+            u = (realised - self.x).reshape(n_p, -1)  # eq. 6
+            self._moved.append(np.linalg.norm(realised - self.x, axis=-1).max(axis=-1))
+            self._zone_blocked.append((outcome == 2).any(axis=-1))
+            self.plans.append((plans.points, plans.count, travelled))
+            self.x = realised
+            self.iteration = t
+            cost = self.cost(realised)
+            improved = cost < self.best_cost
+            self.best_found[improved] = t
+            self.g = update_bests(cost, realised, self.best_cost, self.best_x)
+            self.history.append(realised.copy())
+            self._show(outcome)
+            self._sample()
+        self.finish("iterations")
+
+    def _show(self, outcome: np.ndarray) -> None:
+        """The virtual MAVs' new places in the space, and their states where they changed."""
+        self.place(self.robot_ids, self.x[..., :2].reshape(-1, 2))
+        flat = outcome.reshape(-1)
+        for k in np.nonzero(flat != self._state_idx)[0]:
+            self.robots[k].set_state(OUTCOMES[flat[k]])
+        self._state_idx = flat.copy()
+
+    def _sample(self) -> None:
+        self.recorder.sample(
+            iteration=self.iteration,
+            best_cost=float(self.best_cost[self.g]),
+            best_cost_ratio=float(self.best_cost[self.g]) / max(self.cost.total, 1e-12),
+        )
+
+    # ------------------------------------------------------------------ the solution
+    @property
+    def best(self) -> np.ndarray:
+        """b_g, the best swarm distribution found ``(n, 3)`` (m)."""
+        return self.best_x[self.g]
+
+    def trajectory(self, samples: int = 12) -> np.ndarray:
+        """The deployment: the best particle's realised paths from its start to b_g,
+        ``(n, m, 3)`` points (m), each transition sampled at ``samples`` points.
+        """
+        g, n = self.g, self.params.n_mavs
+        parts = [self.history[0][g][:, None, :]]
+        for t in range(1, int(self.best_found[g]) + 1):
+            points, count, travelled = self.plans[t - 1]
+            parts.append(_prefix_points(points[g], count[g], travelled[g], samples))
+        return np.concatenate(parts, axis=1) if parts else np.zeros((n, 0, 3))
+
+    def links(self, swarm: np.ndarray | None = None) -> list[tuple[int, int]]:
+        """Pairs of MAVs of a swarm (default b_g) that can localise each other."""
+        s = self.best if swarm is None else swarm
+        p = self.params
+        d = np.linalg.norm(s[:, None] - s[None], axis=-1)
+        a, b = np.nonzero(np.triu((d >= p.d_min) & (d <= p.loc_range), 1))
+        return list(zip(a.tolist(), b.tolist(), strict=True))
+
+    def arrows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The best swarm's localisation links, as arrows from one MAV to the other."""
+        s = self.best
+        pairs = self.links()
+        if not pairs:
+            return np.zeros((0, 2)), np.zeros((0, 2))
+        a, b = (np.array(v) for v in zip(*pairs, strict=True))
+        return s[a, :2], s[b, :2] - s[a, :2]
+
+    def layers(self) -> list[Layer]:
+        """The AoI map, the best particle's trajectories and its swarm b_g."""
+        w, h = self.task.size
+        rows, cols = self.task.aoi.shape
+        out = [
+            Layer("AoI map (A / A_max)", raster=self.task.aoi / self.task.a_max,
+                  extent=(0.0, float(cols), 0.0, float(rows)), colour="#009E73"),
+            Layer("best particle's trajectories", points=self.trajectory()[..., :2].reshape(-1, 2),
+                  colour="#CC79A7", size=3.0),
+            Layer("best swarm b_g", points=self.best[:, :2], colour="#000000", size=70.0),
+        ]  # fmt: skip
+        return out
+
+    # ------------------------------------------------------------------ measurements
+    def reporters(self) -> dict:
+        """The state counts, and the best cost CF(b_g) for the live page."""
+        return {**super().reporters(), "best_cost": lambda m: float(m.best_cost[m.g])}
+
+    def metrics(self) -> dict:
+        """The run's results: the best cost, the collision and deadlock readings, the goal
+        swapping statistics and the shape of the best swarm.
+        """
+        p = self.params
+        blocked = np.array(self._zone_blocked).reshape(-1, p.particles)
+        moved = np.array(self._moved).reshape(-1, p.particles)
+        window = min(p.deadlock_window, len(blocked))
+        last_blocked = blocked[len(blocked) - window :]
+        pressed = last_blocked.mean(axis=1) if window else np.zeros(1)
+        last_moved = moved[len(moved) - window :]
+        graph = nx.Graph()
+        graph.add_nodes_from(range(p.n_mavs))
+        graph.add_edges_from(self.links())
+        g = self.g
+        done = len(blocked) == p.iterations
+        return {
+            "scenario": self.task.name,
+            "iterations_done": len(blocked),
+            "best_cost": float(self.best_cost[g]),
+            "best_cost_ratio": float(self.best_cost[g]) / max(self.cost.total, 1e-12),
+            "initial_cost": float(self.cost(self.history[0]).min()),
+            "best_iteration": int(self.best_found[g]),
+            "collision": bool(blocked.any()),
+            "zone_stops": int(blocked.sum()),
+            "collision_proposal": self.proposals_in_zone > 0,
+            "proposals_in_zone": self.proposals_in_zone,
+            "deadlock": bool(done and window and (pressed >= p.deadlock_share).all()),
+            "zone_pressed_min": float(pressed.min()) if window else 0.0,
+            "deadlock_frozen": bool(done and window and last_moved.max() <= p.frozen_move),
+            "frozen_max_move": float(last_moved.max()) if window else 0.0,
+            "deadlock_best": bool(done and window and last_blocked[:, g].all()),
+            "swap_conflicts": self.conflicts,
+            "swap_resolved": self.resolved,
+            "swap_resolved_pct": (
+                100.0 * self.resolved / self.conflicts if self.conflicts else np.nan
+            ),
+            "groups": nx.number_connected_components(graph),
+            "best_feasible": bool(localised(self.best, p.neighbours, p.d_min, p.loc_range)),
+        }  # fmt: skip
+
+
+def _prefix_points(points: np.ndarray, count: np.ndarray, travelled: np.ndarray, samples: int):
+    """Points along each MAV's path up to the length it flew, ``(n, samples, 3)``."""
+    n = len(points)
+    out = np.empty((n, samples, 3))
+    for i in range(n):  # n MAVs of one particle, drawing only
+        pts = points[i, : max(int(count[i]), 1)]
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=-1)
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        at = np.linspace(0.0, min(float(travelled[i]), cum[-1]), samples)
+        for d in range(3):
+            out[i, :, d] = np.interp(at, cum, pts[:, d]) if len(pts) > 1 else pts[0, d]
+    return out
