@@ -51,13 +51,9 @@ class CoverageCost:
         """CF of every distribution: ``(..., n, 3)`` MAV positions (m) -> ``(...)`` costs."""
         p = np.asarray(positions, dtype=float)
         x, y, z = p[..., 0, None], p[..., 1, None], p[..., 2, None]
-        h = self.half_side(z)
-        inside = (
-            (self._x0 >= x - h)
-            & (self._x0 + 1.0 <= x + h)
-            & (self._y0 >= y - h)
-            & (self._y0 + 1.0 <= y + h)
-        )
+        h = self.half_side(z) + 1e-9  # a cell on the footprint's edge is inside it
+        inside = (self._x0 >= x - h) & (self._x0 + 1.0 <= x + h)
+        inside &= (self._y0 >= y - h) & (self._y0 + 1.0 <= y + h)
         share = np.minimum(1.0, (self.z_opt / np.maximum(z, 1e-12)) ** 2)
         gained = self.a_max * (inside * share).sum(axis=-2)
         return np.maximum(0.0, self._a - gained).sum(axis=-1)
