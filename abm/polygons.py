@@ -9,6 +9,7 @@ edge are outside, so a path may run along an edge.
 
 from collections.abc import Sequence
 
+import numba
 import numpy as np
 
 from abm.errors import ConfigError
@@ -16,6 +17,8 @@ from abm.errors import ConfigError
 __all__ = [
     "as_polygon",
     "inside_any",
+    "inside_padded",
+    "padded",
     "inside_polygon",
     "offset_polygon",
     "push_outside",
@@ -98,10 +101,73 @@ def inside_any(points: np.ndarray, polygons: Sequence[np.ndarray]) -> np.ndarray
     return out
 
 
-def _orient(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (
-        c[..., 0] - a[..., 0]
-    )
+def padded(polygons: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The polygons as one ``(k, v, 2)`` array (padded with zeros) and their vertex counts,
+    the form the compiled tests take.
+    """
+    width = max((len(p) for p in polygons), default=3)
+    out = np.zeros((len(polygons), width, 2))
+    for i, poly in enumerate(polygons):
+        out[i, : len(poly)] = poly
+    return out, np.array([len(p) for p in polygons], dtype=np.int64)
+
+
+@numba.njit(cache=True)
+def inside_padded(x: float, y: float, polys: np.ndarray, counts: np.ndarray) -> bool:
+    """Whether (x, y) lies in the open interior of one of the padded polygons (compiled)."""
+    for z in range(polys.shape[0]):
+        m = counts[z]
+        inside = False
+        for a in range(m):
+            b = (a + 1) % m
+            ya, yb = polys[z, a, 1], polys[z, b, 1]
+            if (ya > y) != (yb > y):
+                xa, xb = polys[z, a, 0], polys[z, b, 0]
+                if x < xa + (y - ya) * (xb - xa) / (yb - ya):
+                    inside = not inside
+        if not inside:
+            continue
+        on_edge = False  # the even-odd rule may count a point on an edge: it is outside
+        for a in range(m):
+            b = (a + 1) % m
+            ax, ay = polys[z, a, 0], polys[z, a, 1]
+            ex, ey = polys[z, b, 0] - ax, polys[z, b, 1] - ay
+            t = min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)))
+            gx, gy = x - ax - t * ex, y - ay - t * ey
+            if gx * gx + gy * gy <= 1e-18:
+                on_edge = True
+                break
+        if not on_edge:
+            return True
+    return False
+
+
+@numba.njit(cache=True)
+def _blocked(s, e, polys, counts, out):
+    for q in range(s.shape[0]):
+        sx, sy, ex_, ey_ = s[q, 0], s[q, 1], e[q, 0], e[q, 1]
+        hit = False
+        for z in range(polys.shape[0]):
+            m = counts[z]
+            for a in range(m):
+                b = (a + 1) % m
+                ax, ay, bx, by = polys[z, a, 0], polys[z, a, 1], polys[z, b, 0], polys[z, b, 1]
+                d1 = (bx - ax) * (sy - ay) - (by - ay) * (sx - ax)
+                d2 = (bx - ax) * (ey_ - ay) - (by - ay) * (ex_ - ax)
+                d3 = (ex_ - sx) * (ay - sy) - (ey_ - sy) * (ax - sx)
+                d4 = (ex_ - sx) * (by - sy) - (ey_ - sy) * (bx - sx)
+                if d1 * d2 < -_EPS and d3 * d4 < -_EPS:
+                    hit = True
+                    break
+            if hit:
+                break
+        if not hit:
+            hit = (
+                inside_padded(0.5 * (sx + ex_), 0.5 * (sy + ey_), polys, counts)
+                or inside_padded(sx, sy, polys, counts)
+                or inside_padded(ex_, ey_, polys, counts)
+            )
+        out[q] = hit
 
 
 def segments_blocked(
@@ -113,16 +179,13 @@ def segments_blocked(
     points or midpoint) lies inside: touching a vertex or running along an edge is allowed.
     """
     s, e = np.broadcast_arrays(np.asarray(starts, dtype=float), np.asarray(ends, dtype=float))
-    blocked = np.zeros(s.shape[:-1], dtype=bool)
-    probes = np.stack([s, e, 0.5 * (s + e)])
-    s_, e_ = s[..., None, :], e[..., None, :]
-    for poly in polygons:
-        a, b = poly, np.roll(poly, -1, axis=0)
-        d1, d2 = _orient(a, b, s_), _orient(a, b, e_)
-        d3, d4 = _orient(s_, e_, a), _orient(s_, e_, b)
-        blocked |= ((d1 * d2 < -_EPS) & (d3 * d4 < -_EPS)).any(axis=-1)
-        blocked |= inside_polygon(probes, poly).any(axis=0)
-    return blocked
+    out = np.zeros(s.shape[:-1], dtype=bool)
+    if not len(polygons) or not out.size:
+        return out
+    polys, counts = padded(polygons)
+    flat = np.empty(out.size, dtype=bool)
+    _blocked(np.array(s.reshape(-1, 2)), np.array(e.reshape(-1, 2)), polys, counts, flat)
+    return flat.reshape(out.shape)
 
 
 def push_outside(

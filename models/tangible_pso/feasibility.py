@@ -22,7 +22,9 @@ Every realised state is feasible when the start was: a step is only taken once i
 import numba
 import numpy as np
 
-__all__ = ["OUTCOMES", "follow", "localised", "sample_paths"]
+from abm.polygons import inside_padded
+
+__all__ = ["OUTCOMES", "follow", "localised", "path_conflicts"]
 
 #: What the check did to each MAV's path: reached its end, stopped by a swarm constraint,
 #: stopped at a no-fly zone.
@@ -53,46 +55,31 @@ def _lengths(points, count, cum):
 
 
 @numba.njit(cache=True)
-def sample_paths(points, count, fractions):
-    """Positions ``(q, s, 3)`` at the given fractions of every path ``points[q, :count[q]]``."""
-    q, w = points.shape[0], points.shape[1]
-    out = np.empty((q, len(fractions), 3))
-    cum = np.empty(w)
-    for i in range(q):
-        total = _lengths(points[i], count[i], cum)
-        for s in range(len(fractions)):
-            _point_at(points[i], count[i], cum, fractions[s] * total, out[i, s])
+def path_conflicts(points, count, samples, d_min):
+    """``(P, pairs)``: which pairs of MAVs of a swarm (``np.triu_indices`` order) come closer
+    than ``d_min`` when they follow their paths together, compared at ``samples`` common
+    fractions of the transition.
+    """
+    n_p, n, w = points.shape[0], points.shape[1], points.shape[2]
+    out = np.zeros((n_p, n * (n - 1) // 2), dtype=np.bool_)
+    cum = np.empty((n, w))
+    total = np.empty(n)
+    at = np.empty((n, samples, 3))
+    for j in range(n_p):
+        for i in range(n):
+            total[i] = _lengths(points[j, i], count[j, i], cum[i])
+            for s in range(samples):
+                _point_at(points[j, i], count[j, i], cum[i], s / (samples - 1) * total[i], at[i, s])
+        pair = 0
+        for i in range(n):
+            for m in range(i + 1, n):
+                for s in range(samples):
+                    d = at[i, s] - at[m, s]
+                    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < d_min * d_min:
+                        out[j, pair] = True
+                        break
+                pair += 1
     return out
-
-
-@numba.njit(cache=True)
-def _inside(x, y, zones, zone_len):
-    """Whether (x, y) is in the open interior of a zone (even-odd rule)."""
-    for z in range(zones.shape[0]):
-        m = zone_len[z]
-        inside = False
-        for a in range(m):
-            b = (a + 1) % m
-            ya, yb = zones[z, a, 1], zones[z, b, 1]
-            if (ya > y) != (yb > y):
-                xa, xb = zones[z, a, 0], zones[z, b, 0]
-                if x < xa + (y - ya) * (xb - xa) / (yb - ya):
-                    inside = not inside
-        if inside:
-            # a point on an edge counts as outside (paths may run along the border)
-            on_edge = False
-            for a in range(m):
-                b = (a + 1) % m
-                ax, ay = zones[z, a, 0], zones[z, a, 1]
-                ex, ey = zones[z, b, 0] - ax, zones[z, b, 1] - ay
-                t = ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)
-                t = min(1.0, max(0.0, t))
-                gx, gy = x - ax - t * ex, y - ay - t * ey
-                if gx * gx + gy * gy <= 1e-18:
-                    on_edge = True
-            if not on_edge:
-                return True
-    return False
 
 
 @numba.njit(cache=True)
@@ -224,7 +211,7 @@ def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swa
             for i in range(n):
                 if moving[i]:
                     _point_at(points[j, i], count[j, i], cum[i], frac * total[i], cand[i])
-                    if zone_len.shape[0] and _inside(cand[i, 0], cand[i, 1], zones, zone_len):
+                    if zone_len.shape[0] and inside_padded(cand[i, 0], cand[i, 1], zones, zone_len):
                         cand[i] = cur[i]
                         moving[i] = False
                         outcome[j, i] = 2

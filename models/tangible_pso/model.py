@@ -21,7 +21,7 @@ import numpy as np
 
 from abm.errors import ConfigError
 from abm.model import SwarmModel
-from abm.polygons import inside_any, offset_polygon
+from abm.polygons import inside_any, offset_polygon, padded
 from abm.pso import inertia_weight, update_bests, velocity_update
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
@@ -83,11 +83,7 @@ class TangiblePSOModel(SwarmModel):
         )
         #: The no-fly zones grown by the MAV radius: what no MAV centre may enter.
         self.zones = [offset_polygon(z, p.mav_radius) for z in scenario.zones]
-        width = max((len(z) for z in self.zones), default=3)
-        self._zone_arr = np.zeros((len(self.zones), width, 2))
-        self._zone_len = np.array([len(z) for z in self.zones], dtype=np.int64)
-        for i, z in enumerate(self.zones):
-            self._zone_arr[i, : len(z)] = z
+        self._zone_arr, self._zone_len = padded(self.zones)
         w, h = scenario.size
         r = p.mav_radius
         self.low = np.array([r, r, p.z_opt])

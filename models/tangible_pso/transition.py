@@ -10,12 +10,12 @@ import numpy as np
 
 from abm.polygons import push_outside
 from abm.visgraph import VisibilityPlanner
-from models.tangible_pso.feasibility import sample_paths
+from models.tangible_pso.feasibility import path_conflicts
 
 __all__ = ["Plans", "plan_paths", "shift_proposals"]
 
 #: Common fractions of the transition at which two paths are compared for a mutual collision.
-SWAP_SAMPLES = np.linspace(0.0, 1.0, 41)
+SWAP_SAMPLES = 41
 
 
 def shift_proposals(
@@ -105,12 +105,9 @@ def _paths_3d(planner: VisibilityPlanner | None, start: np.ndarray, goal: np.nda
 
 def _conflicts(points: np.ndarray, count: np.ndarray, d_min: float) -> np.ndarray:
     """``(P, pairs)``: which pairs of a swarm's synchronised paths come closer than d_min."""
-    n_p, n = count.shape
-    at = sample_paths(points.reshape(n_p * n, *points.shape[2:]), count.reshape(-1), SWAP_SAMPLES)
-    at = at.reshape(n_p, n, len(SWAP_SAMPLES), 3)
-    a, b = np.triu_indices(n, 1)
-    dist = np.linalg.norm(at[:, a] - at[:, b], axis=-1)
-    return (dist < d_min).any(axis=-1)
+    return path_conflicts(
+        np.ascontiguousarray(points), np.ascontiguousarray(count), SWAP_SAMPLES, d_min
+    )
 
 
 def plan_paths(
