@@ -31,17 +31,32 @@ __all__ = ["OUTCOMES", "follow", "localised", "path_conflicts"]
 OUTCOMES = ("free", "stopped", "blocked")
 
 
+@numba.njit(cache=True, inline="always")
+def _dist(a, b):
+    """Euclidean distance of two 3-vectors (no temporaries)."""
+    x, y, z = a[0] - b[0], a[1] - b[1], a[2] - b[2]
+    return np.sqrt(x * x + y * y + z * z)
+
+
+@numba.njit(cache=True, inline="always")
+def _copy(src, dst):
+    for c in range(3):
+        dst[c] = src[c]
+
+
 @numba.njit(cache=True)
 def _point_at(points, count, cum, dist, out):
     """The point at arc length ``dist`` along a polyline (clamped to its ends)."""
     if count == 1 or dist <= 0.0:
-        out[:] = points[0]
+        for c in range(3):
+            out[c] = points[0, c]
         return
     for w in range(1, count):
         if dist <= cum[w] or w == count - 1:
             seg = cum[w] - cum[w - 1]
             f = 1.0 if seg <= 0.0 else min(1.0, (dist - cum[w - 1]) / seg)
-            out[:] = points[w - 1] + f * (points[w] - points[w - 1])
+            for c in range(3):
+                out[c] = points[w - 1, c] + f * (points[w, c] - points[w - 1, c])
             return
 
 
@@ -49,8 +64,7 @@ def _point_at(points, count, cum, dist, out):
 def _lengths(points, count, cum):
     cum[0] = 0.0
     for w in range(1, count):
-        d = points[w] - points[w - 1]
-        cum[w] = cum[w - 1] + np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        cum[w] = cum[w - 1] + _dist(points[w], points[w - 1])
     return cum[count - 1] if count > 1 else 0.0
 
 
@@ -74,8 +88,7 @@ def path_conflicts(points, count, samples, d_min):
         for i in range(n):
             for m in range(i + 1, n):
                 for s in range(samples):
-                    d = at[i, s] - at[m, s]
-                    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < d_min * d_min:
+                    if _dist(at[i, s], at[m, s]) < d_min:
                         out[j, pair] = True
                         break
                 pair += 1
@@ -84,8 +97,7 @@ def path_conflicts(points, count, samples, d_min):
 
 @numba.njit(cache=True)
 def _linked(a, b, d_min, loc_range):
-    d = a - b
-    dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    dist = _dist(a, b)
     return d_min <= dist <= loc_range
 
 
@@ -100,8 +112,7 @@ def _violations(pos, k, d_min, loc_range, out):
         for j in range(n):
             if i == j:
                 continue
-            d = pos[i] - pos[j]
-            dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            dist = _dist(pos[i], pos[j])
             if dist < d_min:
                 bad = True
             elif dist <= loc_range:
@@ -145,8 +156,7 @@ def _safe_steps(cur, moving, per_step, zones, zone_len, d_min, loc_range):
         for m in range(i + 1, n):
             if not (moving[i] or moving[m]):
                 continue
-            d = cur[i] - cur[m]
-            dist = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            dist = _dist(cur[i], cur[m])
             rel = (per_step[i] if moving[i] else 0.0) + (per_step[m] if moving[m] else 0.0)
             slack = min(slack, min(abs(dist - d_min), abs(dist - loc_range)) / rel)
         if moving[i] and zone_len.shape[0]:
@@ -212,11 +222,11 @@ def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swa
                 if moving[i]:
                     _point_at(points[j, i], count[j, i], cum[i], frac * total[i], cand[i])
                     if zone_len.shape[0] and inside_padded(cand[i, 0], cand[i, 1], zones, zone_len):
-                        cand[i] = cur[i]
+                        _copy(cur[i], cand[i])
                         moving[i] = False
                         outcome[j, i] = 2
                 else:
-                    cand[i] = cur[i]
+                    _copy(cur[i], cand[i])
             if _violations(cand, k, d_min, loc_range, bad):
                 if swarm_rule:
                     for i in range(n):
@@ -229,11 +239,16 @@ def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swa
                     for i in range(n):
                         if not bad[i]:
                             continue
+                        # a moving MAV that breaks a constraint stops; a stopped one that
+                        # breaks it stops the moving neighbours it would lose
+                        stopped_bad = not moving[i]
                         for m in range(n):
-                            # a moving MAV that breaks a constraint stops; so do the moving
-                            # neighbours a stopped MAV would lose
-                            if moving[m] and (m == i or _linked(cur[i], cur[m], d_min, loc_range)):
-                                cand[m] = cur[m]
+                            if not moving[m]:
+                                continue
+                            if m == i or (
+                                stopped_bad and _linked(cur[i], cur[m], d_min, loc_range)
+                            ):
+                                _copy(cur[m], cand[m])
                                 moving[m] = False
                                 outcome[j, m] = 1
                                 changed = True
@@ -247,7 +262,7 @@ def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swa
                     break
             any_moving = False
             for i in range(n):
-                cur[i] = cand[i]
+                _copy(cand[i], cur[i])
                 if moving[i]:
                     reached[i] = frac
                     any_moving = True

@@ -276,6 +276,11 @@ class TangiblePSOModel(SwarmModel):
         done = len(blocked) == p.iterations
         return {
             "scenario": self.task.name,
+            "n_mavs": p.n_mavs,
+            "neighbours": p.neighbours,
+            "motion_planning": p.motion_planning,
+            "initial_velocity": p.initial_velocity,
+            "stop_rule": p.stop_rule,
             "iterations_done": len(blocked),
             "best_cost": float(self.best_cost[g]),
             "best_cost_ratio": float(self.best_cost[g]) / max(self.cost.total, 1e-12),
