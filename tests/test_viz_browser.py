@@ -62,8 +62,8 @@ CASES = {
     "tiny": (8, "8.0", ("walking",), "launch_period (s)", ()),
     # the testbed's anchors land by 35 s (seed 1); then particle clouds and the GlobalMap
     "sugarmap": (45, "45.0", ("anchor", "exploring"), "particles per explorer", ("#E69F00",)),
-    # two 10 s steps fly a few PSO transitions; the AoI map is drawn from the start
-    "tangible-pso": (2, "20.0", ("free",), "required neighbours k", ("#009E73",)),
+    # two 10 s steps fly a few PSO transitions; the best swarm b_g is drawn in black
+    "tangible-pso": (2, "20.0", ("free",), "required neighbours k", ("#000000",)),
 }
 
 
