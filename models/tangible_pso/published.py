@@ -36,8 +36,8 @@ SECONDS_PER_RUN = {"table1": 28.0, "fig9": 32.0}
 FIG9_BEST_ITERATION = 17
 
 _QUANTITIES = (
-    ("collision runs (share)", "collision"),
-    ("deadlock runs (share)", "deadlock"),
+    ("collision runs (%)", "collision"),
+    ("deadlock runs (%)", "deadlock"),
     ("average cost after 70 iterations (paper's units; ours: 1 m cells, A_max = 1)", "best_cost"),
 )
 
@@ -46,7 +46,7 @@ PUBLISHED = [
         f"Table 1, k = {k}, {'with' if mp else 'without'} motion planning",
         quantity,
         {"scenario": "nofly", "n_mavs": 3, "neighbours": k, "motion_planning": mp},
-        values[col],
+        100.0 * values[col] if col < 2 else values[col],  # the report shows runs' shares in %
         "level",
         metric,
         "reference",
