@@ -136,6 +136,8 @@ def test_motion_planning_lowers_zone_stops_and_cost_at_k0():
         ({"scenario": "atlantis"}, "scenario 'atlantis'"),
         ({"z_max": 4.0}, "z_max"),
         ({"stop_rule": "never"}, "stop_rule"),
+        ({"depot_radius": 2.0}, "depot_radius .* only acts with init='depot'"),
+        ({"init": "depot", "depot_radius": 0.5, "neighbours": 0}, "depot_radius 0.5 m"),
     ],
 )
 def test_bad_input_names_the_parameter(kw, match):

@@ -29,7 +29,7 @@ from abm.visgraph import VisibilityPlanner
 from models.tangible_pso import published
 from models.tangible_pso.cost import CoverageCost
 from models.tangible_pso.feasibility import OUTCOMES, follow, localised
-from models.tangible_pso.params import TangiblePSOParams
+from models.tangible_pso.params import DEPOT_RADIUS, TangiblePSOParams
 from models.tangible_pso.scenario import load_scenario
 from models.tangible_pso.transition import plan_paths, shift_proposals
 
@@ -117,13 +117,12 @@ class TangiblePSOModel(SwarmModel):
         n_p, n = p.particles, p.n_mavs
         if p.init == "depot":
             angle = 2 * np.pi * np.arange(n) / n
-            ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (
-                p.depot_radius if n > 1 else 0
-            )
+            radius = DEPOT_RADIUS if p.depot_radius is None else p.depot_radius
+            ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (radius if n > 1 else 0)
             swarm = np.column_stack([self.depot + ring, np.full(n, p.z_opt)])
             if not self._start_ok(swarm[None])[0]:
                 raise ConfigError(
-                    f"depot_radius {p.depot_radius:g} m puts the {n} MAVs' ring outside the area, "
+                    f"depot_radius {radius:g} m puts the {n} MAVs' ring outside the area, "
                     f"in a zone, closer than d_min or without {p.neighbours} localised neighbours"
                 )
             return np.repeat(swarm[None], n_p, axis=0)

@@ -14,7 +14,10 @@ from dataclasses import dataclass
 from abm.errors import ConfigError
 from abm.params import SwarmParams, param
 
-__all__ = ["TangiblePSOParams"]
+__all__ = ["DEPOT_RADIUS", "TangiblePSOParams"]
+
+#: The depot ring's radius when ``depot_radius`` is None (m; ours).
+DEPOT_RADIUS = 1.5
 
 
 @dataclass(frozen=True)
@@ -51,7 +54,8 @@ class TangiblePSOParams(SwarmParams):
             evenly on a ring of radius depot_radius; "circle": each particle's MAVs at random
             in a circle of diameter loc_range around the depot (Fig. 9, Sect. 7.1), drawn
             until they keep the constraints.
-        depot_radius: radius of the depot ring (m; ours).
+        depot_radius: radius of the depot ring (m; ours); None: 1.5 m. Only with
+            init="depot" (refused with "circle", where it would not act).
         loc_range: maximal localisation distance of the omnidirectional relative-localisation
             sensor (m; ours: 5, Sect. 7.1 gives none).
         d_min: minimum distance between MAVs (m; 1.2, Sect. 7.2).
@@ -95,7 +99,7 @@ class TangiblePSOParams(SwarmParams):
     initial_speed: float = param(15.0, low=0.0)
     initial_velocity: str = param("swarm", choices=("component", "swarm"))
     init: str = param("circle", choices=("circle", "depot"))
-    depot_radius: float = param(1.5, low=0.0, low_open=True)
+    depot_radius: float | None = param(None, low=0.0, low_open=True)
     loc_range: float = param(5.0, low=0.0, low_open=True)
     d_min: float = param(1.2, low=0.0, low_open=True)
     mav_radius: float = param(0.6, low=0.0)
@@ -123,6 +127,11 @@ class TangiblePSOParams(SwarmParams):
         if self.loc_range < self.d_min:
             raise ConfigError(
                 f"loc_range must be >= d_min = {self.d_min:g} m, got {self.loc_range:g}"
+            )
+        if self.depot_radius is not None and self.init != "depot":
+            raise ConfigError(
+                f"depot_radius {self.depot_radius:g} m only acts with init='depot', "
+                f"got init={self.init!r}"
             )
         if self.w_end > self.w_start:
             raise ConfigError(
