@@ -98,6 +98,12 @@ def test_goal_swapping_resolves_two_crossing_paths():
     assert np.allclose(ends, start[0])  # each now flies to the other's goal: nowhere
 
 
+def test_motion_planning_swaps_goals_on_an_open_plane_too():
+    kw = {"scenario": "open", "n_mavs": 6, "neighbours": 2, "iterations": 8, "seed": 4}
+    assert _run(motion_planning=True, **kw).summary()["swap_conflicts"] > 0
+    assert _run(motion_planning=False, **kw).summary()["swap_conflicts"] == 0
+
+
 def test_the_same_seed_gives_the_same_optimisation():
     a, b = _run(seed=5, neighbours=1), _run(seed=5, neighbours=1)
     assert np.array_equal(np.array(a.history), np.array(b.history))

@@ -76,10 +76,10 @@ class TangiblePSOModel(SwarmModel):
         self.task = scenario
         self.depot = depot
         self.cost = CoverageCost(scenario.aoi, scenario.a_max, p.camera_angle, p.z_opt)
+        # with motion planning every path comes from the planner (straight where nothing is in
+        # the way) and mutual path collisions are swapped away, zones or not
         self.planner = (
-            VisibilityPlanner(scenario.zones, p.mav_radius)
-            if p.motion_planning and scenario.zones
-            else None
+            VisibilityPlanner(scenario.zones, p.mav_radius) if p.motion_planning else None
         )
         #: The no-fly zones grown by the MAV radius: what no MAV centre may enter.
         self.zones = [offset_polygon(z, p.mav_radius) for z in scenario.zones]
