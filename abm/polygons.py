@@ -16,6 +16,7 @@ from abm.errors import ConfigError
 
 __all__ = [
     "as_polygon",
+    "edge_distance2",
     "inside_any",
     "inside_padded",
     "padded",
@@ -127,19 +128,26 @@ def inside_padded(x: float, y: float, polys: np.ndarray, counts: np.ndarray) -> 
                     inside = not inside
         if not inside:
             continue
-        on_edge = False  # the even-odd rule may count a point on an edge: it is outside
-        for a in range(m):
-            b = (a + 1) % m
-            ax, ay = polys[z, a, 0], polys[z, a, 1]
-            ex, ey = polys[z, b, 0] - ax, polys[z, b, 1] - ay
-            t = min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)))
-            gx, gy = x - ax - t * ex, y - ay - t * ey
-            if gx * gx + gy * gy <= 1e-18:
-                on_edge = True
-                break
-        if not on_edge:
+        # the even-odd rule may count a point on an edge: it is outside
+        if edge_distance2(x, y, polys[z], m) > 1e-18:
             return True
     return False
+
+
+@numba.njit(cache=True)
+def edge_distance2(x: float, y: float, poly: np.ndarray, m: int) -> float:
+    """Squared distance (m^2) from (x, y) to the nearest edge of ``poly``'s first ``m``
+    vertices (a closed ring).
+    """
+    best = np.inf
+    for a in range(m):
+        b = (a + 1) % m
+        ax, ay = poly[a, 0], poly[a, 1]
+        ex, ey = poly[b, 0] - ax, poly[b, 1] - ay
+        t = min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)))
+        gx, gy = x - ax - t * ex, y - ay - t * ey
+        best = min(best, gx * gx + gy * gy)
+    return best
 
 
 @numba.njit(cache=True)

@@ -22,7 +22,7 @@ Every realised state is feasible when the start was: a step is only taken once i
 import numba
 import numpy as np
 
-from abm.polygons import inside_padded
+from abm.polygons import edge_distance2, inside_padded
 
 __all__ = ["OUTCOMES", "follow", "localised", "path_conflicts"]
 
@@ -127,15 +127,8 @@ def _zone_gap(x, y, zones, zone_len):
     """Distance (m) from (x, y) to the nearest edge of any zone."""
     best = np.inf
     for z in range(zones.shape[0]):
-        m = zone_len[z]
-        for a in range(m):
-            b = (a + 1) % m
-            ax, ay = zones[z, a, 0], zones[z, a, 1]
-            ex, ey = zones[z, b, 0] - ax, zones[z, b, 1] - ay
-            t = min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)))
-            gx, gy = x - ax - t * ex, y - ay - t * ey
-            best = min(best, np.sqrt(gx * gx + gy * gy))
-    return best
+        best = min(best, edge_distance2(x, y, zones[z], zone_len[z]))
+    return np.sqrt(best)
 
 
 @numba.njit(cache=True)
