@@ -18,6 +18,7 @@ import numpy as np
 
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
+from abm.worlds.floorplans import FLOOR_PLANS
 
 __all__ = [
     "MAPS",
@@ -253,6 +254,11 @@ MAPS: dict[str, MapInfo] = {
         MapInfo("pillars", "100 x 100 m hall with a grid of 4 x 4 m pillars", _pillars),
         MapInfo("lshape", "L-shaped hall in a 100 x 100 m square", _lshape),
         MapInfo("wide", "100 x 150 m hall with two partial walls", _wide),
+        # Floor plans of ordinary buildings (abm.worlds.floorplans), walls off any 3 m lattice.
+        *(
+            MapInfo(name, title, build, start=start)
+            for name, (build, start, title) in FLOOR_PLANS.items()
+        ),
     )
 }
 

@@ -48,6 +48,7 @@ class Beacon:
     corridor: bool
     is_base: bool = False
     searched: set[int] = field(default_factory=set)
+    reported_taken: set[int] = field(default_factory=set)
     neighbour_dirs: dict[int, int] = field(default_factory=dict)
     desired: int = NO_DIRECTION
     redeploying: bool = False
@@ -224,7 +225,7 @@ class BeaconNetwork:
         me = self.beacons[robot]
         others = self.comms.neighbours(robot)
         if not others:
-            return {}, set()
+            return {}, set(me.reported_taken)
         rel = np.array([self.beacons[n].position - me.position for n in others])
         p = self.params
         measured = relative_positions(
@@ -242,7 +243,20 @@ class BeaconNetwork:
         reach = self.params.interspace if me.corridor else self.params.spot_taken
         taken = {d for d in DIRECTIONS if (gaps[d] < reach).any()}
         neighbours = {d: n for d, (_r, n) in found.items()}
-        return neighbours, taken - neighbours.keys()
+        return neighbours, (taken | me.reported_taken) - neighbours.keys()
+
+    def spot_reported_taken(self, robot: int | None, where: np.ndarray) -> None:
+        """An explorer that flew to beacon ``robot``'s advertised spot found another beacon
+        there: the beacon labels that direction "beacon" from now on (``report_taken``).
+
+        Its own sensors can miss that beacon: a pillar between them blocks the line of sight
+        while the distance sensor's ray passes beside the pillar (see the README).
+        """
+        beacon = self.beacons.get(robot)
+        if beacon is None:
+            return  # it detached meanwhile
+        beacon.reported_taken.add(int(np.argmax(CARDINALS @ (where - beacon.position))))
+        self.wake(robot)
 
     # ------------------------------------------------------------------ the flowchart
     def wake(self, robot: int) -> None:
