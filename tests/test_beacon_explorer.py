@@ -319,6 +319,8 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
                 time_limit=1000.0,
                 trace_interval=None,
                 guide_hysteresis=hysteresis,
+                guide_commit=False,  # hysteresis alone (the commitment fixes this run too)
+                stall_time=None,
             )
             .run()
             .end_reason
@@ -356,3 +358,96 @@ def test_message_loss_and_latency_act_and_hop_counts_still_settle(knob):
     run_until_quiescent(model, 80.0)
     assert not model.events().equals(plain.events())
     assert_hop_counts_are_bfs_distances(model)
+
+
+# ---------------------------------------------------------------------- floor plans (issue 18)
+def _floor_plan_end(world: str, n_robots: int, period: float, seed: int, **rules) -> str:
+    """How a run on a built-in floor plan ends within 1500 s, as its end reason's first word."""
+    model = BeaconExplorerModel(
+        world=world,
+        n_robots=n_robots,
+        launch_period=period,
+        seed=seed,
+        time_limit=1500.0,
+        trace_interval=None,
+        **rules,
+    ).run()
+    return model.end_reason.split(":")[0]
+
+
+def test_explorers_commit_to_an_advertised_spot_nearer_another_beacon():
+    """Pillar room, 20 robots, 24 s: a beacon beside the north wall advertised a spot 2.2-2.5 m
+    from the base (sensed as free, spot_taken = 2.2 m); explorers reaching it found the base
+    0.5 m nearer, followed its signal back and circled for ever. Kept on their way to the
+    spot, they attach. (The code before this rule ran this set-up to the time limit.)"""
+    assert _floor_plan_end("pillar_room", 20, 24.0, 0, guide_commit=False) == "stalled"
+    assert _floor_plan_end("pillar_room", 20, 24.0, 0) == "stuck"
+
+
+def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
+    """Pillar room, 40 robots, 6 s: the pillar hides a beacon from the beacon advertising the
+    spot it holds (the distance sensor's ray passes beside the pillar), so explorers queued at
+    the spot, ascended, found it held and flew on, for ever. An explorer that finds the spot
+    held now tells the advertiser. (Time limit on the code before.)"""
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0, report_taken=False) == "stalled"
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0) == "stuck"
+
+
+def test_an_explorer_out_of_touch_flies_back_instead_of_hovering_for_ever():
+    """Small office, 20 robots: explorers overshot a 1 m door into a room where no beacon is
+    in line of sight and hovered there for ever. Flying back to where they were last in touch
+    ends the run, with the paper's other rules (12 s, seed 100: time limit on the code
+    before) and with ours (24 s, seed 103)."""
+    paper = {"guide_commit": False, "report_taken": False}
+    assert _floor_plan_end("office_small", 20, 12.0, 100, lost_return=False, **paper) == "stalled"
+    assert _floor_plan_end("office_small", 20, 12.0, 100, **paper) == "stuck"
+    assert _floor_plan_end("office_small", 20, 24.0, 103, lost_return=False) == "stalled"
+    assert _floor_plan_end("office_small", 20, 24.0, 103) == "stuck"
+
+
+def test_the_stall_detector_ends_a_stalled_run_and_records_why():
+    """The old rules on the pillar room: explorers circle without attaching, colliding. The
+    detector ends the run stall_time (600 s) into a window with no attach, names the beacon most of them
+    follow, and logs a ``stall`` event; without it the run burns to the time limit."""
+    old_rules = {"guide_commit": False, "report_taken": False, "lost_return": False}
+    model = BeaconExplorerModel(
+        world="pillar_room",
+        n_robots=20,
+        launch_period=24.0,
+        seed=0,
+        trace_interval=None,
+        **old_rules,
+    ).run()
+    assert model.end_reason.startswith("stalled: ")
+    events = model.events()
+    stall = events.query("event == 'stall'").iloc[0]
+    last_attach = events.query("event == 'attach'").time.max()
+    assert stall.time == model.time >= last_attach + 600.0
+    assert stall.duration == pytest.approx(600.0, abs=1.5)  # no attach in the window
+    assert stall.collisions >= 20 and stall.followers >= 1
+    assert f"beacon {int(stall.robot)}" in model.end_reason
+    unwatched = BeaconExplorerModel(
+        world="pillar_room",
+        n_robots=20,
+        launch_period=24.0,
+        seed=0,
+        trace_interval=None,
+        time_limit=1500.0,
+        stall_time=None,
+        **old_rules,
+    ).run()
+    assert unwatched.end_reason == "time limit"
+
+
+def test_floor_plans_are_built_in_maps_with_a_free_start():
+    from abm.worlds import MAPS
+    from abm.worlds.floorplans import FLOOR_PLANS
+
+    for name in FLOOR_PLANS:
+        model = BeaconExplorerModel(world=name, n_robots=1, seed=0, trace_interval=None)
+        assert np.allclose(model.world.start, MAPS[name].start)
+        assert model.arena.is_free(model.world.start[None])[0]
+    moved = BeaconExplorerModel(world="office", start=(30.5, 20.5), n_robots=1, seed=0)
+    assert np.allclose(moved.world.start, (30.5, 20.5))
+    with pytest.raises(ConfigError, match="map_resolution applies to map files only"):
+        BeaconExplorerModel(world="office", map_resolution=0.5)
