@@ -361,8 +361,20 @@ def test_message_loss_and_latency_act_and_hop_counts_still_settle(knob):
 
 
 # ---------------------------------------------------------------------- floor plans (issue 18)
+#: The rules added for floor plans, all off: the model then gives the event log of the code
+#: before them (checked on these set-ups, given to it as PNG files with the same start).
+OLD_RULES = {
+    "guide_commit": False,
+    "report_taken": False,
+    "lost_return": False,
+    "searched_follows_signal": False,
+    "slide_after": None,
+}
+
+
 def _floor_plan_end(world: str, n_robots: int, period: float, seed: int, **rules) -> str:
-    """How a run on a built-in floor plan ends within 1500 s, as its end reason's first word."""
+    """How a run on a built-in floor plan ends within 1500 s: its end reason's first word
+    ("stalled" from the stall detector, 600 s without an attach)."""
     model = BeaconExplorerModel(
         world=world,
         n_robots=n_robots,
@@ -375,48 +387,66 @@ def _floor_plan_end(world: str, n_robots: int, period: float, seed: int, **rules
     return model.end_reason.split(":")[0]
 
 
+def _ends_only_with(rule: str, world: str, n_robots: int, period: float, seed: int) -> None:
+    """The old rules stall; today's rules without ``rule`` stall; today's rules end."""
+    assert _floor_plan_end(world, n_robots, period, seed, **OLD_RULES) == "stalled"
+    assert _floor_plan_end(world, n_robots, period, seed, **{rule: OLD_RULES[rule]}) == "stalled"
+    assert _floor_plan_end(world, n_robots, period, seed) == "stuck"
+
+
 def test_explorers_commit_to_an_advertised_spot_nearer_another_beacon():
     """Pillar room, 20 robots, 24 s: a beacon beside the north wall advertised a spot 2.2-2.5 m
     from the base (sensed as free, spot_taken = 2.2 m); explorers reaching it found the base
-    0.5 m nearer, followed its signal back and circled for ever. Kept on their way to the
-    spot, they attach. (The code before this rule ran this set-up to the time limit.)"""
-    assert _floor_plan_end("pillar_room", 20, 24.0, 0, guide_commit=False) == "stalled"
-    assert _floor_plan_end("pillar_room", 20, 24.0, 0) == "stuck"
+    0.5 m nearer, followed its signal back and circled for ever."""
+    _ends_only_with("guide_commit", "pillar_room", 20, 24.0, 0)
 
 
 def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
     """Pillar room, 40 robots, 6 s: the pillar hides a beacon from the beacon advertising the
     spot it holds (the distance sensor's ray passes beside the pillar), so explorers queued at
-    the spot, ascended, found it held and flew on, for ever. An explorer that finds the spot
-    held now tells the advertiser. (Time limit on the code before.)"""
-    assert _floor_plan_end("pillar_room", 40, 6.0, 0, report_taken=False) == "stalled"
-    assert _floor_plan_end("pillar_room", 40, 6.0, 0) == "stuck"
+    the spot, ascended, found it held and flew on, for ever (the old code: time limit)."""
+    _ends_only_with("report_taken", "pillar_room", 40, 6.0, 0)
+
+
+def test_an_explorer_pressed_against_a_pillar_slides_along_it():
+    """Pillar room, 20 robots, 12 s: a pillar on the straight line between two lattice
+    neighbours; an explorer flying from one to the other pressed against it (the cardinal
+    sensors' C pushes straight back) for 730 s in the old code."""
+    _ends_only_with("slide_after", "pillar_room", 20, 12.0, 5932795694147440737)
 
 
 def test_an_explorer_out_of_touch_flies_back_instead_of_hovering_for_ever():
-    """Small office, 20 robots: explorers overshot a 1 m door into a room where no beacon is
-    in line of sight and hovered there for ever. Flying back to where they were last in touch
-    ends the run, with the paper's other rules (12 s, seed 100: time limit on the code
-    before) and with ours (24 s, seed 103)."""
-    paper = {"guide_commit": False, "report_taken": False}
-    assert _floor_plan_end("office_small", 20, 12.0, 100, lost_return=False, **paper) == "stalled"
-    assert _floor_plan_end("office_small", 20, 12.0, 100, **paper) == "stuck"
-    assert _floor_plan_end("office_small", 20, 24.0, 103, lost_return=False) == "stalled"
-    assert _floor_plan_end("office_small", 20, 24.0, 103) == "stuck"
+    """Small office, 20 robots, 12 s: an explorer overshot a 1 m door into a room where no
+    beacon is in line of sight and hovered there for ever (the old code: time limit). Flying
+    back to where it was last in touch ends the run."""
+    assert _floor_plan_end("office_small", 20, 12.0, 100, **OLD_RULES) == "stalled"
+    fixed = {**OLD_RULES, "lost_return": True}
+    assert _floor_plan_end("office_small", 20, 12.0, 100, **fixed) == "stuck"
+
+
+def test_a_corridor_beacon_reopens_a_way_its_neighbour_no_longer_signals_back():
+    """Diagonal hall, 40 robots, 12 s: a corridor beacon had remembered for good the way to an
+    open-space neighbour as searched when that neighbour's reverse gradient pointed back; later
+    the only frontier lay beyond it, the beacon signalled back, its other neighbour sent
+    explorers to it, and they shuttled between the two. (This appears once explorers commit to
+    their spot: the old code ended this set-up "stuck".)"""
+    world = ("diagonal_hall", 40, 12.0, 6097586779079702662)
+    assert _floor_plan_end(*world, searched_follows_signal=False) == "stalled"
+    assert _floor_plan_end(*world) == "stuck"
 
 
 def test_the_stall_detector_ends_a_stalled_run_and_records_why():
     """The old rules on the pillar room: explorers circle without attaching, colliding. The
-    detector ends the run stall_time (600 s) into a window with no attach, names the beacon most of them
-    follow, and logs a ``stall`` event; without it the run burns to the time limit."""
-    old_rules = {"guide_commit": False, "report_taken": False, "lost_return": False}
+    detector ends the run stall_time (600 s) into a window with no attach, names the beacon
+    most of them follow, and logs a ``stall`` event; without it the run burns to the time
+    limit."""
     model = BeaconExplorerModel(
         world="pillar_room",
         n_robots=20,
         launch_period=24.0,
         seed=0,
         trace_interval=None,
-        **old_rules,
+        **OLD_RULES,
     ).run()
     assert model.end_reason.startswith("stalled: ")
     events = model.events()
@@ -434,7 +464,7 @@ def test_the_stall_detector_ends_a_stalled_run_and_records_why():
         trace_interval=None,
         time_limit=1500.0,
         stall_time=None,
-        **old_rules,
+        **OLD_RULES,
     ).run()
     assert unwatched.end_reason == "time limit"
 

@@ -47,6 +47,8 @@ class Beacon:
     walls: tuple[bool, bool, bool, bool]
     corridor: bool
     is_base: bool = False
+    #: directions remembered as searched: a neighbour there detached after its search (and,
+    #: with ``searched_follows_signal`` off, one that ever signalled back)
     searched: set[int] = field(default_factory=set)
     reported_taken: set[int] = field(default_factory=set)
     neighbour_dirs: dict[int, int] = field(default_factory=dict)
@@ -295,7 +297,8 @@ class BeaconNetwork:
                 is_base=beacon.is_base,
             )
         )
-        beacon.searched = set(decision.searched)
+        if not self.params.searched_follows_signal:
+            beacon.searched = set(decision.searched)  # every signal remembered for good
         self._publish(
             beacon, decision.desired, decision.redeploying, decision.frontier, decision.may_detach
         )

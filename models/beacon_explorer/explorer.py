@@ -42,6 +42,8 @@ class _Constants(NamedTuple):
     guide_hysteresis: float
     guide_commit: bool
     lost_return: bool
+    slide_after: float  # inf: never slide
+    dt: float
     range_noise: float
     bearing_noise: float
     reference_range: float
@@ -78,6 +80,8 @@ class ExplorerController:
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
         physics.add_flyer_state("contact", 3)
+        # where it was pressed (x, y), for how long, slide time left, side (+1 left, -1 right)
+        physics.add_flyer_state("slide", 5)
         self._constants = _Constants(
             params.comm_range,
             params.sensor_range,
@@ -92,6 +96,8 @@ class ExplorerController:
             params.guide_hysteresis,
             params.guide_commit,
             params.lost_return,
+            math.inf if params.slide_after is None else params.slide_after,
+            physics.dt,
             params.range_noise,
             params.bearing_noise,
             params.reference_range,
@@ -120,6 +126,7 @@ class ExplorerController:
             physics.flyer_state["T"],
             physics.flyer_state["guide"],
             physics.flyer_state["contact"],
+            physics.flyer_state["slide"],
             ids,
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
@@ -143,6 +150,7 @@ def _steer(
     T,  # noqa: N803 (the paper's symbol)
     guide,
     contact,
+    slide,
     ids,
     beacon_pos,
     desired_vec,
@@ -206,6 +214,10 @@ def _steer(
         scale = p.max_speed / max(size, p.slow_radius)
         desired[i, 0] = T[i, 0] * scale
         desired[i, 1] = T[i, 1] * scale
+        side = _slide_side(slide[i], pos[i], T[i], walls[i], size, p)
+        if side != 0.0:  # pressed against an obstacle: slide along it, T turned by 45 degrees
+            desired[i, 0] -= side * T[i, 1] * scale
+            desired[i, 1] += side * T[i, 0] * scale
         if lost:
             continue
         attach[i] = (
@@ -215,6 +227,41 @@ def _steer(
             and math.hypot(nx, ny) > p.interspace / 2
         )
     return desired, attach
+
+
+@njit(cache=True)
+def _slide_side(slide, point, t, walls, size, p):
+    """Whether a flyer slides along an obstacle now: 0, or the side (+1 left of T, -1 right).
+
+    A flyer whose T still asks for speed (|T| above half the slow-down radius) but that has
+    stayed within half the slow-down radius of one point for ``slide_after`` seconds is pressed
+    against an obstacle (a pillar on the straight line to its spot: the four cardinal sensors'
+    C pushes straight back, never sideways). It then slides for ``slide_after`` seconds towards
+    the side whose cardinal sensor reads farther. ``slide`` holds (x, y of the point, time
+    there, slide time left, side).
+    """
+    if slide[3] > 0.0:
+        slide[3] -= p.dt
+        return slide[4]
+    moved = math.hypot(point[0] - slide[0], point[1] - slide[1]) > 0.5 * p.slow_radius
+    if size <= 0.5 * p.slow_radius or moved:
+        slide[0] = point[0]
+        slide[1] = point[1]
+        slide[2] = 0.0
+        return 0.0
+    slide[2] += p.dt
+    if slide[2] < p.slide_after:
+        return 0.0
+    left = 0
+    for d in range(4):  # the cardinal nearest the left perpendicular (-t_y, t_x)
+        if -t[1] * CARDINALS[d, 0] + t[0] * CARDINALS[d, 1] > (
+            -t[1] * CARDINALS[left, 0] + t[0] * CARDINALS[left, 1]
+        ):
+            left = d
+    slide[2] = 0.0
+    slide[3] = p.slide_after
+    slide[4] = 1.0 if walls[left] >= walls[(left + 2) % 4] else -1.0
+    return slide[4]
 
 
 @njit(cache=True)

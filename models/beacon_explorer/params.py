@@ -106,10 +106,23 @@ class BeaconExplorerParams(SwarmParams):
             from then on (ours: the paper's beacons label directions only from their own
             sensors; a pillar can hide the beacon holding a spot from the beacon advertising
             it, and explorers then queued at the spot for ever; see the README).
+        searched_follows_signal: a corridor beacon counts a direction as searched (Sect. 3.3:
+            the neighbour there has a higher forwards hop count and signals back) only while
+            that neighbour still signals back; only a neighbour that detached is remembered
+            (ours: remembering every signal for good, a corridor beacon beside an open-space
+            beacon that had pointed back while the frontier lay elsewhere closed the only way
+            to a later frontier, and explorers shuttled at it for ever; see the README).
         lost_return: an explorer out of touch with every beacon (none within C_r in line of
             sight) flies back to where it last was in touch, by its own odometry (ours: the
             paper does not say; otherwise it hovers where it is, and an explorer that overshot
             a 1 m door into a room waited there for ever).
+        slide_after: an explorer whose T asks for speed (|T| > slow_radius / 2) but that has
+            stayed within slow_radius / 2 of one point for this long is pressed against an
+            obstacle and slides along it for as long, towards the side its cardinal sensors
+            read more open (s; ours; None: never. The paper's C points away from the nearest
+            obstacle; with four cardinal sensors it pushes straight back from a pillar on the
+            line to the spot, and an explorer stayed pressed against a pillar for ever; see the
+            README).
         filter_time: time constant of the explorer's filter of its noisy T (s; ours).
         avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
         slow_radius: inside this |T| the flight controller slows proportionally (m; ours).
@@ -174,6 +187,8 @@ class BeaconExplorerParams(SwarmParams):
     guide_commit: bool = True
     report_taken: bool = True
     lost_return: bool = True
+    searched_follows_signal: bool = True
+    slide_after: float | None = param(2.0, low=0.0, low_open=True)
     filter_time: float = param(0.3, low=0.0, low_open=True)
     avoid_gain: float = param(0.5, low=0.0)
     slow_radius: float = param(1.0, low=0.0, low_open=True)
