@@ -319,8 +319,8 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
                 time_limit=1000.0,
                 trace_interval=None,
                 guide_hysteresis=hysteresis,
-                guide_commit=False,  # hysteresis alone (the commitment fixes this run too)
                 stall_time=None,
+                **OLD_RULES,  # hysteresis alone (later rules end this run too)
             )
             .run()
             .end_reason
@@ -402,10 +402,14 @@ def test_explorers_commit_to_an_advertised_spot_nearer_another_beacon():
 
 
 def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
-    """Pillar room, 40 robots, 6 s: the pillar hides a beacon from the beacon advertising the
-    spot it holds (the distance sensor's ray passes beside the pillar), so explorers queued at
-    the spot, ascended, found it held and flew on, for ever (the old code: time limit)."""
-    _ends_only_with("report_taken", "pillar_room", 40, 6.0, 0)
+    """Pillar room, 40 robots, 6 s, once explorers commit to their spot: the pillar hides a
+    beacon from the beacon advertising the spot it holds (the distance sensor's ray passes
+    beside the pillar), so explorers queued at the spot, ascended, found it held and flew on,
+    for ever (the old code: time limit). An explorer that finds the spot held now says so."""
+    found_with = {**OLD_RULES, "guide_commit": True}
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **found_with) == "stalled"
+    fixed = {**found_with, "report_taken": True}
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **fixed) == "stuck"
 
 
 def test_an_explorer_pressed_against_a_pillar_slides_along_it():
@@ -425,14 +429,38 @@ def test_an_explorer_out_of_touch_flies_back_instead_of_hovering_for_ever():
 
 
 def test_a_corridor_beacon_reopens_a_way_its_neighbour_no_longer_signals_back():
-    """Diagonal hall, 40 robots, 12 s: a corridor beacon had remembered for good the way to an
-    open-space neighbour as searched when that neighbour's reverse gradient pointed back; later
-    the only frontier lay beyond it, the beacon signalled back, its other neighbour sent
-    explorers to it, and they shuttled between the two. (This appears once explorers commit to
-    their spot: the old code ended this set-up "stuck".)"""
+    """Diagonal hall, 40 robots, 12 s, once explorers commit to their spot: a corridor beacon
+    had remembered for good the way to an open-space neighbour as searched when that
+    neighbour's reverse gradient pointed back; later the only frontier lay beyond it, the
+    beacon signalled back, its other neighbour sent explorers to it, and they shuttled between
+    the two. (The old code ended this set-up "stuck": explorers did not get that far.)"""
+    found_with = {**OLD_RULES, "guide_commit": True}
     world = ("diagonal_hall", 40, 12.0, 6097586779079702662)
-    assert _floor_plan_end(*world, searched_follows_signal=False) == "stalled"
-    assert _floor_plan_end(*world) == "stuck"
+    assert _floor_plan_end(*world, **found_with) == "stalled"
+    fixed = {**found_with, "searched_follows_signal": True}
+    assert _floor_plan_end(*world, **fixed) == "stuck"
+
+
+@pytest.mark.parametrize("seed", [1, 3])
+def test_explorers_read_what_beacons_signal_now(seed):
+    """The explorers' copy of the beacons' signals is renewed whenever a signal changes. A
+    beacon's spot is "empty" unless a lattice neighbour holds it, and a neighbour re-sensed in
+    another direction changed that without renewing the copy: explorers then took a free spot
+    for held and hovered beside it for ever (small office, 12 s; the old code had stale copies
+    in every run, and seed 3 ran to the time limit)."""
+    model = BeaconExplorerModel(
+        world="office_small", n_robots=20, launch_period=12.0, seed=seed, trace_interval=None
+    )
+    controller = model.physics.controller
+    checked = 0
+    while model.running:
+        model.run(until=model.time + 1.0)
+        if controller._version == model.beacons.version:
+            cached, fresh = controller._current_signals()[3], model.beacons.signals()[3]
+            assert np.array_equal(cached, fresh), f"stale signals at t = {model.time}"
+            checked += 1
+    assert checked > 100
+    assert model.end_reason.split(":")[0] in ("stuck", "complete")
 
 
 def test_the_stall_detector_ends_a_stalled_run_and_records_why():

@@ -274,7 +274,11 @@ class BeaconNetwork:
         beacon = self.beacons.get(robot)
         if beacon is None:
             return
+        before = beacon.neighbour_dirs.keys()
         beacon.neighbour_dirs, taken = self._sense_beacons(robot)
+        if beacon.neighbour_dirs.keys() != before:
+            # Whether its desired spot is empty (what explorers read) may change with them.
+            self.version += 1
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
         if not all(

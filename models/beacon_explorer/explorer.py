@@ -214,10 +214,10 @@ def _steer(
         scale = p.max_speed / max(size, p.slow_radius)
         desired[i, 0] = T[i, 0] * scale
         desired[i, 1] = T[i, 1] * scale
-        side = _slide_side(slide[i], pos[i], T[i], walls[i], size, p)
-        if side != 0.0:  # pressed against an obstacle: slide along it, T turned by 45 degrees
-            desired[i, 0] -= side * T[i, 1] * scale
-            desired[i, 1] += side * T[i, 0] * scale
+        side = _slide_side(slide[i], pos[i], lx, ly, walls[i], p)
+        if side != 0.0:  # pressed against an obstacle: slide along it, across L
+            desired[i, 0] -= side * ly * scale
+            desired[i, 1] += side * lx * scale
         if lost:
             continue
         attach[i] = (
@@ -230,13 +230,14 @@ def _steer(
 
 
 @njit(cache=True)
-def _slide_side(slide, point, t, walls, size, p):
-    """Whether a flyer slides along an obstacle now: 0, or the side (+1 left of T, -1 right).
+def _slide_side(slide, point, lx, ly, walls, p):
+    """Whether a flyer slides along an obstacle now: 0, or the side (+1 left of L, -1 right).
 
-    A flyer whose T still asks for speed (|T| above half the slow-down radius) but that has
-    stayed within half the slow-down radius of one point for ``slide_after`` seconds is pressed
-    against an obstacle (a pillar on the straight line to its spot: the four cardinal sensors'
-    C pushes straight back, never sideways). It then slides for ``slide_after`` seconds towards
+    A flyer whose goal (L, before collision avoidance) lies more than half the slow-down radius
+    away but that has stayed within half the slow-down radius of one point for ``slide_after``
+    seconds is pressed against an obstacle (a pillar or a wall on the straight line to its
+    goal: the four cardinal sensors' C pushes straight back, never sideways, and T = L + C
+    balances short of the goal). It then slides across L for ``slide_after`` seconds towards
     the side whose cardinal sensor reads farther. ``slide`` holds (x, y of the point, time
     there, slide time left, side).
     """
@@ -244,7 +245,7 @@ def _slide_side(slide, point, t, walls, size, p):
         slide[3] -= p.dt
         return slide[4]
     moved = math.hypot(point[0] - slide[0], point[1] - slide[1]) > 0.5 * p.slow_radius
-    if size <= 0.5 * p.slow_radius or moved:
+    if math.hypot(lx, ly) <= 0.5 * p.slow_radius or moved:
         slide[0] = point[0]
         slide[1] = point[1]
         slide[2] = 0.0
@@ -253,9 +254,9 @@ def _slide_side(slide, point, t, walls, size, p):
     if slide[2] < p.slide_after:
         return 0.0
     left = 0
-    for d in range(4):  # the cardinal nearest the left perpendicular (-t_y, t_x)
-        if -t[1] * CARDINALS[d, 0] + t[0] * CARDINALS[d, 1] > (
-            -t[1] * CARDINALS[left, 0] + t[0] * CARDINALS[left, 1]
+    for d in range(4):  # the cardinal nearest the left perpendicular (-l_y, l_x)
+        if -ly * CARDINALS[d, 0] + lx * CARDINALS[d, 1] > (
+            -ly * CARDINALS[left, 0] + lx * CARDINALS[left, 1]
         ):
             left = d
     slide[2] = 0.0

@@ -116,13 +116,13 @@ class BeaconExplorerParams(SwarmParams):
             sight) flies back to where it last was in touch, by its own odometry (ours: the
             paper does not say; otherwise it hovers where it is, and an explorer that overshot
             a 1 m door into a room waited there for ever).
-        slide_after: an explorer whose T asks for speed (|T| > slow_radius / 2) but that has
-            stayed within slow_radius / 2 of one point for this long is pressed against an
-            obstacle and slides along it for as long, towards the side its cardinal sensors
-            read more open (s; ours; None: never. The paper's C points away from the nearest
-            obstacle; with four cardinal sensors it pushes straight back from a pillar on the
-            line to the spot, and an explorer stayed pressed against a pillar for ever; see the
-            README).
+        slide_after: an explorer whose goal L (= N + D, before collision avoidance) lies more
+            than slow_radius / 2 away but that has stayed within slow_radius / 2 of one point
+            for this long is pressed against an obstacle and slides across L for as long,
+            towards the side its cardinal sensors read more open (s; ours; None: never. The
+            paper's C points away from the nearest obstacle; with four cardinal sensors it
+            pushes straight back from a pillar or wall on the line to the goal, and explorers
+            stayed pressed against one for ever; see the README).
         filter_time: time constant of the explorer's filter of its noisy T (s; ours).
         avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
         slow_radius: inside this |T| the flight controller slows proportionally (m; ours).
