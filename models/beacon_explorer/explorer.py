@@ -238,8 +238,9 @@ def _slide_side(slide, point, lx, ly, walls, p):
     seconds is pressed against an obstacle (a pillar or a wall on the straight line to its
     goal: the four cardinal sensors' C pushes straight back, never sideways, and T = L + C
     balances short of the goal). It then slides across L for ``slide_after`` seconds towards
-    the side whose cardinal sensor reads farther. ``slide`` holds (x, y of the point, time
-    there, slide time left, side).
+    the side whose cardinal sensor reads farther, or, when both read alike, the other side
+    than its last slide (a door's edge: the first way may lead back). ``slide`` holds (x, y of
+    the point, time there, slide time left, side).
     """
     if slide[3] > 0.0:
         slide[3] -= p.dt
@@ -261,7 +262,11 @@ def _slide_side(slide, point, lx, ly, walls, p):
             left = d
     slide[2] = 0.0
     slide[3] = p.slide_after
-    slide[4] = 1.0 if walls[left] >= walls[(left + 2) % 4] else -1.0
+    right = (left + 2) % 4
+    if abs(walls[left] - walls[right]) > 2.0 * p.sensor_noise:
+        slide[4] = 1.0 if walls[left] > walls[right] else -1.0
+    else:  # both sides alike: the other side than last time (the first slide goes left)
+        slide[4] = -1.0 if slide[4] > 0.0 else 1.0
     return slide[4]
 
 

@@ -119,7 +119,8 @@ class BeaconExplorerParams(SwarmParams):
         slide_after: an explorer whose goal L (= N + D, before collision avoidance) lies more
             than slow_radius / 2 away but that has stayed within slow_radius / 2 of one point
             for this long is pressed against an obstacle and slides across L for as long,
-            towards the side its cardinal sensors read more open (s; ours; None: never. The
+            towards the side its cardinal sensors read more open, or the other side than its
+            last slide when both read alike (s; ours; None: never. The
             paper's C points away from the nearest obstacle; with four cardinal sensors it
             pushes straight back from a pillar or wall on the line to the goal, and explorers
             stayed pressed against one for ever; see the README).
