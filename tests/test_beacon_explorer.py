@@ -319,6 +319,8 @@ def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
                 time_limit=1000.0,
                 trace_interval=None,
                 guide_hysteresis=hysteresis,
+                stall_time=None,
+                **OLD_RULES,  # hysteresis alone (later rules end this run too)
             )
             .run()
             .end_reason
@@ -356,3 +358,154 @@ def test_message_loss_and_latency_act_and_hop_counts_still_settle(knob):
     run_until_quiescent(model, 80.0)
     assert not model.events().equals(plain.events())
     assert_hop_counts_are_bfs_distances(model)
+
+
+# ---------------------------------------------------------------------- floor plans (issue 18)
+#: The rules added for floor plans, all off: the model then gives the event log of the code
+#: before them (checked on these set-ups, given to it as PNG files with the same start).
+OLD_RULES = {
+    "guide_commit": False,
+    "report_taken": False,
+    "lost_return": False,
+    "searched_follows_signal": False,
+    "slide_after": None,
+}
+
+
+def _floor_plan_end(world: str, n_robots: int, period: float, seed: int, **rules) -> str:
+    """How a run on a built-in floor plan ends within 1500 s: its end reason's first word
+    ("stalled" from the stall detector, 600 s without an attach)."""
+    model = BeaconExplorerModel(
+        world=world,
+        n_robots=n_robots,
+        launch_period=period,
+        seed=seed,
+        time_limit=1500.0,
+        trace_interval=None,
+        **rules,
+    ).run()
+    return model.end_reason.split(":")[0]
+
+
+def _ends_only_with(rule: str, world: str, n_robots: int, period: float, seed: int) -> None:
+    """The old rules stall; today's rules without ``rule`` stall; today's rules end."""
+    assert _floor_plan_end(world, n_robots, period, seed, **OLD_RULES) == "stalled"
+    assert _floor_plan_end(world, n_robots, period, seed, **{rule: OLD_RULES[rule]}) == "stalled"
+    assert _floor_plan_end(world, n_robots, period, seed) == "stuck"
+
+
+def test_explorers_commit_to_an_advertised_spot_nearer_another_beacon():
+    """Pillar room, 20 robots, 24 s: a beacon beside the north wall advertised a spot 2.2-2.5 m
+    from the base (sensed as free, spot_taken = 2.2 m); explorers reaching it found the base
+    0.5 m nearer, followed its signal back and circled for ever."""
+    _ends_only_with("guide_commit", "pillar_room", 20, 24.0, 0)
+
+
+def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
+    """Pillar room, 40 robots, 6 s, once explorers commit to their spot: the pillar hides a
+    beacon from the beacon advertising the spot it holds (the distance sensor's ray passes
+    beside the pillar), so explorers queued at the spot, ascended, found it held and flew on,
+    for ever (the old code: time limit). An explorer that finds the spot held now says so."""
+    found_with = {**OLD_RULES, "guide_commit": True}
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **found_with) == "stalled"
+    fixed = {**found_with, "report_taken": True}
+    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **fixed) == "stuck"
+
+
+def test_an_explorer_pressed_against_a_pillar_slides_along_it():
+    """Pillar room, 20 robots, 12 s: a pillar on the straight line between two lattice
+    neighbours; an explorer flying from one to the other pressed against it (the cardinal
+    sensors' C pushes straight back) for 730 s in the old code."""
+    _ends_only_with("slide_after", "pillar_room", 20, 12.0, 5932795694147440737)
+
+
+def test_an_explorer_out_of_touch_flies_back_instead_of_hovering_for_ever():
+    """Small office, 20 robots, 12 s: an explorer overshot a 1 m door into a room where no
+    beacon is in line of sight and hovered there for ever (the old code: time limit). Flying
+    back to where it was last in touch ends the run."""
+    assert _floor_plan_end("office_small", 20, 12.0, 100, **OLD_RULES) == "stalled"
+    fixed = {**OLD_RULES, "lost_return": True}
+    assert _floor_plan_end("office_small", 20, 12.0, 100, **fixed) == "stuck"
+
+
+def test_a_corridor_beacon_reopens_a_way_its_neighbour_no_longer_signals_back():
+    """Diagonal hall, 40 robots, 12 s, once explorers commit to their spot: a corridor beacon
+    had remembered for good the way to an open-space neighbour as searched when that
+    neighbour's reverse gradient pointed back; later the only frontier lay beyond it, the
+    beacon signalled back, its other neighbour sent explorers to it, and they shuttled between
+    the two. (The old code ended this set-up "stuck": explorers did not get that far.)"""
+    found_with = {**OLD_RULES, "guide_commit": True}
+    world = ("diagonal_hall", 40, 12.0, 6097586779079702662)
+    assert _floor_plan_end(*world, **found_with) == "stalled"
+    fixed = {**found_with, "searched_follows_signal": True}
+    assert _floor_plan_end(*world, **fixed) == "stuck"
+
+
+@pytest.mark.parametrize("seed", [1, 3])
+def test_explorers_read_what_beacons_signal_now(seed):
+    """The explorers' copy of the beacons' signals is renewed whenever a signal changes. A
+    beacon's spot is "empty" unless a lattice neighbour holds it, and a neighbour re-sensed in
+    another direction changed that without renewing the copy: explorers then took a free spot
+    for held and hovered beside it for ever (small office, 12 s; the old code had stale copies
+    in every run, and seed 3 ran to the time limit)."""
+    model = BeaconExplorerModel(
+        world="office_small", n_robots=20, launch_period=12.0, seed=seed, trace_interval=None
+    )
+    controller = model.physics.controller
+    checked = 0
+    while model.running:
+        model.run(until=model.time + 1.0)
+        if controller._version == model.beacons.version:
+            cached, fresh = controller._current_signals()[3], model.beacons.signals()[3]
+            assert np.array_equal(cached, fresh), f"stale signals at t = {model.time}"
+            checked += 1
+    assert checked > 100
+    assert model.end_reason.split(":")[0] in ("stuck", "complete")
+
+
+def test_the_stall_detector_ends_a_stalled_run_and_records_why():
+    """The old rules on the pillar room: explorers circle without attaching, colliding. The
+    detector ends the run stall_time (600 s) into a window with no attach, names the beacon
+    most of them follow, and logs a ``stall`` event; without it the run burns to the time
+    limit."""
+    model = BeaconExplorerModel(
+        world="pillar_room",
+        n_robots=20,
+        launch_period=24.0,
+        seed=0,
+        trace_interval=None,
+        **OLD_RULES,
+    ).run()
+    assert model.end_reason.startswith("stalled: ")
+    events = model.events()
+    stall = events.query("event == 'stall'").iloc[0]
+    last_attach = events.query("event == 'attach'").time.max()
+    assert stall.time == model.time >= last_attach + 600.0
+    assert stall.duration == pytest.approx(600.0, abs=1.5)  # no attach in the window
+    assert stall.collisions >= 20 and stall.followers >= 1
+    assert f"beacon {int(stall.robot)}" in model.end_reason
+    unwatched = BeaconExplorerModel(
+        world="pillar_room",
+        n_robots=20,
+        launch_period=24.0,
+        seed=0,
+        trace_interval=None,
+        time_limit=1500.0,
+        stall_time=None,
+        **OLD_RULES,
+    ).run()
+    assert unwatched.end_reason == "time limit"
+
+
+def test_floor_plans_are_built_in_maps_with_a_free_start():
+    from abm.worlds import MAPS
+    from abm.worlds.floorplans import FLOOR_PLANS
+
+    for name in FLOOR_PLANS:
+        model = BeaconExplorerModel(world=name, n_robots=1, seed=0, trace_interval=None)
+        assert np.allclose(model.world.start, MAPS[name].start)
+        assert model.arena.is_free(model.world.start[None])[0]
+    moved = BeaconExplorerModel(world="office", start=(30.5, 20.5), n_robots=1, seed=0)
+    assert np.allclose(moved.world.start, (30.5, 20.5))
+    with pytest.raises(ConfigError, match="map_resolution applies to map files only"):
+        BeaconExplorerModel(world="office", map_resolution=0.5)

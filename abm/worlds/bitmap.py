@@ -4,9 +4,9 @@ Arnaldo et al. (2018) run their swarm on bitmap maps at 1 m per pixel, black = n
 and measure a map's complexity by the entropy of its binary image,
 ``H = -sum_k P_k log2 P_k`` over the two grey levels (wall, free). The built-in maps are
 reconstructions of the paper's Table 1 maps (drawn from its description: the images are not
-published) plus a few more of other entropy and size, generated in code so they are exact and
-reproducible; :func:`write_builtin_maps` writes them as PNGs (the copies shipped in
-``abm/worlds/maps/``).
+published) plus a few more of other entropy and size, and floor plans of ordinary buildings
+(:mod:`abm.worlds.floorplans`), generated in code so they are exact and reproducible;
+:func:`write_builtin_maps` writes them as PNGs (the copies shipped in ``abm/worlds/maps/``).
 """
 
 import hashlib
@@ -18,6 +18,7 @@ import numpy as np
 
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
+from abm.worlds.floorplans import FLOOR_PLANS
 
 __all__ = [
     "MAPS",
@@ -253,6 +254,11 @@ MAPS: dict[str, MapInfo] = {
         MapInfo("pillars", "100 x 100 m hall with a grid of 4 x 4 m pillars", _pillars),
         MapInfo("lshape", "L-shaped hall in a 100 x 100 m square", _lshape),
         MapInfo("wide", "100 x 150 m hall with two partial walls", _wide),
+        # Floor plans of ordinary buildings (abm.worlds.floorplans), walls off any 3 m lattice.
+        *(
+            MapInfo(name, title, build, start=start)
+            for name, (build, start, title) in FLOOR_PLANS.items()
+        ),
     )
 }
 

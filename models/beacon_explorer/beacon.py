@@ -47,7 +47,10 @@ class Beacon:
     walls: tuple[bool, bool, bool, bool]
     corridor: bool
     is_base: bool = False
+    #: directions remembered as searched: a neighbour there detached after its search (and,
+    #: with ``searched_follows_signal`` off, one that ever signalled back)
     searched: set[int] = field(default_factory=set)
+    reported_taken: set[int] = field(default_factory=set)
     neighbour_dirs: dict[int, int] = field(default_factory=dict)
     desired: int = NO_DIRECTION
     redeploying: bool = False
@@ -224,7 +227,7 @@ class BeaconNetwork:
         me = self.beacons[robot]
         others = self.comms.neighbours(robot)
         if not others:
-            return {}, set()
+            return {}, set(me.reported_taken)
         rel = np.array([self.beacons[n].position - me.position for n in others])
         p = self.params
         measured = relative_positions(
@@ -242,7 +245,20 @@ class BeaconNetwork:
         reach = self.params.interspace if me.corridor else self.params.spot_taken
         taken = {d for d in DIRECTIONS if (gaps[d] < reach).any()}
         neighbours = {d: n for d, (_r, n) in found.items()}
-        return neighbours, taken - neighbours.keys()
+        return neighbours, (taken | me.reported_taken) - neighbours.keys()
+
+    def spot_reported_taken(self, robot: int | None, where: np.ndarray) -> None:
+        """An explorer that flew to beacon ``robot``'s advertised spot found another beacon
+        there: the beacon labels that direction "beacon" from now on (``report_taken``).
+
+        Its own sensors can miss that beacon: a pillar between them blocks the line of sight
+        while the distance sensor's ray passes beside the pillar (see the README).
+        """
+        beacon = self.beacons.get(robot)
+        if beacon is None:
+            return  # it detached meanwhile
+        beacon.reported_taken.add(int(np.argmax(CARDINALS @ (where - beacon.position))))
+        self.wake(robot)
 
     # ------------------------------------------------------------------ the flowchart
     def wake(self, robot: int) -> None:
@@ -258,7 +274,11 @@ class BeaconNetwork:
         beacon = self.beacons.get(robot)
         if beacon is None:
             return
+        before = beacon.neighbour_dirs.keys()
         beacon.neighbour_dirs, taken = self._sense_beacons(robot)
+        if beacon.neighbour_dirs.keys() != before:
+            # Whether its desired spot is empty (what explorers read) may change with them.
+            self.version += 1
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
         if not all(
@@ -281,7 +301,8 @@ class BeaconNetwork:
                 is_base=beacon.is_base,
             )
         )
-        beacon.searched = set(decision.searched)
+        if not self.params.searched_follows_signal:
+            beacon.searched = set(decision.searched)  # every signal remembered for good
         self._publish(
             beacon, decision.desired, decision.redeploying, decision.frontier, decision.may_detach
         )

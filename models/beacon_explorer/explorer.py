@@ -40,6 +40,10 @@ class _Constants(NamedTuple):
     gain: float  # of the low-pass filter on T, per tick
     max_speed: float
     guide_hysteresis: float
+    guide_commit: bool
+    lost_return: bool
+    slide_after: float  # inf: never slide
+    dt: float
     range_noise: float
     bearing_noise: float
     reference_range: float
@@ -69,9 +73,15 @@ class ExplorerController:
         self.beacons = beacons
         self.rng = rng
         self._version = -1
+        #: robot id -> the beacon whose spot it flew to when it last stopped to attach
+        self.guide_at_attach: dict[int, int] = {}
         self._signals = None
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
+        # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
+        physics.add_flyer_state("contact", 3)
+        # where it was pressed (x, y), for how long, slide time left, side (+1 left, -1 right)
+        physics.add_flyer_state("slide", 5)
         self._constants = _Constants(
             params.comm_range,
             params.sensor_range,
@@ -84,6 +94,10 @@ class ExplorerController:
             min(1.0, physics.dt / params.filter_time),
             params.max_speed,
             params.guide_hysteresis,
+            params.guide_commit,
+            params.lost_return,
+            math.inf if params.slide_after is None else params.slide_after,
+            physics.dt,
             params.range_noise,
             params.bearing_noise,
             params.reference_range,
@@ -102,7 +116,7 @@ class ExplorerController:
         if len(beacon_pos) == 0:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
         arena = self.arena
-        return _steer(
+        desired, attach = _steer(
             arena.padded,
             arena.runs,
             arena.walls_sat,
@@ -111,6 +125,8 @@ class ExplorerController:
             physics.vel,
             physics.flyer_state["T"],
             physics.flyer_state["guide"],
+            physics.flyer_state["contact"],
+            physics.flyer_state["slide"],
             ids,
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
@@ -118,6 +134,9 @@ class ExplorerController:
             self.rng.standard_normal((n, 6)),
             self._constants,
         )
+        for row in np.nonzero(attach)[0]:
+            self.guide_at_attach[int(physics.ids[row])] = int(physics.flyer_state["guide"][row, 0])
+        return desired, attach
 
 
 @njit(cache=True)
@@ -130,6 +149,8 @@ def _steer(
     vel,
     T,  # noqa: N803 (the paper's symbol)
     guide,
+    contact,
+    slide,
     ids,
     beacon_pos,
     desired_vec,
@@ -141,7 +162,9 @@ def _steer(
 
     ``z`` holds six standard normal draws per flyer: two for the relative-positioning sensor,
     four for the distance sensors. ``T`` (the low-pass filtered translation vector) and
-    ``guide`` (the beacon each flyer follows) are updated in place. Returns desired velocities
+    ``guide`` (the beacon each flyer follows) and ``contact`` (where it was last in touch) are
+    updated in place. A flyer out of touch with every beacon flies back to that point
+    (``lost_return``; else it hovers). Returns desired velocities
     and the attach mask.
     """
     n = pos.shape[0]
@@ -150,11 +173,14 @@ def _steer(
     nearest = nearest_visible(padded, sat, res, pos, beacon_pos, p.comm_range)
     walls = cardinal_distances(padded, runs, res, pos, p.sensor_range)
     for i in range(n):
-        lost = nearest[i] < 0  # out of touch with every beacon: hover and wait
+        lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
         if not lost:
-            k = _keep_guide(padded, sat, res, pos[i], guide[i, 0], ids, beacon_pos, k, p)
+            k = _keep_guide(padded, sat, res, pos[i], guide[i, 0], ids, beacon_pos, to_empty, k, p)
             guide[i, 0] = ids[k]
+            contact[i, 0] = pos[i, 0]
+            contact[i, 1] = pos[i, 1]
+            contact[i, 2] = 1.0
         # N: measured vector to the nearest beacon; D: its desired direction (length I_r).
         nx, ny = measured_relative(
             beacon_pos[k, 0] - pos[i, 0],
@@ -167,6 +193,10 @@ def _steer(
         )
         lx = nx + desired_vec[k, 0]
         ly = ny + desired_vec[k, 1]
+        returning = lost and p.lost_return and contact[i, 2] > 0.0
+        if returning:  # back to where it last was in touch (its own odometry)
+            lx = contact[i, 0] - pos[i, 0]
+            ly = contact[i, 1] - pos[i, 1]
         # C: away from the walls the four distance sensors see, growing as 1 / distance.
         cx = 0.0
         cy = 0.0
@@ -179,11 +209,17 @@ def _steer(
         T[i, 0] += p.gain * (lx + cx - T[i, 0])
         T[i, 1] += p.gain * (ly + cy - T[i, 1])
         size = math.hypot(T[i, 0], T[i, 1])
-        if lost:
-            continue
+        if lost and not returning:
+            continue  # hover and wait
         scale = p.max_speed / max(size, p.slow_radius)
         desired[i, 0] = T[i, 0] * scale
         desired[i, 1] = T[i, 1] * scale
+        side = _slide_side(slide[i], pos[i], lx, ly, walls[i], p)
+        if side != 0.0:  # pressed against an obstacle: slide along it, across L
+            desired[i, 0] -= side * ly * scale
+            desired[i, 1] += side * lx * scale
+        if lost:
+            continue
         attach[i] = (
             size <= p.attach_eps
             and math.hypot(vel[i, 0], vel[i, 1]) <= p.attach_speed
@@ -194,13 +230,58 @@ def _steer(
 
 
 @njit(cache=True)
-def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, nearest, p):
+def _slide_side(slide, point, lx, ly, walls, p):
+    """Whether a flyer slides along an obstacle now: 0, or the side (+1 left of L, -1 right).
+
+    A flyer whose goal (L, before collision avoidance) lies more than half the slow-down radius
+    away but that has stayed within half the slow-down radius of one point for ``slide_after``
+    seconds is pressed against an obstacle (a pillar or a wall on the straight line to its
+    goal: the four cardinal sensors' C pushes straight back, never sideways, and T = L + C
+    balances short of the goal). It then slides across L for ``slide_after`` seconds towards
+    the side whose cardinal sensor reads farther, or, when both read alike, the other side
+    than its last slide (a door's edge: the first way may lead back). ``slide`` holds (x, y of
+    the point, time there, slide time left, side).
+    """
+    if slide[3] > 0.0:
+        slide[3] -= p.dt
+        return slide[4]
+    moved = math.hypot(point[0] - slide[0], point[1] - slide[1]) > 0.5 * p.slow_radius
+    if math.hypot(lx, ly) <= 0.5 * p.slow_radius or moved:
+        slide[0] = point[0]
+        slide[1] = point[1]
+        slide[2] = 0.0
+        return 0.0
+    slide[2] += p.dt
+    if slide[2] < p.slide_after:
+        return 0.0
+    left = 0
+    for d in range(4):  # the cardinal nearest the left perpendicular (-l_y, l_x)
+        if -ly * CARDINALS[d, 0] + lx * CARDINALS[d, 1] > (
+            -ly * CARDINALS[left, 0] + lx * CARDINALS[left, 1]
+        ):
+            left = d
+    slide[2] = 0.0
+    slide[3] = p.slide_after
+    right = (left + 2) % 4
+    if abs(walls[left] - walls[right]) > 2.0 * p.sensor_noise:
+        slide[4] = 1.0 if walls[left] > walls[right] else -1.0
+    else:  # both sides alike: the other side than last time (the first slide goes left)
+        slide[4] = -1.0 if slide[4] > 0.0 else 1.0
+    return slide[4]
+
+
+@njit(cache=True)
+def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, to_empty, nearest, p):
     """The beacon a flyer follows: the nearest one, unless the one it followed is still in
-    touch and less than ``guide_hysteresis`` farther away.
+    touch (within C_r, line of sight) and either signals an empty spot (``guide_commit``: the
+    flyer is on its way to attach there) or is less than ``guide_hysteresis`` farther away.
 
     The paper's explorer follows its nearest beacon. Where an advertised spot lies nearly as
     close to another beacon, the nearest one flips on the way there, the two beacons' signals
     point to different spots, and the explorer shuttles between them for ever (the stalled runs).
+    Hysteresis alone leaves a band of spots (those 2.2 to 2.5 m from another beacon with the
+    defaults) that a beacon advertises but an explorer arriving there leaves for the other
+    beacon: on floor plans whose walls stop the lattice short, whole swarms circled such a spot.
     """
     g = -1
     for j in range(ids.shape[0]):
@@ -210,7 +291,9 @@ def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, nearest, p):
         return nearest
     to_guide = math.hypot(beacon_pos[g, 0] - point[0], beacon_pos[g, 1] - point[1])
     to_nearest = math.hypot(beacon_pos[nearest, 0] - point[0], beacon_pos[nearest, 1] - point[1])
-    if to_guide > p.comm_range or to_guide >= to_nearest + p.guide_hysteresis:
+    if to_guide > p.comm_range:
+        return nearest
+    if to_guide >= to_nearest + p.guide_hysteresis and not (p.guide_commit and to_empty[g]):
         return nearest
     if segment_crosses(padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]):
         return nearest

@@ -6,11 +6,12 @@ redeployment phase, whether it is a frontier beacon, whether it may detach, and 
 memory of searched directions. No clock, no network: the beacon network gathers the inputs,
 calls this, and publishes the result.
 
-1. Sensing: a corridor beacon remembers a direction as searched when the neighbour there has a
-   higher forwards hop count and signals a desired direction pointing back. In corridors,
-   searched directions and obstacles (a wall where no neighbour is) are blocked. A direction
-   is empty when it holds no neighbour, no other beacon fills its spot, no wall and it is not
-   searched (open-space beacons remember searched directions too; see the README).
+1. Sensing: a corridor beacon counts a direction as searched when the neighbour there has a
+   higher forwards hop count and signals a desired direction pointing back (the network keeps
+   only directions whose neighbour detached in its memory, ``searched_follows_signal``). In
+   corridors, searched directions and obstacles (a wall where no neighbour is) are blocked. A
+   direction is empty when it holds no neighbour, no other beacon fills its spot, no wall and
+   it is not searched (open-space beacons remember searched directions too; see the README).
 2. Behaviour: a corridor beacon enters the redeployment phase in a dead end (enclosed, every
    neighbour lower) or when every higher-forwards neighbour is blocked, i.e. when each direction
    is blocked, taken by a beacon off its lattice, or holds a lower neighbour; an open-space
@@ -101,7 +102,8 @@ class Decision:
         redeploying: in the redeployment phase.
         frontier: it has an empty direction (a source of the reverse gradient).
         may_detach: free to detach and redeploy.
-        searched: its updated memory of searched directions.
+        searched: the directions it counts as searched now (remembered ones and those whose
+            neighbour signals back).
 
     """
 

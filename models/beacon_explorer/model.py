@@ -18,7 +18,7 @@ from abm.model import SwarmModel
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import StateStyle
-from abm.worlds import WORLD_KINDS, World, make_world
+from abm.worlds import MAPS, WORLD_KINDS, World, builtin_map, make_world
 from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
@@ -101,8 +101,11 @@ class BeaconExplorerModel(SwarmModel):
             if p.battery_capacity is None
             else Battery(self.ledger, p.battery_capacity, self._battery_empty)
         )
+        self._stall_mark = (0.0, 0)  # (time, collisions) when the stall watch last reset
         self._build_swarm()
         self.env.process(self._monitor())
+        if p.stall_time is not None:
+            self.env.process(self._stall_watch())
 
     # ------------------------------------------------------------------ set-up
     @staticmethod
@@ -111,8 +114,12 @@ class BeaconExplorerModel(SwarmModel):
             return p.world
         if p.world in WORLD_KINDS:
             return make_world(p.world, p.level, rng)
-        arena = Arena.from_bitmap(p.world, resolution=p.map_resolution or 1.0)
-        start = arena.free_cell_centres()[0] if p.start is None else np.asarray(p.start)
+        if isinstance(p.world, str) and p.world in MAPS:
+            arena = builtin_map(p.world)
+            start = np.asarray(MAPS[p.world].start if p.start is None else p.start, dtype=float)
+        else:
+            arena = Arena.from_bitmap(p.world, resolution=p.map_resolution or 1.0)
+            start = arena.free_cell_centres()[0] if p.start is None else np.asarray(p.start)
         if not arena.is_free(start[None])[0]:
             raise ConfigError(
                 f"start {tuple(start.tolist())} lies inside a wall of map {str(p.world)!r}"
@@ -163,10 +170,16 @@ class BeaconExplorerModel(SwarmModel):
             position = robot.position.copy()
             yield self.env.timeout(self.params.attach_time)
             if self._beacon_near(position, self.params.interspace / 2):
-                continue  # another explorer attached here first: fly on
+                # Another beacon holds this spot (one attached first, or its advertiser cannot
+                # see it behind a pillar): tell the advertiser, then fly on.
+                if self.params.report_taken:
+                    guide = self.physics.controller.guide_at_attach.get(robot.unique_id)
+                    self.beacons.spot_reported_taken(guide, position)
+                continue
             robot.set_state("beacon")
             robot.set_mode(self._beacon_mode())
             self.recorder.log("attach", robot.unique_id, x=position[0], y=position[1])
+            self._stall_mark = (self.env.now, self._collisions())
             self.beacons.attach(robot.unique_id, position)
             self.coverage.stamp(position, self.env.now)
             yield from self._beacon_until_detach(robot)
@@ -244,6 +257,51 @@ class BeaconExplorerModel(SwarmModel):
             if counts["ground"] == 0 and counts["explorer"] == 0 and not pending:
                 self.finish("stuck: every robot is a beacon and none can redeploy")
                 return
+
+    def _collisions(self) -> int:
+        return self.wall_collisions + self.robot_collisions
+
+    def _stall_watch(self):
+        """End a run whose explorers fly on without any beacon attaching, colliding.
+
+        The window restarts at every attach and whenever no explorer flies; once it is
+        ``stall_time`` long with at least ``stall_collisions`` collisions in it, the run ends
+        "stalled", naming the beacon most flyers follow and its signal (the usual culprit), and
+        an event ``stall`` records the same.
+        """
+        p = self.params
+        while True:
+            yield self.env.timeout(p.monitor_period)
+            now, collisions = self.env.now, self._collisions()
+            if self.physics.n_flying == 0:
+                self._stall_mark = (now, collisions)
+                continue
+            since, before = self._stall_mark
+            if now - since < p.stall_time or collisions - before < p.stall_collisions:
+                continue
+            self._stall(now - since, collisions - before)
+            return
+
+    def _stall(self, duration: float, collisions: int) -> None:
+        guides = self.physics.flyer_state["guide"][:, 0].astype(int)
+        ids, counts = np.unique(guides, return_counts=True)
+        guide = int(ids[np.argmax(counts)])
+        beacon = self.beacons.beacons.get(guide)
+        where = "" if beacon is None else " at ({:.1f}, {:.1f})".format(*beacon.position)
+        signal = "none" if beacon is None or beacon.desired < 0 else "NESW"[beacon.desired]
+        self.recorder.log(
+            "stall",
+            guide,
+            flyers=self.physics.n_flying,
+            followers=int(counts.max()),
+            duration=duration,
+            collisions=collisions,
+        )
+        self.finish(
+            f"stalled: {self.physics.n_flying} explorers flew {duration:.0f} s without an "
+            f"attach ({collisions} collisions); {int(counts.max())} followed beacon {guide}"
+            f"{where} signalling {signal}"
+        )
 
     # ------------------------------------------------------------------ results
     def metrics(self) -> dict:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from abm.errors import ConfigError
 from abm.params import SwarmParams, param
-from abm.worlds import COMPLEXITIES, WORLD_KINDS, World
+from abm.worlds import COMPLEXITIES, MAPS, WORLD_KINDS, World
 
 __all__ = ["BeaconExplorerParams", "DEFAULTS", "MAP_SUFFIXES", "SWARM_SIZE"]
 
@@ -39,7 +39,9 @@ class BeaconExplorerParams(SwarmParams):
 
     Attributes:
         world: "corridor", "open" or "mixed" (generated from the seed, Sect. 3.5 and Fig. 5),
-            a bitmap map file (PNG/PGM/BMP/NPY; dark pixels are walls) or a ready
+            a built-in map's name (``abm.worlds.MAPS``, e.g. the floor plans "office",
+            "office_small", "lhall", "pillar_room", "diagonal_hall"; 1 m per pixel), a bitmap
+            map file (PNG/PGM/BMP/NPY; dark pixels are walls) or a ready
             :class:`abm.worlds.World`.
         complexity: corridor branching, or obstacle density in open rooms: "low", "medium" or
             "high"; None: "medium" for mixed worlds (the only level the paper uses there), else
@@ -54,9 +56,10 @@ class BeaconExplorerParams(SwarmParams):
             out of the air, a beacon leaves the network without its neighbours taking the area
             beyond it as searched, and the robot is counted in the extra state "failed". The
             pre-deployed base is not battery-limited.
-        start: base position (m) in a map-file world; None: the centre of the first free
-            pixel. Generated worlds place the base in a random start cell, and a World carries
-            its own start, so giving start for them is an error.
+        start: base position (m) in a map world; None: a built-in map's own start point, or
+            the centre of a map file's first free pixel. Generated worlds place the base in a
+            random start cell, and a World carries its own start, so giving start for them is
+            an error.
         map_resolution: metres per pixel of a map-file world; None: 1 m. An error for generated
             worlds (their cells are 3 m, Sect. 3.5).
         interspace: I_r, beacon spacing (m), Sect. 3.3.
@@ -93,6 +96,34 @@ class BeaconExplorerParams(SwarmParams):
         guide_hysteresis: an explorer keeps following its beacon until another in touch is
             nearer by more than this (m; ours: 0 is the paper's plain nearest beacon, which let
             explorers shuttle for ever between two beacons' spots in 0.3 % of runs).
+        guide_commit: an explorer whose beacon signals an empty spot keeps that beacon, however
+            near another one is, while it stays in touch (C_r, line of sight), until it attaches
+            or the signal changes (ours: the paper's explorer follows its nearest beacon; where
+            a wall stops the lattice short, an advertised spot can lie nearer another beacon,
+            and explorers circled between the two for ever; see the README).
+        report_taken: an explorer that flew to a beacon's advertised spot and finds another
+            beacon within I_r / 2 of it tells that beacon, which labels the direction "beacon"
+            from then on (ours: the paper's beacons label directions only from their own
+            sensors; a pillar can hide the beacon holding a spot from the beacon advertising
+            it, and explorers then queued at the spot for ever; see the README).
+        searched_follows_signal: a corridor beacon counts a direction as searched (Sect. 3.3:
+            the neighbour there has a higher forwards hop count and signals back) only while
+            that neighbour still signals back; only a neighbour that detached is remembered
+            (ours: remembering every signal for good, a corridor beacon beside an open-space
+            beacon that had pointed back while the frontier lay elsewhere closed the only way
+            to a later frontier, and explorers shuttled at it for ever; see the README).
+        lost_return: an explorer out of touch with every beacon (none within C_r in line of
+            sight) flies back to where it last was in touch, by its own odometry (ours: the
+            paper does not say; otherwise it hovers where it is, and an explorer that overshot
+            a 1 m door into a room waited there for ever).
+        slide_after: an explorer whose goal L (= N + D, before collision avoidance) lies more
+            than slow_radius / 2 away but that has stayed within slow_radius / 2 of one point
+            for this long is pressed against an obstacle and slides across L for as long,
+            towards the side its cardinal sensors read more open, or the other side than its
+            last slide when both read alike (s; ours; None: never. The
+            paper's C points away from the nearest obstacle; with four cardinal sensors it
+            pushes straight back from a pillar or wall on the line to the goal, and explorers
+            stayed pressed against one for ever; see the README).
         filter_time: time constant of the explorer's filter of its noisy T (s; ours).
         avoid_gain: gain of the collision-avoidance vector C = gain * (1/d - 1/S_r) (m^2; ours).
         slow_radius: inside this |T| the flight controller slows proportionally (m; ours).
@@ -103,6 +134,11 @@ class BeaconExplorerParams(SwarmParams):
         coverage_pixel: pixel side of the coverage raster (m; ours).
         complete_fraction: coverage fraction counted as a complete search (ours).
         monitor_period: how often the end-of-search conditions are checked (s; ours).
+        stall_time: the stall detector ends a run ("stalled: ...", naming the beacon most
+            flyers follow) once explorers have flown this long without any beacon attaching
+            and with stall_collisions or more collisions meanwhile (s; ours; None: off, runs go
+            to the time limit). Healthy runs attach at least every few launch periods.
+        stall_collisions: collisions within the stall window that make it a stall (ours).
         power_ground: P of a robot waiting on the ground: low-power electronics (W), App. C.
         power_flight: P of a flying robot: motors 110 W + high-rate electronics 10 W (W),
             App. C.
@@ -149,6 +185,11 @@ class BeaconExplorerParams(SwarmParams):
     attach_eps: float = param(0.05, low=0.0, low_open=True)
     attach_speed: float = param(0.2, low=0.0, low_open=True)
     guide_hysteresis: float = param(0.5, low=0.0)
+    guide_commit: bool = True
+    report_taken: bool = True
+    lost_return: bool = True
+    searched_follows_signal: bool = True
+    slide_after: float | None = param(2.0, low=0.0, low_open=True)
     filter_time: float = param(0.3, low=0.0, low_open=True)
     avoid_gain: float = param(0.5, low=0.0)
     slow_radius: float = param(1.0, low=0.0, low_open=True)
@@ -159,6 +200,8 @@ class BeaconExplorerParams(SwarmParams):
     coverage_pixel: float = param(0.25, low=0.0, low_open=True)
     complete_fraction: float = param(0.999, low=0.0, high=1.0, low_open=True)
     monitor_period: float = param(1.0, low=0.0, low_open=True)
+    stall_time: float | None = param(600.0, low=0.0, low_open=True)
+    stall_collisions: int = param(20, low=0, integer=True)
     power_ground: float = param(0.5, low=0.0)
     power_flight: float = param(110.0 + 10.0, low=0.0)
     power_beacon: float = param(5.0, low=0.0)
@@ -180,14 +223,20 @@ class BeaconExplorerParams(SwarmParams):
         super().__post_init__()
         world = self.world
         generated = isinstance(world, str) and world in WORLD_KINDS
+        builtin = isinstance(world, str) and world in MAPS
         is_file = isinstance(world, str | Path) and Path(world).suffix.lower() in MAP_SUFFIXES
-        if not (generated or is_file or isinstance(world, World)):
+        if not (generated or builtin or is_file or isinstance(world, World)):
             kinds = ", ".join(repr(k) for k in WORLD_KINDS)
             raise ConfigError(
-                f"world must be one of {kinds}, a map file ({', '.join(MAP_SUFFIXES)}) or a "
-                f"World, got {world!r}"
+                f"world must be one of {kinds}, a built-in map ({', '.join(MAPS)}), a map file "
+                f"({', '.join(MAP_SUFFIXES)}) or a World, got {world!r}"
             )
-        if not is_file:
+        if builtin and self.map_resolution is not None:
+            raise ConfigError(
+                f"map_resolution applies to map files only; the built-in map {world!r} is 1 m "
+                f"per pixel, got {self.map_resolution!r}"
+            )
+        if not (is_file or builtin):
             for name in ("start", "map_resolution"):
                 if getattr(self, name) is not None:
                     raise ConfigError(
