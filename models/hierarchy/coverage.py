@@ -1,0 +1,475 @@
+"""Bubble coverage: the director's placement call (spec §2.3-2.6).
+
+``coverage(pmap, children, rng)`` places one bubble per child on the director's ProbMap with the
+report's rules and heuristics: no overlap (R1), centres known and reachable (R2), radii within
+every child's limits (R3), one common radius (H1), as many children as possible (H2), maximum
+``V = alpha*C - beta*D`` (H3) over frontier centres (H4). The radius starts at the smallest
+``r_max`` and shrinks by ``decay`` (0.9) per failed attempt, clamped at the largest ``r_min``;
+at the floor the closest robot is removed (§2.5). Idle robots in the way are moved to the
+nearest free cell of a square spiral (§2.6).
+
+Pure functions: no SimPy, no Mesa; the caller's ``numpy.random.Generator`` breaks value ties.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit
+
+from abm.errors import ConfigError
+from models.hierarchy.planning import (
+    DistanceField,
+    _smooth_on,
+    padded_cells,
+    shortest_paths,
+    waves,
+)
+from models.hierarchy.probmap import ProbMap
+
+__all__ = [
+    "PACKING_RATIO",
+    "Child",
+    "Plan",
+    "Status",
+    "closest_robot",
+    "coverage",
+    "move_idle_robots",
+    "radius_schedule",
+    "valid_cells",
+    "worker_r_min",
+]
+
+PACKING_RATIO = (1.0, 2.0, 2.1547, 2.4142, 2.7013, 3.0, 3.0, 3.3048)
+"""rho(S), S = 1..8: radius of the smallest circle enclosing S unit discs (optimal packings),
+for the worker's minimum bubble [OURS reading of spec §2.1 / A4]."""
+
+_TOL = 1e-9
+
+
+class Status(enum.Enum):
+    """Outcome of one coverage call (spec §2.4)."""
+
+    COMPLETE = "complete"
+    IN_PROGRESS = "in_progress"
+    CANNOT_COMPLETE = "cannot_complete"
+
+
+@dataclass(frozen=True)
+class Child:
+    """What a director knows of one child from its INFO (spec §1.4 M2).
+
+    Attributes:
+        key: the child's local number (1..k).
+        x, y: its current position (metres).
+        r_min, r_max: its bubble limits (metres).
+
+    """
+
+    key: int
+    x: float
+    y: float
+    r_min: float
+    r_max: float
+
+    def __post_init__(self) -> None:
+        if not (0 < self.r_min <= self.r_max):
+            raise ConfigError(
+                f"child {self.key}: need 0 < r_min <= r_max, got r_min={self.r_min!r}, "
+                f"r_max={self.r_max!r}"
+            )
+
+    @property
+    def position(self) -> tuple[float, float]:
+        """``(x, y)`` in metres."""
+        return (self.x, self.y)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Result of a coverage call.
+
+    Attributes:
+        status: COMPLETE, IN_PROGRESS or CANNOT_COMPLETE.
+        radius: the common bubble radius r (metres); None unless IN_PROGRESS.
+        centres: local number -> bubble centre (a cell centre, metres) of every placed child.
+        paths: local number -> smoothed path (``(n, 2)`` metres) of every placed child; a
+            one-point path means the child already stands on its centre.
+        distances: local number -> D, the Dijkstra steps (cells) to its centre.
+        idle: children left without a bubble (removed by the closest-robot rule), local order.
+        idle_moves: idle child -> smoothed path to its refuge, for idle robots in the way.
+        stranded: idle children in the way for which no reachable refuge exists (diagnostic).
+        waves: placed children that must move, grouped into waves (§3.5).
+        idle_waves: idle movers grouped into waves; dispatched before ``waves``.
+        radii_tried: how many radii the call tried (run-time diagnostic).
+
+    """
+
+    status: Status
+    radius: float | None = None
+    centres: dict[int, tuple[float, float]] = field(default_factory=dict)
+    paths: dict[int, np.ndarray] = field(default_factory=dict)
+    distances: dict[int, int] = field(default_factory=dict)
+    idle: tuple[int, ...] = ()
+    idle_moves: dict[int, np.ndarray] = field(default_factory=dict)
+    stranded: tuple[int, ...] = ()
+    waves: list[list[int]] = field(default_factory=list)
+    idle_waves: list[list[int]] = field(default_factory=list)
+    radii_tried: int = 0
+
+
+def worker_r_min(n_children: int, r_min_child: float) -> float:
+    """A worker's minimum bubble radius: ``rho(S) * r_min_child``, the smallest circle that
+    holds its S children's minimum bubbles without overlap [OURS, spec §2.1 / A4].
+
+    Raises:
+        ConfigError: ``n_children`` outside 1..8 (the tabulated packings) or a bad radius.
+
+    """
+    if (
+        isinstance(n_children, bool)
+        or not isinstance(n_children, int)
+        or not (1 <= n_children <= len(PACKING_RATIO))
+    ):
+        raise ConfigError(
+            f"scouts_per_worker must be an integer in 1..{len(PACKING_RATIO)} for the packing "
+            f"formula (set worker_r_min to override), got {n_children!r}"
+        )
+    if not r_min_child > 0:
+        raise ConfigError(f"r_min_child must be > 0 m, got {r_min_child!r}")
+    return PACKING_RATIO[n_children - 1] * r_min_child
+
+
+def radius_schedule(r_max: float, r_min: float, decay: float = 0.9) -> list[float]:
+    """Radii a call tries: ``r_max, decay*r_max, ...`` clamped so that ``r_min`` is the last
+    (spec §2.4.1; scouts: 21 radii from 0.80 m to 0.10 m).
+    """
+    if not (0 < r_min <= r_max):
+        raise ConfigError(f"need 0 < r_min <= r_max, got r_min={r_min!r}, r_max={r_max!r}")
+    if not (0 < decay < 1):
+        raise ConfigError(f"decay must be in (0, 1), got {decay!r}")
+    radii = [float(r_max)]
+    while radii[-1] > r_min + _TOL * r_min:
+        radii.append(max(radii[-1] * decay, r_min))
+    return radii
+
+
+def closest_robot(children: Sequence[Child]) -> int:
+    """Local number of the child with the smallest mean Euclidean distance to the other
+    children (spec §2.5, A16); ties go to the lowest local number.
+    """
+    if not children:
+        raise ValueError("closest_robot needs at least one child")
+    if len(children) == 1:
+        return children[0].key
+    xy = np.array([c.position for c in children], dtype=np.float64)
+    d = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+    mean = d.sum(axis=1) / (len(children) - 1)
+    best = mean.min()
+    return min(c.key for c, m in zip(children, mean, strict=True) if m <= best + _TOL)
+
+
+def _valid_mask(pmap: ProbMap) -> np.ndarray:
+    """VALID of spec §2.4 step 1 on the map's grid: in-bounds cells with an in-bounds unscanned
+    4-neighbour (A18), minus EXHAUSTED.
+    """
+    open_ = pmap._in & ~pmap._scanned
+    near = np.zeros_like(open_)
+    near[1:, :] |= open_[:-1, :]
+    near[:-1, :] |= open_[1:, :]
+    near[:, 1:] |= open_[:, :-1]
+    near[:, :-1] |= open_[:, 1:]
+    return pmap._in & near & ~pmap._exhausted
+
+
+def valid_cells(pmap: ProbMap) -> np.ndarray:
+    """Centres ``(n, 2)`` (metres) of the VALID cells: in bounds, bordering in-bounds unknown
+    space (spec §2.4 step 1, H4), not EXHAUSTED.
+    """
+    rows, cols = np.nonzero(_valid_mask(pmap))
+    h = pmap.cell_size
+    return np.column_stack(((pmap._ix0 + cols + 0.5) * h, (pmap._iy0 + rows + 0.5) * h))
+
+
+@njit(cache=True)
+def _disc_counts(prefix, rows, cols, radius):
+    """Optimistic gain C (spec H3): per cell (rows[k], cols[k]), the number of cells counted in
+    ``prefix`` (row prefix sums of in-bounds-and-unscanned) whose centres lie within ``radius``
+    cells of its centre.
+    """
+    ny = prefix.shape[0]
+    nx = prefix.shape[1] - 1
+    reach = int(math.floor(radius + 1e-9))
+    r2 = radius * radius + 1e-9
+    out = np.zeros(rows.shape[0], dtype=np.int64)
+    for k in range(rows.shape[0]):
+        r0 = rows[k]
+        c0 = cols[k]
+        total = 0
+        lo = max(r0 - reach, 0)
+        hi = min(r0 + reach, ny - 1)
+        for r in range(lo, hi + 1):
+            dy = r - r0
+            w = int(math.floor(math.sqrt(max(r2 - dy * dy, 0.0))))
+            a = max(c0 - w, 0)
+            b = min(c0 + w, nx - 1)
+            if b >= a:
+                total += prefix[r, b + 1] - prefix[r, a]
+        out[k] = total
+    return out
+
+
+class _Gain:
+    """C_r for VALID cells, computed lazily per radius and per cell (spec §8 performance)."""
+
+    def __init__(self, pmap: ProbMap, rows: np.ndarray, cols: np.ndarray) -> None:
+        open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
+        self._prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
+        np.cumsum(open_, axis=1, out=self._prefix[:, 1:])
+        self._rows, self._cols = rows, cols
+        self._h = pmap.cell_size
+        self._cache: dict[float, np.ndarray] = {}
+
+    def at(self, r: float, ids: np.ndarray) -> np.ndarray:
+        """C_r of the VALID cells ``ids``."""
+        known = self._cache.setdefault(r, np.full(self._rows.shape[0], -1, dtype=np.int64))
+        todo = ids[known[ids] < 0]
+        if todo.size:
+            known[todo] = _disc_counts(
+                self._prefix, self._rows[todo], self._cols[todo], r / self._h
+            )
+        return known[ids]
+
+
+def coverage(
+    pmap: ProbMap,
+    children: Sequence[Child],
+    rng: np.random.Generator,
+    *,
+    alpha: float = 1.0,
+    beta: float = 3.0,
+    decay: float = 0.9,
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+    reset_radius_after_removal: bool = False,
+) -> Plan:
+    """One call of the coverage algorithm (spec §2.4, report Fig. 24).
+
+    Args:
+        pmap: the director's map.
+        children: every child in local order (1..k), with current position and radius limits.
+        rng: the model's generator; breaks ties between equal values.
+        alpha: weight of the gain C in ``V = alpha*C - beta*D`` (report: 1).
+        beta: weight of the drive distance D in cells (report: 3).
+        decay: radius factor per failed attempt (report: 0.9).
+        occupied: further robot positions that block routing (e.g. the worker itself, A26).
+        padding: robot padding in cells (§3.1).
+        reset_radius_after_removal: after a closest-robot removal, restart the radius at the
+            smallest r_max (True) or stay at the floor (False, the pseudo-code; A15).
+
+    Returns:
+        The Plan; COMPLETE if no VALID cell is left, CANNOT_COMPLETE if every child had to be
+        removed, else IN_PROGRESS with centres, radius, smoothed paths, idle moves and waves.
+
+    """
+    if not children:
+        raise ConfigError("coverage needs at least one child, got none")
+    if not (0 < decay < 1):
+        raise ConfigError(f"decay must be in (0, 1), got {decay!r}")
+    valid = _valid_mask(pmap)
+    rows, cols = np.nonzero(valid)
+    if rows.size == 0:
+        return Plan(Status.COMPLETE)
+    flat = rows * valid.shape[1] + cols
+    h = pmap.cell_size
+    vx = (pmap._ix0 + cols + 0.5) * h
+    vy = (pmap._iy0 + rows + 0.5) * h
+    gain = _Gain(pmap, rows, cols)
+    everyone = [c.position for c in children]
+    fields: dict[int, DistanceField] = {}
+    reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
+        if child.key not in reach:
+            others = [p for c, p in zip(children, everyone, strict=True) if c is not child]
+            f = shortest_paths(pmap, child.position, others + list(occupied), padding)
+            fields[child.key] = f
+            d = f._dist.ravel()[flat]
+            ok = np.flatnonzero(d >= 0)
+            reach[child.key] = (ok, d[ok].astype(np.int64))
+        return reach[child.key]
+
+    active = list(children)
+    idle: list[int] = []
+    r = min(c.r_max for c in active)
+    floor = max(c.r_min for c in active)
+    tried = 1
+    while True:
+        placed: dict[int, int] = {}
+        dists: dict[int, int] = {}
+        failed = False
+        for child in active:
+            ids, dist = candidates(child)
+            if placed:
+                px = vx[list(placed.values())]
+                py = vy[list(placed.values())]
+                gap2 = (vx[ids, None] - px[None, :]) ** 2 + (vy[ids, None] - py[None, :]) ** 2
+                keep = np.all(gap2 >= 4.0 * r * r - _TOL, axis=1)
+                ids, dist = ids[keep], dist[keep]
+            if ids.size == 0:
+                failed = True
+                break
+            value = alpha * gain.at(r, ids) - beta * dist
+            ties = np.flatnonzero(value == value.max())
+            pick = ties[0] if ties.size == 1 else ties[rng.integers(ties.size)]
+            placed[child.key] = ids[pick]
+            dists[child.key] = int(dist[pick])
+        if not failed:
+            return _plan(
+                pmap,
+                children,
+                active,
+                idle,
+                placed,
+                dists,
+                vx,
+                vy,
+                r,
+                fields,
+                occupied,
+                padding,
+                tried,
+            )
+        if r <= floor * (1 + _TOL):
+            victim = closest_robot(active)
+            active = [c for c in active if c.key != victim]
+            idle.append(victim)
+            if not active:
+                return Plan(Status.CANNOT_COMPLETE, idle=tuple(sorted(idle)), radii_tried=tried)
+            if reset_radius_after_removal:
+                r = min(c.r_max for c in active)
+                floor = max(c.r_min for c in active)
+                tried += 1
+        else:
+            r = max(r * decay, floor)
+            tried += 1
+
+
+def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupied, padding, tried):
+    """Assemble the IN_PROGRESS plan: smoothed paths, idle moves and waves (steps 17-19)."""
+    centres = {k: (float(vx[i]), float(vy[i])) for k, i in placed.items()}
+    paths = {}
+    for child in active:
+        f = fields[child.key]
+        raw = f.path_to(*centres[child.key])
+        paths[child.key] = _smooth_on(pmap, raw, f._drivable)
+    idle_children = [c for c in children if c.key in set(idle)]
+    idle_moves, stranded = move_idle_robots(
+        pmap,
+        idle_children,
+        centres,
+        r,
+        paths,
+        everyone=children,
+        occupied=occupied,
+        padding=padding,
+        fields=fields,
+    )
+    moving = {k: p for k, p in paths.items() if p.shape[0] > 1}
+    return Plan(
+        Status.IN_PROGRESS,
+        radius=float(r),
+        centres=centres,
+        paths=paths,
+        distances=dists,
+        idle=tuple(sorted(idle)),
+        idle_moves=idle_moves,
+        stranded=stranded,
+        waves=waves(moving, pmap.cell_size, padding),
+        idle_waves=waves(idle_moves, pmap.cell_size, padding),
+        radii_tried=tried,
+    )
+
+
+def move_idle_robots(
+    pmap: ProbMap,
+    idle: Sequence[Child],
+    centres: Mapping[int, Sequence[float]],
+    r: float,
+    paths: Mapping[int, np.ndarray],
+    *,
+    everyone: Sequence[Child] = (),
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+    fields: Mapping[int, DistanceField] | None = None,
+) -> tuple[dict[int, np.ndarray], tuple[int, ...]]:
+    """Move idle robots out of the way of the placed ones (spec §2.6, report Fig. 27).
+
+    CONFLICT = cells with centre within ``r`` of a placed centre plus the padded cells of every
+    placed path. Each idle robot standing in CONFLICT (list order) goes to the first cell of a
+    square spiral around its cell (rings 1, 2, ...; clockwise from north) that is outside
+    CONFLICT and reachable through drivable cells; its refuge and padded path join CONFLICT.
+
+    Args:
+        pmap: the director's map.
+        idle: the idle children, in local order.
+        centres: placed children's bubble centres (metres).
+        r: the common bubble radius (metres).
+        paths: placed children's smoothed paths.
+        everyone: all children (their positions block routing); defaults to ``idle``.
+        occupied: further blocking positions (e.g. the worker itself).
+        padding: robot padding in cells.
+        fields: distance fields already computed for these children (reused when given).
+
+    Returns:
+        ``(moves, stranded)``: idle child -> smoothed path to its refuge, and the idle children in
+        the way that found no refuge (they stay put).
+
+    """
+    ny, nx = pmap._scanned.shape
+    h = pmap.cell_size
+    conflict = np.zeros((ny, nx), dtype=np.bool_)
+    cols = (pmap._ix0 + np.arange(nx) + 0.5) * h
+    rows = (pmap._iy0 + np.arange(ny) + 0.5) * h
+    for cx, cy in centres.values():
+        conflict |= (cols[None, :] - cx) ** 2 + (rows[:, None] - cy) ** 2 <= r * r + _TOL * h * h
+
+    def add_path(path: np.ndarray) -> None:
+        cells = padded_cells(path, h, padding)
+        cc = cells[:, 0] - pmap._ix0
+        rr = cells[:, 1] - pmap._iy0
+        ok = (cc >= 0) & (cc < nx) & (rr >= 0) & (rr < ny)
+        conflict[rr[ok], cc[ok]] = True
+
+    for path in paths.values():
+        add_path(path)
+    everyone = list(everyone) or list(idle)
+    moves: dict[int, np.ndarray] = {}
+    stranded: list[int] = []
+    for child in idle:
+        here = pmap._local(*child.position)
+        if here is None or not conflict[here]:
+            continue
+        f = fields.get(child.key) if fields else None
+        if f is None:
+            others = [c.position for c in everyone if c.key != child.key]
+            f = shortest_paths(pmap, child.position, others + list(occupied), padding)
+        free = np.argwhere(~conflict & (f._dist >= 0))
+        if free.size == 0:
+            stranded.append(child.key)
+            continue
+        dr = free[:, 0] - here[0]
+        dc = free[:, 1] - here[1]
+        ring = np.maximum(np.abs(dr), np.abs(dc))
+        angle = np.mod(np.arctan2(dc, dr), 2 * np.pi)
+        best = np.lexsort((angle, ring))[0]
+        target = pmap._centre_of(int(free[best, 0]), int(free[best, 1]))
+        path = _smooth_on(pmap, f.path_to(*target), f._drivable)
+        moves[child.key] = path
+        conflict[free[best, 0], free[best, 1]] = True
+        add_path(path)
+    return moves, tuple(stranded)

@@ -1,0 +1,478 @@
+"""Path planning on a director's ProbMap (spec §3): drivability, BFS/Dijkstra, supercover ray
+trace, path smoothing and the wave generator.
+
+- Drivability (§3.1, OURS resolution): a cell is drivable if it is known, not blocked, not
+  occupied, and no cell within ``padding`` (8-neighbourhood for 1) is known-blocked or occupied.
+  Unknown neighbours are allowed; the source cell of a search is always expandable.
+- Dijkstra (§3.2): 4-connected, unit cost, from one source to all cells, so it is a BFS;
+  neighbours in the order N, E, S, W decide predecessor ties.
+- Supercover (§3.3): every cell a segment passes through plus, where it passes exactly through a
+  cell corner, both cells beside the corner (Amanatides-Woo with the tie rule).
+- Smoothing (§3.4): drop a waypoint while the supercover of the segment that skips it is
+  drivable (the start cell exempt); first and last points always stay.
+- Waves (§3.5): padded path cells, conflict = shared cell, Welsh-Powell greedy colouring.
+
+Paths are ``(n, 2)`` arrays of points in metres. The kernels are compiled with numba (house
+style of ``abm/gridkernels.py``) because a coverage call runs one BFS per child on a grid of up to
+200 x 200 cells and smooths every placed child's path.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+if TYPE_CHECKING:
+    from models.hierarchy.probmap import ProbMap
+
+__all__ = [
+    "DistanceField",
+    "padded_cells",
+    "path_length",
+    "shortest_paths",
+    "smooth",
+    "supercover",
+    "wave_order_violations",
+    "waves",
+]
+
+_EPS = 1e-9
+_DR = np.array([1, 0, -1, 0], dtype=np.int64)
+"""Row step of the neighbours N, E, S, W (north = +y = next row)."""
+_DC = np.array([0, 1, 0, -1], dtype=np.int64)
+"""Column step of the neighbours N, E, S, W."""
+
+
+# ---------------------------------------------------------------------------- kernels
+@njit(cache=True)
+def _supercover_cells(x0, y0, x1, y1):
+    """Cells ``(k, 2)`` as (col, row) in cell units met by the segment (x0, y0) -> (x1, y1).
+
+    Cell ``(i, j)`` covers ``[i, i+1) x [j, j+1)``. Where the segment crosses a cell corner
+    exactly, the two cells beside the corner are listed before the diagonal cell.
+    """
+    ix = int(math.floor(x0 + _EPS))
+    iy = int(math.floor(y0 + _EPS))
+    dx = x1 - x0
+    dy = y1 - y0
+    limit = 3 * (int(abs(dx)) + int(abs(dy)) + 3)
+    out = np.empty((limit, 2), dtype=np.int64)
+    out[0, 0] = ix
+    out[0, 1] = iy
+    n = 1
+    step_x = 1 if dx > 0 else -1
+    step_y = 1 if dy > 0 else -1
+    if dx > 0:
+        t_max_x = (ix + 1 - x0) / dx
+    elif dx < 0:
+        t_max_x = (x0 - ix) / -dx
+    else:
+        t_max_x = math.inf
+    if dy > 0:
+        t_max_y = (iy + 1 - y0) / dy
+    elif dy < 0:
+        t_max_y = (y0 - iy) / -dy
+    else:
+        t_max_y = math.inf
+    t_dx = 1.0 / abs(dx) if dx != 0 else math.inf
+    t_dy = 1.0 / abs(dy) if dy != 0 else math.inf
+    while n + 3 <= limit:
+        t = min(t_max_x, t_max_y)
+        if t >= 1.0 - _EPS:
+            break
+        if abs(t_max_x - t_max_y) <= _EPS:
+            out[n, 0] = ix + step_x
+            out[n, 1] = iy
+            out[n + 1, 0] = ix
+            out[n + 1, 1] = iy + step_y
+            n += 2
+            ix += step_x
+            iy += step_y
+            t_max_x += t_dx
+            t_max_y += t_dy
+        elif t_max_x < t_max_y:
+            ix += step_x
+            t_max_x += t_dx
+        else:
+            iy += step_y
+            t_max_y += t_dy
+        out[n, 0] = ix
+        out[n, 1] = iy
+        n += 1
+    return out[:n]
+
+
+@njit(cache=True)
+def _bfs(drivable, sr, sc):
+    """Unit-cost 4-connected search from local cell (sr, sc) to every drivable cell.
+
+    Returns ``dist`` (int32, -1 where unreachable) and ``pred`` (int8, the direction N/E/S/W = 0..3
+    taken into the cell, -1 for the source and unreached cells).
+    """
+    ny, nx = drivable.shape
+    dist = np.full((ny, nx), -1, dtype=np.int32)
+    pred = np.full((ny, nx), -1, dtype=np.int8)
+    queue = np.empty(ny * nx, dtype=np.int64)
+    dist[sr, sc] = 0
+    queue[0] = sr * nx + sc
+    head = 0
+    tail = 1
+    while head < tail:
+        k = queue[head]
+        head += 1
+        r = k // nx
+        c = k % nx
+        d0 = dist[r, c] + 1
+        for d in range(4):
+            rr = r + _DR[d]
+            cc = c + _DC[d]
+            if 0 <= rr < ny and 0 <= cc < nx and dist[rr, cc] < 0 and drivable[rr, cc]:
+                dist[rr, cc] = d0
+                pred[rr, cc] = d
+                queue[tail] = rr * nx + cc
+                tail += 1
+    return dist, pred
+
+
+@njit(cache=True)
+def _segment_clear(drivable, x0, y0, x1, y1, sr, sc):
+    """Whether every supercover cell of the segment (local cell units) is drivable, the start
+    cell (sr, sc) exempt.
+    """
+    cells = _supercover_cells(x0, y0, x1, y1)
+    ny, nx = drivable.shape
+    for k in range(cells.shape[0]):
+        c = cells[k, 0]
+        r = cells[k, 1]
+        if r == sr and c == sc:
+            continue
+        if r < 0 or r >= ny or c < 0 or c >= nx or not drivable[r, c]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _smooth_keep(drivable, pts, sr, sc):
+    """Keep-mask of the waypoints ``pts`` (local cell units) after §3.4's smoothing."""
+    n = pts.shape[0]
+    keep = np.zeros(n, dtype=np.bool_)
+    keep[0] = True
+    if n <= 2:
+        keep[:] = True
+        return keep
+    a = 0
+    c = 1
+    for k in range(2, n):
+        if _segment_clear(drivable, pts[a, 0], pts[a, 1], pts[k, 0], pts[k, 1], sr, sc):
+            c = k
+        else:
+            keep[c] = True
+            a = c
+            c = k
+    keep[c] = True
+    return keep
+
+
+@njit(cache=True)
+def _visible_cells(known_blocked, ox, oy, radius):
+    """Cells (local grid) seen from (ox, oy) by rays to the circle of ``radius`` (cell units).
+
+    A ray stops at the first known-blocked cell, which is itself visible; at an exact corner
+    crossing both side cells are visible and either one stops the ray.
+    """
+    ny, nx = known_blocked.shape
+    seen = np.zeros((ny, nx), dtype=np.bool_)
+    n_rays = max(8, int(math.ceil(4.0 * math.pi * radius)) + 1)
+    for k in range(n_rays):
+        theta = 2.0 * math.pi * k / n_rays
+        cells = _supercover_cells(
+            ox, oy, ox + radius * math.cos(theta), oy + radius * math.sin(theta)
+        )
+        for j in range(cells.shape[0]):
+            c = cells[j, 0]
+            r = cells[j, 1]
+            if r < 0 or r >= ny or c < 0 or c >= nx:
+                break
+            seen[r, c] = True
+            if known_blocked[r, c]:
+                # the first side cell of a corner crossing: its sibling (diagonal to it in the
+                # list) touches the same corner point, so it is seen too
+                if j + 1 < cells.shape[0]:
+                    nc = cells[j + 1, 0]
+                    nr = cells[j + 1, 1]
+                    if abs(nc - c) == 1 and abs(nr - r) == 1 and 0 <= nr < ny and 0 <= nc < nx:
+                        seen[nr, nc] = True
+                break
+    return seen
+
+
+def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
+    """Bool dilation of ``mask`` by a (2k+1)-square (k = 1: the cell and its 8 neighbours)."""
+    if k <= 0:
+        return mask.copy()
+    out = mask.copy()
+    ny, nx = mask.shape
+    for dr in range(-k, k + 1):
+        for dc in range(-k, k + 1):
+            if dr == 0 and dc == 0:
+                continue
+            dst_r = slice(max(dr, 0), ny + min(dr, 0))
+            src_r = slice(max(-dr, 0), ny + min(-dr, 0))
+            dst_c = slice(max(dc, 0), nx + min(dc, 0))
+            src_c = slice(max(-dc, 0), nx + min(-dc, 0))
+            out[dst_r, dst_c] |= mask[src_r, src_c]
+    return out
+
+
+def _occupied_grid(pmap: ProbMap, occupied: Sequence[Sequence[float]]) -> np.ndarray:
+    """Bool grid of the cells under the robot positions ``occupied`` (outside ones ignored)."""
+    grid = np.zeros(pmap._scanned.shape, dtype=np.bool_)
+    for x, y in occupied:
+        cell = pmap._local(x, y)
+        if cell is not None:
+            grid[cell] = True
+    return grid
+
+
+def _drivable(
+    pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
+) -> np.ndarray:
+    """Drivability grid of §3.1 over the map's routing region.
+
+    The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
+    ring of world cells); the edge of a routing region inside the world is not.
+    """
+    known_blocked = pmap._scanned & (pmap._blocked >= pmap.tau)
+    bad = known_blocked | _occupied_grid(pmap, occupied)
+    if padding <= 0:
+        return pmap._scanned & ~bad
+    k = padding
+    framed = np.pad(bad, k, constant_values=False)
+    west, south, east, north = pmap._world_edges
+    if west:
+        framed[:, :k] = True
+    if south:
+        framed[:k, :] = True
+    if east:
+        framed[:, -k:] = True
+    if north:
+        framed[-k:, :] = True
+    return pmap._scanned & ~_dilate(framed, k)[k:-k, k:-k]
+
+
+# ---------------------------------------------------------------------------- public API
+class DistanceField:
+    """Dijkstra (BFS) distances from one robot to every cell of a map (spec §3.2).
+
+    Built by :func:`shortest_paths`. Distances are in cells (4-connected steps).
+    """
+
+    def __init__(self, pmap: ProbMap, source: Sequence[float], drivable: np.ndarray) -> None:
+        cell = pmap._local(*source)
+        if cell is None:
+            raise ValueError(f"source {tuple(source)} lies outside the map's routing region")
+        self._map = pmap
+        self.source = (float(source[0]), float(source[1]))
+        self._cell = cell
+        self._drivable = drivable
+        self._dist, self._pred = _bfs(drivable, cell[0], cell[1])
+
+    def distance(self, x: float, y: float) -> float:
+        """Steps (cells) from the source cell to the cell holding ``(x, y)``; inf if unreachable."""
+        cell = self._map._local(x, y)
+        if cell is None or self._dist[cell] < 0:
+            return math.inf
+        return float(self._dist[cell])
+
+    def reachable(self, x: float, y: float) -> bool:
+        """Whether the cell holding ``(x, y)`` can be reached through drivable cells."""
+        return math.isfinite(self.distance(x, y))
+
+    def _cell_path(self, row: int, col: int) -> list[tuple[int, int]]:
+        """Local cells from the source to (row, col), both included."""
+        cells = [(row, col)]
+        while (row, col) != self._cell:
+            d = self._pred[row, col]
+            row, col = row - _DR[d], col - _DC[d]
+            cells.append((row, col))
+        cells.reverse()
+        return cells
+
+    def path_to(self, x: float, y: float) -> np.ndarray:
+        """Unsmoothed path ``(n, 2)`` in metres: the source position, then the centres of the
+        cells after the source cell, ending at the centre of the cell holding ``(x, y)``. When
+        the source already stands on that cell centre the path is just the source point.
+
+        Raises:
+            ValueError: the target is unreachable.
+
+        """
+        cell = self._map._local(x, y)
+        if cell is None or self._dist[cell] < 0:
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
+        points = [self.source]
+        for row, col in self._cell_path(*cell):
+            centre = self._map._centre_of(row, col)
+            if not np.allclose(centre, points[-1]):
+                points.append(centre)
+        return np.asarray(points, dtype=np.float64)
+
+
+def shortest_paths(
+    pmap: ProbMap,
+    source: Sequence[float],
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+) -> DistanceField:
+    """BFS from the robot at ``source`` (metres) over ``pmap``'s drivable cells (spec §3.1-3.2).
+
+    Args:
+        pmap: the director's map.
+        source: the robot's position; its cell is always expandable.
+        occupied: positions of the other robots the director knows (treated as obstacles).
+        padding: robot padding in cells (1 = the 8-neighbourhood, spec §3.1).
+
+    """
+    return DistanceField(pmap, source, _drivable(pmap, occupied, padding))
+
+
+def _smooth_on(pmap: ProbMap, path: np.ndarray, drivable: np.ndarray) -> np.ndarray:
+    """Smooth ``path`` with a precomputed drivability grid."""
+    path = np.asarray(path, dtype=np.float64)
+    if path.shape[0] <= 2:
+        return path.copy()
+    h = pmap.cell_size
+    local = np.column_stack((path[:, 0] / h - pmap._ix0, path[:, 1] / h - pmap._iy0))
+    start = pmap._local(path[0, 0], path[0, 1])
+    sr, sc = start if start is not None else (-1, -1)
+    keep = _smooth_keep(drivable, local, sr, sc)
+    return path[keep]
+
+
+def smooth(
+    pmap: ProbMap,
+    path: np.ndarray,
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+) -> np.ndarray:
+    """Path optimisation by ray tracing (spec §3.4): remove a waypoint while the straight
+    segment skipping it crosses only drivable cells (the start cell exempt). The first and last
+    points are never removed.
+
+    Args:
+        pmap: the director's map.
+        path: ``(n, 2)`` waypoints in metres (e.g. ``DistanceField.path_to``).
+        occupied: positions of the other robots (obstacles, as for the search).
+        padding: robot padding in cells.
+
+    """
+    return _smooth_on(pmap, path, _drivable(pmap, occupied, padding))
+
+
+def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.ndarray:
+    """Global lattice cells ``(k, 2)`` as ``(ix, iy)`` met by the segment a -> b (spec §3.3).
+
+    Includes both cells beside any cell corner the segment passes exactly through.
+    """
+    h = float(cell_size)
+    return _supercover_cells(a[0] / h, a[1] / h, b[0] / h, b[1] / h).copy()
+
+
+def padded_cells(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
+    """Global cells ``(k, 2)`` swept by a robot following ``path``: the supercover of every
+    segment, dilated by ``padding`` cells (spec §3.5 step 1). A one-point path gives its cell.
+    """
+    path = np.asarray(path, dtype=np.float64)
+    h = float(cell_size)
+    if path.shape[0] == 1:
+        parts = [_supercover_cells(path[0, 0] / h, path[0, 1] / h, path[0, 0] / h, path[0, 1] / h)]
+    else:
+        parts = [
+            _supercover_cells(
+                path[k, 0] / h, path[k, 1] / h, path[k + 1, 0] / h, path[k + 1, 1] / h
+            )
+            for k in range(path.shape[0] - 1)
+        ]
+    cells = np.unique(np.concatenate(parts), axis=0)
+    if padding > 0:
+        offsets = np.array(
+            [(dx, dy) for dx in range(-padding, padding + 1) for dy in range(-padding, padding + 1)]
+        )
+        cells = np.unique((cells[:, None, :] + offsets[None, :, :]).reshape(-1, 2), axis=0)
+    return cells
+
+
+def path_length(path: np.ndarray) -> float:
+    """Length (metres) of the polyline ``path`` (the drive distance, spec A6)."""
+    path = np.asarray(path, dtype=np.float64)
+    if path.shape[0] < 2:
+        return 0.0
+    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+
+
+def _cell_keys(cells: np.ndarray) -> set[int]:
+    """Hashable keys of global cells."""
+    return set((cells[:, 0] * 1_000_003 + cells[:, 1]).tolist())
+
+
+def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
+    """Group moves into waves so that no two moves of a wave share a padded path cell (§3.5).
+
+    Welsh-Powell: moves in descending conflict degree (ties: ascending key, the local number),
+    each into the first wave holding no conflicting move, else a new wave. Disjoint paths give a
+    single wave ("all the children will be told to move simultaneously").
+
+    Args:
+        paths: local number -> smoothed path (metres). Pass only robots that actually move.
+        cell_size: lattice cell size (metres).
+        padding: robot padding in cells.
+
+    Returns:
+        Waves in dispatch order, each a list of local numbers in ascending order.
+
+    """
+    keys = sorted(paths)
+    cells = {k: _cell_keys(padded_cells(paths[k], cell_size, padding)) for k in keys}
+    conflict = {k: {j for j in keys if j != k and cells[k] & cells[j]} for k in keys}
+    order = sorted(keys, key=lambda k: (-len(conflict[k]), k))
+    result: list[list[int]] = []
+    for k in order:
+        for wave in result:
+            if not conflict[k] & set(wave):
+                wave.append(k)
+                break
+        else:
+            result.append([k])
+    return [sorted(w) for w in result]
+
+
+def wave_order_violations(
+    wave_list: Sequence[Sequence[int]],
+    paths: Mapping[int, np.ndarray],
+    cell_size: float,
+    padding: int = 1,
+) -> int:
+    """Count ordered pairs the symmetric conflict rule cannot protect (spec §3.5 diagnostic):
+    a later wave's padded path crossing an earlier wave's end cell, or an earlier wave's padded
+    path crossing a later wave's start cell.
+    """
+    h = float(cell_size)
+
+    def cell_key(point: np.ndarray) -> int:
+        return math.floor(point[0] / h + _EPS) * 1_000_003 + math.floor(point[1] / h + _EPS)
+
+    cells = {k: _cell_keys(padded_cells(paths[k], cell_size, padding)) for k in paths}
+    count = 0
+    for i, early in enumerate(wave_list):
+        for late in wave_list[i + 1 :]:
+            for a in early:
+                for b in late:
+                    end_a = cell_key(np.asarray(paths[a])[-1])
+                    start_b = cell_key(np.asarray(paths[b])[0])
+                    if end_a in cells[b] or start_b in cells[a]:
+                        count += 1
+    return count
