@@ -196,7 +196,8 @@ class CommNetwork:
         rng: the model's random generator (message loss).
         comm_range: the range within which nodes in line of sight are linked (m); with
             shadowing, its nominal range R.
-        latency: delay of one message (s).
+        latency: delay of one message (s; 0: delivered at the same instant, after the sender's
+            current step).
         loss: probability that one transmission attempt is lost.
         shadowing: a radio with log-normal shadowing (links drawn from the model's generator)
             instead of the default disc with line of sight.
@@ -219,7 +220,7 @@ class CommNetwork:
         log: MessageLog | None = None,
     ) -> None:
         check_range("comm_range", comm_range, 0.0, low_open=True)
-        check_range("latency", latency, 0.0, low_open=True)
+        check_range("latency", latency, 0.0)
         check_range("loss", loss, 0.0, 0.99)
         self.env = env
         self.arena = arena
