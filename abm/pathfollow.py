@@ -9,8 +9,11 @@ With the physics' time constant equal to its tick, the robot moves at exactly th
 velocity, so a path of length L takes L / speed seconds (to within one tick).
 """
 
+import math
+
 import numpy as np
 import simpy
+from numba import njit
 
 from abm.errors import ConfigError, check_range
 from abm.physics import FlightParams, Physics
@@ -79,25 +82,56 @@ class PathFollower:
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities toward each flyer's waypoint, and which flyers arrived."""
         state = physics.flyer_state
-        target, last, idle = state["path_target"], state["path_last"][:, 0], state["path_idle"]
-        step = self.speed * physics.dt
-        gap = target - physics.pos
-        dist = np.hypot(gap[:, 0], gap[:, 1])
-        passing = (dist <= step) & (last == 0)
-        for row in np.flatnonzero(passing):  # only the flyers at a corner this tick
-            rid = int(physics.ids[row])
+        target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
+        for row in np.flatnonzero(_passing(physics.pos, target, last, self.speed * physics.dt)):
+            rid = int(physics.ids[row])  # only the flyers at a corner this tick
             k = self._next[rid] + 1
             self._next[rid] = k
             path = self._paths[rid]
             target[row] = path[k]
-            last[row] = float(k == len(path) - 1)
-        gap = target - physics.pos
-        dist = np.hypot(gap[:, 0], gap[:, 1])
-        arrived = (last == 1) & (dist < 1e-6)
-        speed = np.minimum(self.speed, dist / physics.dt)
-        desired = gap * (speed / np.maximum(dist, 1e-12))[:, None]
-        moving = np.hypot(physics.vel[:, 0], physics.vel[:, 1]) * physics.dt > 1e-4
-        idle[:, 0] = np.where(moving | arrived, 0.0, idle[:, 0] + 1.0)
-        stalled = idle[:, 0] >= self.stall_ticks
-        self.stalled += int(stalled.sum())
-        return desired, arrived | stalled
+            last[row, 0] = float(k == len(path) - 1)
+        desired, done, stalled = _steer(
+            physics.pos, physics.vel, target, last, idle, self.speed, physics.dt, self.stall_ticks
+        )
+        self.stalled += stalled
+        return desired, done
+
+
+@njit(cache=True)
+def _passing(pos, target, last, step):
+    """Flyers within one tick's travel of an intermediate waypoint."""
+    n = pos.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    for k in range(n):
+        if last[k, 0] == 0.0:
+            d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
+            out[k] = d <= step
+    return out
+
+
+@njit(cache=True)
+def _steer(pos, vel, target, last, idle, speed, dt, stall_ticks):
+    """Desired velocity of every flyer (at most ``speed``, landing exactly on the last
+    waypoint), and which flyers are done (arrived, or stalled ``stall_ticks`` ticks).
+    """
+    n = pos.shape[0]
+    desired = np.zeros((n, 2))
+    done = np.zeros(n, dtype=np.bool_)
+    stalled = 0
+    for k in range(n):
+        gx = target[k, 0] - pos[k, 0]
+        gy = target[k, 1] - pos[k, 1]
+        dist = math.hypot(gx, gy)
+        arrived = last[k, 0] == 1.0 and dist < 1e-6
+        v = min(speed, dist / dt)
+        if dist > 1e-12:
+            desired[k, 0] = gx * v / dist
+            desired[k, 1] = gy * v / dist
+        moving = math.hypot(vel[k, 0], vel[k, 1]) * dt > 1e-4
+        idle[k, 0] = 0.0 if (moving or arrived) else idle[k, 0] + 1.0
+        if idle[k, 0] >= stall_ticks:
+            stalled += 1
+            done[k] = True
+        if arrived:
+            done[k] = True
+    return desired, done, stalled

@@ -20,6 +20,7 @@ bodies.
 import math
 
 import numpy as np
+from numba import njit
 
 from abm.comms import MessageLog, Shadowing, TreeLinks
 from abm.model import SwarmModel
@@ -156,9 +157,16 @@ class HierarchyModel(SwarmModel):
                 scout = Scout(self, body.unique_id, body)
                 self._join(scout, node, s + 1)
                 self.scouts.append(scout)
-        self._scout_index = {s.robot.unique_id: i for i, s in enumerate(self.scouts)}
+        ids = np.array([s.robot.unique_id for s in self.scouts], dtype=np.int64)
+        self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
+        self._scout_of[ids] = np.arange(len(ids))
+        self._scout_rows = self._row_of[ids]
         for node in self.nodes.values():
             node.process = self.env.process(node.run())
+
+    def nodes_ids_max(self) -> int:
+        """The largest robot id."""
+        return max(n.robot.unique_id for n in self.nodes.values() if n.robot is not None)
 
     def _join(self, child: Node, parent: Node, local: int) -> None:
         self.tree.attach(child.id, parent.id)
@@ -217,16 +225,17 @@ class HierarchyModel(SwarmModel):
         """Count scout pairs whose centres come closer than one body width while one moves
         (``robot_proximity_events``, spec §3.5; a pair counts once per approach).
         """
-        rows = [self._scout_index.get(int(i), -1) for i in physics.ids]
-        moving = np.array([r for r in rows if r >= 0], dtype=np.int64)
+        moving = self._scout_of[physics.ids]
+        moving = moving[moving >= 0]
         if moving.size == 0:
             self._near = set()
             return
-        pos = np.array([s.robot.position for s in self.scouts])
-        gap = np.hypot(*(pos[moving][:, None, :] - pos[None, :, :]).transpose(2, 0, 1))
-        i, j = np.nonzero(gap < BODY_SIDE)
-        now = {(min(a, b), max(a, b)) for a, b in zip(moving[i].tolist(), j.tolist(), strict=True)
-               if a != b}  # fmt: skip
+        pos = self.space.agent_positions[self._scout_rows]
+        i, j = _close_to(pos, moving, BODY_SIDE)
+        if i.size == 0:
+            self._near = set()
+            return
+        now = {(min(a, b), max(a, b)) for a, b in zip(i.tolist(), j.tolist(), strict=True)}
         self.robot_proximity_events += len(now - self._near)
         self._near = now
 
@@ -344,3 +353,19 @@ class HierarchyModel(SwarmModel):
         if rings:
             out.append(Layer("bubbles", points=np.concatenate(rings), colour="#CC79A7", size=2.0))
         return out
+
+
+@njit(cache=True)
+def _close_to(pos, moving, reach):
+    """Pairs (moving scout, other scout) whose centres are closer than ``reach``."""
+    first = []
+    second = []
+    for a in moving:
+        for b in range(pos.shape[0]):
+            if b != a:
+                dx = pos[a, 0] - pos[b, 0]
+                dy = pos[a, 1] - pos[b, 1]
+                if dx * dx + dy * dy < reach * reach:
+                    first.append(a)
+                    second.append(b)
+    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)

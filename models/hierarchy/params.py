@@ -40,8 +40,10 @@ class HierarchyParams(SwarmParams):
         start_layout: "row" (workers ``worker_spacing`` apart 1 m from the south wall) or
             "centre" (the same groups around the map centre), spec §4.5 (ours).
         worker_spacing: distance between neighbouring workers at the start (m; ours: 2 m).
-        scout_ring: radius of the circle a worker's scouts start on (m; ours: 0.4 m).
-        start_jitter: the start positions are jittered by up to this much per axis (m; ours).
+        scout_ring: radius of the circle a worker's scouts start on (m; ours: 0.6 m, so that
+            8 scouts start >= 0.3 m apart after snapping to cells, spec §4.5's 0.4 m cannot).
+        start_jitter: each group (a worker and its scouts) is shifted by up to this much per
+            axis before snapping to cell centres (m; ours, spec §4.5).
         cell_size: side of a ProbMap cell (m; ours: 0.10 m, spec A2).
         scout_r_min: a scout's minimum bubble radius, the IR range's near end (m; 0.10 [R]).
         scout_r_max: a scout's maximum bubble radius, the IR range (m; 0.80 [R]).
@@ -74,6 +76,10 @@ class HierarchyParams(SwarmParams):
         message_loss: probability one transmission attempt is lost (a lost message arrives
             on a later attempt, so loss is delay; ours: 0, the XBees were "highly reliable").
         comm_range: radio range of every node (m; the XBee's ~400 m [R]).
+        dt: physics tick (s; ours: 0.15, the longest on which a 0.3048 m/s robot still moves
+            less than its clearance on the 0.2 m world grid).
+        time_limit: the run ends at this simulated time at the latest (s).
+        trace_interval: how often robot positions are sampled for pictures (s).
         max_rounds: a director that needs more coverage rounds than this fails loudly (ours,
             the no-progress guard of spec §2.9).
 
@@ -88,7 +94,7 @@ class HierarchyParams(SwarmParams):
     box_size: float = param(1.0, low=0.2, high=5.0)
     start_layout: str = param("row", choices=("row", "centre"))
     worker_spacing: float = param(2.0, low=0.6, high=10.0)
-    scout_ring: float = param(0.4, low=0.3, high=2.0)
+    scout_ring: float = param(0.6, low=0.3, high=2.0)
     start_jitter: float = param(0.05, low=0.0, high=0.1)
     cell_size: float = param(0.10, low=0.02, high=0.5)
     scout_r_min: float = param(0.10, low=0.0, low_open=True)
@@ -116,6 +122,7 @@ class HierarchyParams(SwarmParams):
     max_rounds: int = param(5000, low=1, integer=True)
     time_limit: float = param(50000.0, low=0.0, low_open=True)
     trace_interval: float | None = param(5.0, low=0.0, low_open=True)
+    dt: float = param(0.15, low=0.0, high=0.15, low_open=True)
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -24,8 +24,8 @@ def start_layout(p: HierarchyParams, width: float, height: float, rng: np.random
 
     "row": workers ``worker_spacing`` apart, 1 m from the south wall, centred along it;
     "centre": the same row through the map's centre. Each worker's S scouts sit evenly on a
-    circle of radius ``scout_ring`` around it. Positions are jittered by up to
-    ``start_jitter`` per axis (from the model's generator) before snapping.
+    circle of radius ``scout_ring`` around it. Each group (a worker and its scouts) is shifted
+    by up to ``start_jitter`` per axis (from the model's generator) before snapping.
 
     Raises:
         ConfigError: the row does not fit the world, or two robots start closer than 0.3 m.
@@ -44,9 +44,11 @@ def start_layout(p: HierarchyParams, width: float, height: float, rng: np.random
     angle = 2 * np.pi * np.arange(s) / s + np.pi / 2
     ring = p.scout_ring * np.stack([np.cos(angle), np.sin(angle)], axis=1)
     scouts = workers[:, None, :] + ring[None, :, :]
-    jitter = rng.uniform(-p.start_jitter, p.start_jitter, size=(w * (s + 1), 2))
+    shift = rng.uniform(-p.start_jitter, p.start_jitter, size=(w, 2))  # one per group
+    workers = workers + shift
+    scouts = scouts + shift[:, None, :]
     h = p.cell_size
-    snapped = (np.floor((np.concatenate([workers, scouts.reshape(-1, 2)]) + jitter) / h) + 0.5) * h
+    snapped = (np.floor(np.concatenate([workers, scouts.reshape(-1, 2)]) / h) + 0.5) * h
     gaps = np.hypot(*(snapped[:, None, :] - snapped[None, :, :]).transpose(2, 0, 1))
     np.fill_diagonal(gaps, np.inf)
     if gaps.min() < MIN_START_GAP - 1e-9:
