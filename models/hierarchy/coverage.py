@@ -24,7 +24,9 @@ from numba import njit
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
+    _base_drivable,
     _smooth_on,
+    _without,
     padded_cells,
     shortest_paths,
     waves,
@@ -223,26 +225,40 @@ def _disc_counts(prefix, rows, cols, radius):
     return out
 
 
-class _Gain:
-    """C_r for VALID cells, computed lazily per radius and per cell (spec §8 performance)."""
+@njit(cache=True)
+def _pick(ids, dist, vx, vy, px, py, r, alpha, beta, prefix, rows, cols, radius_cells, gain):
+    """Steps 12-14 of spec §2.4 for one child: among its reachable VALID cells ``ids`` (with
+    Dijkstra steps ``dist``) keep those at least 2r from every placed centre (px, py), and
+    return the positions (into ``ids``) of every cell of maximum ``alpha*C - beta*D``.
 
-    def __init__(self, pmap: ProbMap, rows: np.ndarray, cols: np.ndarray) -> None:
-        open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
-        self._prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
-        np.cumsum(open_, axis=1, out=self._prefix[:, 1:])
-        self._rows, self._cols = rows, cols
-        self._h = pmap.cell_size
-        self._cache: dict[float, np.ndarray] = {}
-
-    def at(self, r: float, ids: np.ndarray) -> np.ndarray:
-        """C_r of the VALID cells ``ids``."""
-        known = self._cache.setdefault(r, np.full(self._rows.shape[0], -1, dtype=np.int64))
-        todo = ids[known[ids] < 0]
-        if todo.size:
-            known[todo] = _disc_counts(
-                self._prefix, self._rows[todo], self._cols[todo], r / self._h
-            )
-        return known[ids]
+    ``gain`` caches C for this radius (-1 = not computed yet); C is computed only for placeable
+    cells, so a radius that fails early costs little.
+    """
+    limit = 4.0 * r * r - 1e-9
+    ties = np.empty(ids.shape[0], dtype=np.int64)
+    count = 0
+    best = -np.inf
+    for k in range(ids.shape[0]):
+        i = ids[k]
+        ok = True
+        for q in range(px.shape[0]):
+            if (vx[i] - px[q]) ** 2 + (vy[i] - py[q]) ** 2 < limit:
+                ok = False
+                break
+        if not ok:
+            continue
+        c = gain[i]
+        if c < 0:
+            c = _disc_counts(prefix, rows[i : i + 1], cols[i : i + 1], radius_cells)[0]
+            gain[i] = c
+        v = alpha * c - beta * dist[k]
+        if v > best:
+            best = v
+            count = 0
+        if v == best:
+            ties[count] = k
+            count += 1
+    return ties[:count]
 
 
 def coverage(
@@ -288,19 +304,26 @@ def coverage(
     h = pmap.cell_size
     vx = (pmap._ix0 + cols + 0.5) * h
     vy = (pmap._iy0 + rows + 0.5) * h
-    gain = _Gain(pmap, rows, cols)
-    everyone = [c.position for c in children]
+    # no two centres can be further apart than the VALID cells' bounding-box diagonal
+    span = math.hypot(vx.max() - vx.min(), vy.max() - vy.min())
+    open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
+    prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
+    np.cumsum(open_, axis=1, out=prefix[:, 1:])
+    gains: dict[float, np.ndarray] = {}
+    base = _base_drivable(pmap, padding)
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
+        """Steps 8-11: the child's Dijkstra, once per call; its reachable VALID cells."""
         if child.key not in reach:
-            others = [p for c, p in zip(children, everyone, strict=True) if c is not child]
-            f = shortest_paths(pmap, child.position, others + list(occupied), padding)
+            others = [c.position for c in children if c is not child]
+            drivable = _without(base, pmap, others + list(occupied), padding)
+            f = DistanceField(pmap, child.position, drivable)
             fields[child.key] = f
             d = f._dist.ravel()[flat]
             ok = np.flatnonzero(d >= 0)
-            reach[child.key] = (ok, d[ok].astype(np.int64))
+            reach[child.key] = (ok, d[ok].astype(np.float64))
         return reach[child.key]
 
     active = list(children)
@@ -309,41 +332,35 @@ def coverage(
     floor = max(c.r_min for c in active)
     tried = 1
     while True:
+        if len(active) > 1:  # skip radii at which no second bubble fits anywhere (exact)
+            while 2 * r > span + _TOL and r > floor * (1 + _TOL):
+                r = max(r * decay, floor)
+                tried += 1
         placed: dict[int, int] = {}
         dists: dict[int, int] = {}
-        failed = False
+        failed = hopeless = False
+        gain = gains.setdefault(r, np.full(rows.size, -1, dtype=np.int64))
         for child in active:
             ids, dist = candidates(child)
-            if placed:
-                px = vx[list(placed.values())]
-                py = vy[list(placed.values())]
-                gap2 = (vx[ids, None] - px[None, :]) ** 2 + (vy[ids, None] - py[None, :]) ** 2
-                keep = np.all(gap2 >= 4.0 * r * r - _TOL, axis=1)
-                ids, dist = ids[keep], dist[keep]
             if ids.size == 0:
+                failed = hopeless = True  # unreachable frontier: fails at every radius
+                break
+            at = list(placed.values())
+            ties = _pick(
+                ids, dist, vx, vy, vx[at], vy[at], r, float(alpha), float(beta),
+                prefix, rows, cols, r / h, gain,
+            )  # fmt: skip
+            if ties.size == 0:
                 failed = True
                 break
-            value = alpha * gain.at(r, ids) - beta * dist
-            ties = np.flatnonzero(value == value.max())
             pick = ties[0] if ties.size == 1 else ties[rng.integers(ties.size)]
-            placed[child.key] = ids[pick]
+            placed[child.key] = int(ids[pick])
             dists[child.key] = int(dist[pick])
         if not failed:
             return _plan(
-                pmap,
-                children,
-                active,
-                idle,
-                placed,
-                dists,
-                vx,
-                vy,
-                r,
-                fields,
-                occupied,
-                padding,
-                tried,
-            )
+                pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupied,
+                padding, tried,
+            )  # fmt: skip
         if r <= floor * (1 + _TOL):
             victim = closest_robot(active)
             active = [c for c in active if c.key != victim]
@@ -354,6 +371,9 @@ def coverage(
                 r = min(c.r_max for c in active)
                 floor = max(c.r_min for c in active)
                 tried += 1
+        elif hopeless:
+            tried += len(radius_schedule(r, floor, decay)) - 1
+            r = floor
         else:
             r = max(r * decay, floor)
             tried += 1

@@ -178,36 +178,142 @@ def _smooth_keep(drivable, pts, sr, sc):
 
 
 @njit(cache=True)
-def _visible_cells(known_blocked, ox, oy, radius):
-    """Cells (local grid) seen from (ox, oy) by rays to the circle of ``radius`` (cell units).
+def _los_mark(scanned, blocked, tau, in_bounds, ox, oy, radius):
+    """Mark scanned the in-bounds cells seen from (ox, oy) (local cell units) within ``radius``
+    cells; return how many were new (spec §2.8 step 2).
 
-    A ray stops at the first known-blocked cell, which is itself visible; at an exact corner
-    crossing both side cells are visible and either one stops the ray.
+    Rays go to points on the circle with an angular step of at most ``1 / (2 radius)`` (half a
+    cell at the rim). A ray stops at the first known-blocked cell, which is itself seen; at an
+    exact corner crossing both side cells are seen and either one stops the ray.
     """
-    ny, nx = known_blocked.shape
-    seen = np.zeros((ny, nx), dtype=np.bool_)
+    ny, nx = scanned.shape
+    r2 = radius * radius + 1e-9
+    new = 0
     n_rays = max(8, int(math.ceil(4.0 * math.pi * radius)) + 1)
     for k in range(n_rays):
         theta = 2.0 * math.pi * k / n_rays
         cells = _supercover_cells(
             ox, oy, ox + radius * math.cos(theta), oy + radius * math.sin(theta)
         )
-        for j in range(cells.shape[0]):
+        m = cells.shape[0]
+        for j in range(m):
             c = cells[j, 0]
             r = cells[j, 1]
             if r < 0 or r >= ny or c < 0 or c >= nx:
                 break
-            seen[r, c] = True
-            if known_blocked[r, c]:
+            hit = scanned[r, c] and blocked[r, c] >= tau
+            if not scanned[r, c] and in_bounds[r, c]:
+                if (c + 0.5 - ox) ** 2 + (r + 0.5 - oy) ** 2 <= r2:
+                    scanned[r, c] = True
+                    new += 1
+            if hit:
                 # the first side cell of a corner crossing: its sibling (diagonal to it in the
                 # list) touches the same corner point, so it is seen too
-                if j + 1 < cells.shape[0]:
+                if j + 1 < m:
                     nc = cells[j + 1, 0]
                     nr = cells[j + 1, 1]
                     if abs(nc - c) == 1 and abs(nr - r) == 1 and 0 <= nr < ny and 0 <= nc < nx:
-                        seen[nr, nc] = True
+                        if not scanned[nr, nc] and in_bounds[nr, nc]:
+                            if (nc + 0.5 - ox) ** 2 + (nr + 0.5 - oy) ** 2 <= r2:
+                                scanned[nr, nc] = True
+                                new += 1
                 break
-    return seen
+    return new
+
+
+@njit(cache=True)
+def _walk(pred, sr, sc, tr, tc):
+    """Local cells ``(n, 2)`` as (row, col) from the source (sr, sc) to (tr, tc) along ``pred``."""
+    n = 1
+    r = tr
+    c = tc
+    while r != sr or c != sc:
+        d = pred[r, c]
+        r -= _DR[d]
+        c -= _DC[d]
+        n += 1
+    out = np.empty((n, 2), dtype=np.int64)
+    r = tr
+    c = tc
+    for k in range(n - 1, -1, -1):
+        out[k, 0] = r
+        out[k, 1] = c
+        if k > 0:
+            d = pred[r, c]
+            r -= _DR[d]
+            c -= _DC[d]
+    return out
+
+
+_KEY = 1 << 21
+"""Cell key ``(ix + 2^20) * 2^21 + (iy + 2^20)``: unique for |ix|, |iy| < 2^20."""
+
+
+@njit(cache=True)
+def _padded_keys(pts, padding):
+    """Sorted keys of the cells swept by the polyline ``pts`` (cell units), dilated by
+    ``padding`` cells (spec §3.5 step 1).
+    """
+    n = pts.shape[0]
+    parts = []
+    total = 0
+    if n == 1:
+        parts.append(_supercover_cells(pts[0, 0], pts[0, 1], pts[0, 0], pts[0, 1]))
+        total = parts[0].shape[0]
+    else:
+        for k in range(n - 1):
+            cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[k + 1, 0], pts[k + 1, 1])
+            parts.append(cells)
+            total += cells.shape[0]
+    lo_x = 1 << 40
+    lo_y = 1 << 40
+    hi_x = -(1 << 40)
+    hi_y = -(1 << 40)
+    for cells in parts:
+        for j in range(cells.shape[0]):
+            lo_x = min(lo_x, cells[j, 0])
+            hi_x = max(hi_x, cells[j, 0])
+            lo_y = min(lo_y, cells[j, 1])
+            hi_y = max(hi_y, cells[j, 1])
+    lo_x -= padding
+    lo_y -= padding
+    w = hi_x + padding - lo_x + 1
+    hgt = hi_y + padding - lo_y + 1
+    grid = np.zeros((w, hgt), dtype=np.bool_)
+    for cells in parts:
+        for j in range(cells.shape[0]):
+            cx = cells[j, 0] - lo_x
+            cy = cells[j, 1] - lo_y
+            grid[cx - padding : cx + padding + 1, cy - padding : cy + padding + 1] = True
+    count = 0
+    for i in range(w):
+        for j in range(hgt):
+            if grid[i, j]:
+                count += 1
+    keys = np.empty(count, dtype=np.int64)
+    count = 0
+    half = _KEY // 2
+    for i in range(w):
+        for j in range(hgt):
+            if grid[i, j]:
+                keys[count] = (i + lo_x + half) * _KEY + (j + lo_y + half)
+                count += 1
+    return keys
+
+
+@njit(cache=True)
+def _overlap(a, b):
+    """Whether the sorted key arrays ``a`` and ``b`` share an element."""
+    i = 0
+    j = 0
+    while i < a.shape[0] and j < b.shape[0]:
+        if a[i] == b[j]:
+            return True
+        if a[i] < b[j]:
+            i += 1
+        else:
+            j += 1
+    return False
 
 
 def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
@@ -228,30 +334,18 @@ def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
-def _occupied_grid(pmap: ProbMap, occupied: Sequence[Sequence[float]]) -> np.ndarray:
-    """Bool grid of the cells under the robot positions ``occupied`` (outside ones ignored)."""
-    grid = np.zeros(pmap._scanned.shape, dtype=np.bool_)
-    for x, y in occupied:
-        cell = pmap._local(x, y)
-        if cell is not None:
-            grid[cell] = True
-    return grid
-
-
-def _drivable(
-    pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
-) -> np.ndarray:
-    """Drivability grid of §3.1 over the map's routing region.
+def _base_drivable(pmap: ProbMap, padding: int = 1) -> np.ndarray:
+    """Drivability of §3.1 before robots are added: known, and no known-blocked cell (nor the
+    world's wall) within ``padding`` cells.
 
     The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
     ring of world cells); the edge of a routing region inside the world is not.
     """
     known_blocked = pmap._scanned & (pmap._blocked >= pmap.tau)
-    bad = known_blocked | _occupied_grid(pmap, occupied)
     if padding <= 0:
-        return pmap._scanned & ~bad
+        return pmap._scanned & ~known_blocked
     k = padding
-    framed = np.pad(bad, k, constant_values=False)
+    framed = np.pad(known_blocked, k, constant_values=False)
     west, south, east, north = pmap._world_edges
     if west:
         framed[:, :k] = True
@@ -262,6 +356,27 @@ def _drivable(
     if north:
         framed[-k:, :] = True
     return pmap._scanned & ~_dilate(framed, k)[k:-k, k:-k]
+
+
+def _without(
+    base: np.ndarray, pmap: ProbMap, occupied: Sequence[Sequence[float]], padding: int = 1
+) -> np.ndarray:
+    """``base`` with every cell within ``padding`` of an occupied cell made undrivable."""
+    grid = base.copy()
+    k = max(padding, 0)
+    for x, y in occupied:
+        cell = pmap._local(x, y)
+        if cell is not None:
+            r, c = cell
+            grid[max(r - k, 0) : r + k + 1, max(c - k, 0) : c + k + 1] = False
+    return grid
+
+
+def _drivable(
+    pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
+) -> np.ndarray:
+    """Drivability grid of §3.1 over the map's routing region, robots at ``occupied``."""
+    return _without(_base_drivable(pmap, padding), pmap, occupied, padding)
 
 
 # ---------------------------------------------------------------------------- public API
@@ -292,16 +407,6 @@ class DistanceField:
         """Whether the cell holding ``(x, y)`` can be reached through drivable cells."""
         return math.isfinite(self.distance(x, y))
 
-    def _cell_path(self, row: int, col: int) -> list[tuple[int, int]]:
-        """Local cells from the source to (row, col), both included."""
-        cells = [(row, col)]
-        while (row, col) != self._cell:
-            d = self._pred[row, col]
-            row, col = row - _DR[d], col - _DC[d]
-            cells.append((row, col))
-        cells.reverse()
-        return cells
-
     def path_to(self, x: float, y: float) -> np.ndarray:
         """Unsmoothed path ``(n, 2)`` in metres: the source position, then the centres of the
         cells after the source cell, ending at the centre of the cell holding ``(x, y)``. When
@@ -314,12 +419,14 @@ class DistanceField:
         cell = self._map._local(x, y)
         if cell is None or self._dist[cell] < 0:
             raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
-        points = [self.source]
-        for row, col in self._cell_path(*cell):
-            centre = self._map._centre_of(row, col)
-            if not np.allclose(centre, points[-1]):
-                points.append(centre)
-        return np.asarray(points, dtype=np.float64)
+        cells = _walk(self._pred, self._cell[0], self._cell[1], cell[0], cell[1])
+        h = self._map.cell_size
+        centres = np.column_stack(
+            ((self._map._ix0 + cells[:, 1] + 0.5) * h, (self._map._iy0 + cells[:, 0] + 0.5) * h)
+        )
+        if np.hypot(*(centres[0] - self.source)) <= 1e-9 * h:
+            return np.vstack((np.asarray([self.source]), centres[1:]))
+        return np.vstack((np.asarray([self.source]), centres))
 
 
 def shortest_paths(
@@ -382,28 +489,24 @@ def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.n
     return _supercover_cells(a[0] / h, a[1] / h, b[0] / h, b[1] / h).copy()
 
 
+def _path_keys(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
+    """Sorted cell keys swept by ``path`` (metres), dilated by ``padding``."""
+    pts = np.asarray(path, dtype=np.float64) / float(cell_size)
+    return _padded_keys(pts, int(padding))
+
+
+def _decode(keys: np.ndarray) -> np.ndarray:
+    """Global cells ``(k, 2)`` as ``(ix, iy)`` of cell keys."""
+    half = _KEY // 2
+    return np.column_stack((keys // _KEY - half, keys % _KEY - half))
+
+
 def padded_cells(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
-    """Global cells ``(k, 2)`` swept by a robot following ``path``: the supercover of every
-    segment, dilated by ``padding`` cells (spec §3.5 step 1). A one-point path gives its cell.
+    """Global cells ``(k, 2)`` as ``(ix, iy)`` swept by a robot following ``path``: the
+    supercover of every segment, dilated by ``padding`` cells (spec §3.5 step 1). A one-point
+    path gives its cell (dilated).
     """
-    path = np.asarray(path, dtype=np.float64)
-    h = float(cell_size)
-    if path.shape[0] == 1:
-        parts = [_supercover_cells(path[0, 0] / h, path[0, 1] / h, path[0, 0] / h, path[0, 1] / h)]
-    else:
-        parts = [
-            _supercover_cells(
-                path[k, 0] / h, path[k, 1] / h, path[k + 1, 0] / h, path[k + 1, 1] / h
-            )
-            for k in range(path.shape[0] - 1)
-        ]
-    cells = np.unique(np.concatenate(parts), axis=0)
-    if padding > 0:
-        offsets = np.array(
-            [(dx, dy) for dx in range(-padding, padding + 1) for dy in range(-padding, padding + 1)]
-        )
-        cells = np.unique((cells[:, None, :] + offsets[None, :, :]).reshape(-1, 2), axis=0)
-    return cells
+    return _decode(_path_keys(path, cell_size, padding))
 
 
 def path_length(path: np.ndarray) -> float:
@@ -412,11 +515,6 @@ def path_length(path: np.ndarray) -> float:
     if path.shape[0] < 2:
         return 0.0
     return float(np.hypot(*np.diff(path, axis=0).T).sum())
-
-
-def _cell_keys(cells: np.ndarray) -> set[int]:
-    """Hashable keys of global cells."""
-    return set((cells[:, 0] * 1_000_003 + cells[:, 1]).tolist())
 
 
 def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
@@ -436,8 +534,13 @@ def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -
 
     """
     keys = sorted(paths)
-    cells = {k: _cell_keys(padded_cells(paths[k], cell_size, padding)) for k in keys}
-    conflict = {k: {j for j in keys if j != k and cells[k] & cells[j]} for k in keys}
+    cells = {k: _path_keys(paths[k], cell_size, padding) for k in keys}
+    conflict: dict[int, set[int]] = {k: set() for k in keys}
+    for i, a in enumerate(keys):
+        for b in keys[i + 1 :]:
+            if _overlap(cells[a], cells[b]):
+                conflict[a].add(b)
+                conflict[b].add(a)
     order = sorted(keys, key=lambda k: (-len(conflict[k]), k))
     result: list[list[int]] = []
     for k in order:
@@ -463,9 +566,12 @@ def wave_order_violations(
     h = float(cell_size)
 
     def cell_key(point: np.ndarray) -> int:
-        return math.floor(point[0] / h + _EPS) * 1_000_003 + math.floor(point[1] / h + _EPS)
+        half = _KEY // 2
+        ix = math.floor(point[0] / h + _EPS)
+        iy = math.floor(point[1] / h + _EPS)
+        return (ix + half) * _KEY + (iy + half)
 
-    cells = {k: _cell_keys(padded_cells(paths[k], cell_size, padding)) for k in paths}
+    cells = {k: set(_path_keys(paths[k], cell_size, padding).tolist()) for k in paths}
     count = 0
     for i, early in enumerate(wave_list):
         for late in wave_list[i + 1 :]:

@@ -24,13 +24,14 @@ import numpy as np
 from scipy.special import ndtr
 
 from abm.errors import ConfigError
-from models.hierarchy.planning import _visible_cells
+from models.hierarchy.planning import _los_mark
 
 __all__ = ["STAMPS", "Bubble", "MapWindow", "ProbMap", "Rect"]
 
 STAMPS = ("mass", "peak")
 """How a reported point is spread over cells (spec §2.8 step 1, switch ``stamp``)."""
 
+_ALL = slice(None)
 _EPS = 1e-9
 """Tolerance (in cells) so that a coordinate on a cell boundary lands in the upper cell."""
 
@@ -207,12 +208,25 @@ class ProbMap:
         h = self.cell_size
         return ((self._ix0 + col + 0.5) * h, (self._iy0 + row + 0.5) * h)
 
-    def _set_scanned(self, mask: np.ndarray) -> int:
-        """Mark the cells of ``mask`` scanned; return how many were new."""
-        new = int(np.count_nonzero(mask & ~self._scanned))
-        self._scanned |= mask
+    def _set_scanned(self, mask: np.ndarray, rows: slice = _ALL, cols: slice = _ALL) -> int:
+        """Mark scanned the cells of ``mask`` (covering ``[rows, cols]``); return how many were
+        new.
+        """
+        view = self._scanned[rows, cols]
+        new = int(np.count_nonzero(mask & ~view))
+        view |= mask
         self._n_scanned += new
         return new
+
+    def _disc_window(self, x: float, y: float, r: float) -> tuple[slice, slice]:
+        """Row and column slices of the stored grid covering the disc of radius r at (x, y)."""
+        h = self.cell_size
+        ny, nx = self._scanned.shape
+        c0 = min(max(_cell(x - r, h) - self._ix0, 0), nx)
+        c1 = min(max(_cell(x + r, h) - self._ix0 + 1, c0), nx)
+        r0 = min(max(_cell(y - r, h) - self._iy0, 0), ny)
+        r1 = min(max(_cell(y + r, h) - self._iy0 + 1, r0), ny)
+        return slice(r0, r1), slice(c0, c1)
 
     # ------------------------------------------------------------------ queries (metres)
     @property
@@ -336,10 +350,10 @@ class ProbMap:
             return False
         self._points.append((float(x), float(y), float(sigma)))
         if sigma == 0.0:
-            mask = np.zeros_like(self._scanned)
-            mask[cell] = True
             self._blocked[cell] = 1.0
-            self._set_scanned(mask)
+            if not self._scanned[cell]:
+                self._scanned[cell] = True
+                self._n_scanned += 1
             return True
         h = self.cell_size
         ext = math.ceil(3.0 * sigma / h)
@@ -362,9 +376,7 @@ class ProbMap:
         p = np.where(window, p, 0.0)
         block = self._blocked[r0:r1, c0:c1]
         block[...] = 1.0 - (1.0 - block) * (1.0 - p)
-        mask = np.zeros_like(self._scanned)
-        mask[r0:r1, c0:c1] = window
-        self._set_scanned(mask)
+        self._set_scanned(window & (p > 0), slice(r0, r1), slice(c0, c1))
         return True
 
     def infer_scan(self, x: float, y: float, r: float) -> int:
@@ -380,14 +392,19 @@ class ProbMap:
 
         """
         h = self.cell_size
-        origin = self._local(x, y)
-        if origin is None:
+        if self._local(x, y) is None:
             return 0
-        known_blocked = self._scanned & (self._blocked >= self.tau)
-        visible = _visible_cells(known_blocked, (x / h) - self._ix0, (y / h) - self._iy0, r / h)
-        cx, cy = self._centres()
-        near = (cx - x) ** 2 + (cy - y) ** 2 <= r * r + _EPS * h * h
-        return self._set_scanned(visible & near & self._in)
+        new = _los_mark(
+            self._scanned,
+            self._blocked,
+            self.tau,
+            self._in,
+            x / h - self._ix0,
+            y / h - self._iy0,
+            r / h,
+        )
+        self._n_scanned += new
+        return new
 
     def mark_bubble(
         self, x: float, y: float, r: float, unscanned: Iterable[Sequence[float]] = ()
@@ -400,14 +417,18 @@ class ProbMap:
             The number of newly scanned cells.
 
         """
-        h = self.cell_size
-        cx, cy = self._centres()
-        mask = ((cx - x) ** 2 + (cy - y) ** 2 <= r * r + _EPS * h * h) & self._in
+        rows, cols = self._disc_window(x, y, r)
+        xs = (self._ix0 + np.arange(cols.start, cols.stop) + 0.5) * self.cell_size
+        ys = (self._iy0 + np.arange(rows.start, rows.stop) + 0.5) * self.cell_size
+        tol = _EPS * self.cell_size**2
+        mask = (xs[None, :] - x) ** 2 + (ys[:, None] - y) ** 2 <= r * r + tol
+        mask &= self._in[rows, cols]
         for ux, uy in unscanned:
             cell = self._local(ux, uy)
-            if cell is not None:
-                mask[cell] = False
-        return self._set_scanned(mask)
+            if cell is not None and rows.start <= cell[0] < rows.stop:
+                if cols.start <= cell[1] < cols.stop:
+                    mask[cell[0] - rows.start, cell[1] - cols.start] = False
+        return self._set_scanned(mask, rows, cols)
 
     def window(self, box: Rect) -> MapWindow:
         """Cut the known cells inside ``box`` (clipped to the stored grid) as a MAP_DOWN payload."""
@@ -450,6 +471,4 @@ class ProbMap:
         dst_b = self._blocked[r0:r1, c0:c1]
         dst_s = self._scanned[r0:r1, c0:c1]
         dst_b[...] = np.where(src_s, np.where(dst_s, np.maximum(dst_b, src_b), src_b), dst_b)
-        mask = np.zeros_like(self._scanned)
-        mask[r0:r1, c0:c1] = src_s
-        return self._set_scanned(mask)
+        return self._set_scanned(src_s, slice(r0, r1), slice(c0, c1))
