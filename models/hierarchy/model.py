@@ -103,6 +103,7 @@ class HierarchyModel(SwarmModel):
         self.director_maps: dict[object, ProbMap] = {}
         self.wave_order_violations = 0
         self.robot_proximity_events = 0
+        self.sibling_proximity_events = 0
         self.plans: list[dict] = []
         self.path_cells_blocked = 0
         self.completion_status: str | None = None
@@ -161,6 +162,7 @@ class HierarchyModel(SwarmModel):
         self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
         self._scout_rows = self._row_of[ids]
+        self._parent_of = [s.links[0] for s in self.scouts]
         for node in self.nodes.values():
             node.process = self.env.process(node.run())
 
@@ -236,7 +238,9 @@ class HierarchyModel(SwarmModel):
             self._near = set()
             return
         now = {(min(a, b), max(a, b)) for a, b in zip(i.tolist(), j.tolist(), strict=True)}
-        self.robot_proximity_events += len(now - self._near)
+        for a, b in now - self._near:
+            self.robot_proximity_events += 1
+            self.sibling_proximity_events += int(self._parent_of[a] == self._parent_of[b])
         self._near = now
 
     def log_plan(self, director: Director, m: ProbMap, plan: Plan) -> None:
@@ -298,6 +302,7 @@ class HierarchyModel(SwarmModel):
             "known_free_fraction": self.known_free_fraction(),
             "wave_order_violations": self.wave_order_violations,
             "robot_proximity_events": self.robot_proximity_events,
+            "sibling_proximity_events": self.sibling_proximity_events,
             "path_cells_blocked": self.path_cells_blocked,
             "stalled_moves": self.follower.stalled,
             "messages": len(log),
