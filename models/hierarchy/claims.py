@@ -34,7 +34,10 @@ def _ok(runs: pd.DataFrame) -> pd.DataFrame:
 
 
 def _configs(runs: pd.DataFrame, metric: str) -> pd.DataFrame:
-    """Mean of ``metric`` per (W, S), with N."""
+    """Mean of ``metric`` per (W, S), with N (empty when no run has the metric)."""
+    if metric not in runs:
+        return pd.DataFrame(columns=["W", "S", "N", "y"])
+    runs = runs.dropna(subset=[metric])
     return runs.groupby(["W", "S"], as_index=False).agg(N=("N", "first"), y=(metric, "mean"))
 
 

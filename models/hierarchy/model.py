@@ -108,6 +108,7 @@ class HierarchyModel(SwarmModel):
         self.path_cells_blocked = 0
         self.completion_status: str | None = None
         self.completion_time: float | None = None
+        self._truth: np.ndarray | None = None  # free cells of the queen's grid (true world)
         self._build_tree()
         self._near: set[tuple[int, int]] = set()
         self.env.process(self._operator())
@@ -314,25 +315,29 @@ class HierarchyModel(SwarmModel):
             "worker_load_max": int(max((load.get(w.id, 0) for w in workers), default=0)),
             "scout_load_max": int(max((load.get(s.id, 0) for s in scouts), default=0)),
         }
-        counts = task["kind"].value_counts()
+        counts = log["kind"].value_counts()
         for kind in KINDS:
             out[f"msg_{kind}"] = int(counts.get(kind, 0))
         return out
 
     def known_free_fraction(self) -> float:
         """Share of the world's free cells that the queen's map knows to be free."""
-        m = self.director_maps.get(QUEEN) or self.queen.map
+        m = self.queen.map
         if m is None:
             return 0.0
         raster, box = m.raster()
-        h = self.params.cell_size
-        ny, nx = raster.shape
-        xs = box.x_min + (np.arange(nx) + 0.5) * h
-        ys = box.y_min + (np.arange(ny) + 0.5) * h
-        gx, gy = np.meshgrid(xs, ys)
-        truth = self.arena.is_free(np.stack([gx.ravel(), gy.ravel()], 1)).reshape(ny, nx)
-        free = truth & ~np.isnan(raster)
-        return float((free & (raster == 0)).sum() / max(free.sum(), 1))
+        if self._truth is None:
+            h = self.params.cell_size
+            ny, nx = raster.shape
+            gx, gy = np.meshgrid(box.x_min + (np.arange(nx) + 0.5) * h,
+                                 box.y_min + (np.arange(ny) + 0.5) * h)  # fmt: skip
+            free = self.arena.is_free(np.stack([gx.ravel(), gy.ravel()], 1)).reshape(ny, nx)
+            self._truth = free & ~np.isnan(raster)
+        return float((self._truth & (raster == 0)).sum() / max(self._truth.sum(), 1))
+
+    def reporters(self) -> dict:
+        """Robots per state and ``known``: % of the free cells the queen's map knows."""
+        return {**super().reporters(), "known": lambda m: 100.0 * m.known_free_fraction()}
 
     def layers(self) -> list[Layer]:
         """The queen's known map (free, obstacles) and every director's current bubbles."""

@@ -78,6 +78,8 @@ class HierarchyParams(SwarmParams):
         comm_range: radio range of every node (m; the XBee's ~400 m [R]).
         dt: physics tick (s; ours: 0.15, the longest on which a 0.3048 m/s robot still moves
             less than its clearance on the 0.2 m world grid).
+        step_duration: simulated time one Mesa ``step()`` (a frame of the page, a row of the
+            DataCollector) advances (s; ours: 10 s, runs last hours of simulated time).
         time_limit: the run ends at this simulated time at the latest (s).
         trace_interval: how often robot positions are sampled for pictures (s).
         max_rounds: a director that needs more coverage rounds than this fails loudly (ours,
@@ -122,6 +124,7 @@ class HierarchyParams(SwarmParams):
     max_rounds: int = param(5000, low=1, integer=True)
     time_limit: float = param(50000.0, low=0.0, low_open=True)
     trace_interval: float | None = param(5.0, low=0.0, low_open=True)
+    step_duration: float = param(10.0, low=0.0, low_open=True)
     dt: float = param(0.15, low=0.0, high=0.15, low_open=True)
 
     def __post_init__(self) -> None:
