@@ -197,68 +197,127 @@ def valid_cells(pmap: ProbMap) -> np.ndarray:
     return np.column_stack(((pmap._ix0 + cols + 0.5) * h, (pmap._iy0 + rows + 0.5) * h))
 
 
-@njit(cache=True)
-def _disc_counts(prefix, rows, cols, radius):
-    """Optimistic gain C (spec H3): per cell (rows[k], cols[k]), the number of cells counted in
-    ``prefix`` (row prefix sums of in-bounds-and-unscanned) whose centres lie within ``radius``
-    cells of its centre.
+@njit(cache=True, inline="always")
+def _disc_count(prefix, r0, c0, radius):
+    """Optimistic gain C (spec H3) of cell (r0, c0): the cells counted in ``prefix`` (row prefix
+    sums of in-bounds-and-unscanned) whose centres lie within ``radius`` cells of its centre.
     """
     ny = prefix.shape[0]
     nx = prefix.shape[1] - 1
     reach = int(math.floor(radius + 1e-9))
     r2 = radius * radius + 1e-9
-    out = np.zeros(rows.shape[0], dtype=np.int64)
-    for k in range(rows.shape[0]):
-        r0 = rows[k]
-        c0 = cols[k]
-        total = 0
-        lo = max(r0 - reach, 0)
-        hi = min(r0 + reach, ny - 1)
-        for r in range(lo, hi + 1):
-            dy = r - r0
-            w = int(math.floor(math.sqrt(max(r2 - dy * dy, 0.0))))
-            a = max(c0 - w, 0)
-            b = min(c0 + w, nx - 1)
-            if b >= a:
-                total += prefix[r, b + 1] - prefix[r, a]
-        out[k] = total
-    return out
+    total = 0
+    for r in range(max(r0 - reach, 0), min(r0 + reach, ny - 1) + 1):
+        dy = r - r0
+        w = int(math.floor(math.sqrt(max(r2 - dy * dy, 0.0))))
+        a = max(c0 - w, 0)
+        b = min(c0 + w, nx - 1)
+        if b >= a:
+            total += prefix[r, b + 1] - prefix[r, a]
+    return total
+
+
+_PLACED, _NEED_FIELD, _AT_FLOOR, _NEED_RANDOM = 0, 1, 2, 3
+"""Outcomes of one :func:`_search` call."""
 
 
 @njit(cache=True)
-def _pick(ids, dist, vx, vy, px, py, r, alpha, beta, prefix, rows, cols, radius_cells, gain):
-    """Steps 12-14 of spec §2.4 for one child: among its reachable VALID cells ``ids`` (with
-    Dijkstra steps ``dist``) keep those at least 2r from every placed centre (px, py), and
-    return the positions (into ``ids``) of every cell of maximum ``alpha*C - beta*D``.
+def _search(
+    r, floor, decay, span, n_active, n_ready, ids, dist, offsets, vx, vy, alpha, beta,
+    prefix, rows, cols, inv_h, gain, stamp, gen, gen_r, uniforms, cursor,
+):  # fmt: skip
+    """Steps 5-16 and 25-26 of spec §2.4 from radius ``r`` down: place the active children in
+    order (fail-fast), each at the reachable VALID cell of maximum ``alpha*C - beta*D`` at least
+    2r from the centres placed before it; on a failure shrink r by ``decay`` (clamped at
+    ``floor``) and start again.
 
-    ``gain`` caches C for this radius (-1 = not computed yet); C is computed only for placeable
-    cells, so a radius that fails early costs little.
+    Child j's reachable VALID cells are ``ids[offsets[j]:offsets[j+1]]`` (indices into the VALID
+    arrays) with Dijkstra steps ``dist``; only the first ``n_ready`` children have them yet. C is
+    computed lazily and cached per radius (``gain`` is valid where ``stamp == gen``, for radius
+    ``gen_r``). Ties take ``uniforms[cursor]``. Radii with ``2r > span`` (an upper bound on how
+    far apart the first two children's cells are) cannot succeed and are skipped.
+
+    Returns ``(outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r)``: PLACED (every
+    child placed at r), NEED_FIELD (child j has no distance field yet), AT_FLOOR (failed at the
+    floor) or NEED_RANDOM; on NEED_* the attempt is rewound, so calling again with what was
+    missing gives the same result as an uninterrupted search.
     """
-    limit = 4.0 * r * r - 1e-9
-    ties = np.empty(ids.shape[0], dtype=np.int64)
-    count = 0
-    best = -np.inf
-    for k in range(ids.shape[0]):
-        i = ids[k]
-        ok = True
-        for q in range(px.shape[0]):
-            if (vx[i] - px[q]) ** 2 + (vy[i] - py[q]) ** 2 < limit:
-                ok = False
+    placed = np.empty(n_active, dtype=np.int64)
+    steps_to = np.empty(n_active, dtype=np.int64)
+    longest = 0
+    for j in range(n_ready):
+        longest = max(longest, offsets[j + 1] - offsets[j])
+    ties = np.empty(max(longest, 1), dtype=np.int64)
+    steps = 0
+    at_floor = r <= floor * (1.0 + 1e-9)
+    while True:
+        while n_active > 1 and 2.0 * r > span + 1e-9 and not at_floor:
+            r = max(r * decay, floor)
+            steps += 1
+            at_floor = r <= floor * (1.0 + 1e-9)
+        if r != gen_r:
+            gen += 1
+            gen_r = r
+        limit = 4.0 * r * r - 1e-9
+        radius_cells = r * inv_h
+        start = cursor
+        failed = False
+        hopeless = False
+        for j in range(n_active):
+            if j >= n_ready:
+                return _NEED_FIELD, r, steps, start, j, placed, steps_to, gen, gen_r
+            s0 = offsets[j]
+            s1 = offsets[j + 1]
+            if s1 == s0:
+                failed = True
+                hopeless = True  # no reachable VALID cell: fails at every radius
                 break
-        if not ok:
-            continue
-        c = gain[i]
-        if c < 0:
-            c = _disc_counts(prefix, rows[i : i + 1], cols[i : i + 1], radius_cells)[0]
-            gain[i] = c
-        v = alpha * c - beta * dist[k]
-        if v > best:
-            best = v
+            best = -np.inf
             count = 0
-        if v == best:
-            ties[count] = k
-            count += 1
-    return ties[:count]
+            for k in range(s0, s1):
+                i = ids[k]
+                ok = True
+                for q in range(j):
+                    p = placed[q]
+                    if (vx[i] - vx[p]) ** 2 + (vy[i] - vy[p]) ** 2 < limit:
+                        ok = False
+                        break
+                if not ok:
+                    continue
+                if stamp[i] != gen:
+                    gain[i] = _disc_count(prefix, rows[i], cols[i], radius_cells)
+                    stamp[i] = gen
+                v = alpha * gain[i] - beta * dist[k]
+                if v > best:
+                    best = v
+                    count = 0
+                if v == best:
+                    ties[count] = k
+                    count += 1
+            if count == 0:
+                failed = True
+                break
+            pick = ties[0]
+            if count > 1:
+                if cursor >= uniforms.shape[0]:
+                    return _NEED_RANDOM, r, steps, start, j, placed, steps_to, gen, gen_r
+                pick = ties[int(uniforms[cursor] * count)]
+                cursor += 1
+            placed[j] = ids[pick]
+            steps_to[j] = int(dist[pick])
+        if not failed:
+            return _PLACED, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+        if at_floor:
+            return _AT_FLOOR, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+        if hopeless:
+            while not at_floor:
+                r = max(r * decay, floor)
+                steps += 1
+                at_floor = r <= floor * (1.0 + 1e-9)
+        else:
+            r = max(r * decay, floor)
+            steps += 1
+            at_floor = r <= floor * (1.0 + 1e-9)
 
 
 def coverage(
@@ -304,12 +363,9 @@ def coverage(
     h = pmap.cell_size
     vx = (pmap._ix0 + cols + 0.5) * h
     vy = (pmap._iy0 + rows + 0.5) * h
-    # no two centres can be further apart than the VALID cells' bounding-box diagonal
-    span = math.hypot(vx.max() - vx.min(), vy.max() - vy.min())
     open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
     prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
     np.cumsum(open_, axis=1, out=prefix[:, 1:])
-    gains: dict[float, np.ndarray] = {}
     base = _base_drivable(pmap, padding)
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -319,64 +375,74 @@ def coverage(
         if child.key not in reach:
             others = [c.position for c in children if c is not child]
             drivable = _without(base, pmap, others + list(occupied), padding)
-            f = DistanceField(pmap, child.position, drivable)
+            f = DistanceField(pmap, child.position, drivable, target=valid)
             fields[child.key] = f
             d = f._dist.ravel()[flat]
             ok = np.flatnonzero(d >= 0)
             reach[child.key] = (ok, d[ok].astype(np.float64))
         return reach[child.key]
 
+    def pair_span(a: Child, b: Child) -> float:
+        """Upper bound on the distance between any reachable VALID cells of ``a`` and ``b``
+        (their bounding boxes' farthest corners): if 2r exceeds it, ``b`` cannot be placed
+        once ``a`` is, so that radius fails whatever the ties.
+        """
+        ia, ib = candidates(a)[0], candidates(b)[0]
+        if ia.size == 0 or ib.size == 0:
+            return math.inf  # handled as hopeless by the search
+        ax, ay, bx, by = vx[ia], vy[ia], vx[ib], vy[ib]
+        dx = max(ax.max() - bx.min(), bx.max() - ax.min())
+        dy = max(ay.max() - by.min(), by.max() - ay.min())
+        return math.hypot(dx, dy)
+
+    gain = np.zeros(rows.size, dtype=np.int64)
+    stamp = np.zeros(rows.size, dtype=np.int64)
+    gen, gen_r = 0, -1.0
+    uniforms = rng.random(8)
+    cursor = 0
     active = list(children)
     idle: list[int] = []
     r = min(c.r_max for c in active)
     floor = max(c.r_min for c in active)
     tried = 1
+    n_ready = 1
     while True:
-        if len(active) > 1:  # skip radii at which no second bubble fits anywhere (exact)
-            while 2 * r > span + _TOL and r > floor * (1 + _TOL):
-                r = max(r * decay, floor)
-                tried += 1
-        placed: dict[int, int] = {}
-        dists: dict[int, int] = {}
-        failed = hopeless = False
-        gain = gains.setdefault(r, np.full(rows.size, -1, dtype=np.int64))
-        for child in active:
-            ids, dist = candidates(child)
-            if ids.size == 0:
-                failed = hopeless = True  # unreachable frontier: fails at every radius
-                break
-            at = list(placed.values())
-            ties = _pick(
-                ids, dist, vx, vy, vx[at], vy[at], r, float(alpha), float(beta),
-                prefix, rows, cols, r / h, gain,
-            )  # fmt: skip
-            if ties.size == 0:
-                failed = True
-                break
-            pick = ties[0] if ties.size == 1 else ties[rng.integers(ties.size)]
-            placed[child.key] = int(ids[pick])
-            dists[child.key] = int(dist[pick])
-        if not failed:
+        ready = [candidates(c) for c in active[:n_ready]]
+        ids = np.concatenate([c[0] for c in ready])
+        dist = np.concatenate([c[1] for c in ready])
+        offsets = np.zeros(n_ready + 1, dtype=np.int64)
+        offsets[1:] = np.cumsum([c[0].size for c in ready])
+        span = pair_span(active[0], active[1]) if n_ready > 1 else math.inf
+        outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r = _search(
+            r, floor, decay, span, len(active), n_ready, ids, dist, offsets, vx, vy,
+            float(alpha), float(beta), prefix, rows, cols, 1.0 / h, gain, stamp, gen, gen_r,
+            uniforms, cursor,
+        )  # fmt: skip
+        tried += steps
+        if outcome == _NEED_FIELD:
+            n_ready = j + 1
+        elif outcome == _NEED_RANDOM:
+            uniforms = np.concatenate((uniforms, rng.random(uniforms.size)))
+        elif outcome == _PLACED:
+            keys = [c.key for c in active]
             return _plan(
-                pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupied,
+                pmap, children, active, idle, dict(zip(keys, placed.tolist(), strict=True)),
+                dict(zip(keys, steps_to.tolist(), strict=True)), vx, vy, r, fields, occupied,
                 padding, tried,
             )  # fmt: skip
-        if r <= floor * (1 + _TOL):
+        else:  # failed at the floor: remove the closest robot (§2.5)
             victim = closest_robot(active)
             active = [c for c in active if c.key != victim]
             idle.append(victim)
+            n_ready = 1
+            while n_ready < len(active) and active[n_ready].key in reach:
+                n_ready += 1
             if not active:
                 return Plan(Status.CANNOT_COMPLETE, idle=tuple(sorted(idle)), radii_tried=tried)
             if reset_radius_after_removal:
                 r = min(c.r_max for c in active)
                 floor = max(c.r_min for c in active)
                 tried += 1
-        elif hopeless:
-            tried += len(radius_schedule(r, floor, decay)) - 1
-            r = floor
-        else:
-            r = max(r * decay, floor)
-            tried += 1
 
 
 def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupied, padding, tried):
@@ -450,13 +516,17 @@ def move_idle_robots(
         the way that found no refuge (they stay put).
 
     """
+    if not idle:
+        return {}, ()
     ny, nx = pmap._scanned.shape
     h = pmap.cell_size
     conflict = np.zeros((ny, nx), dtype=np.bool_)
-    cols = (pmap._ix0 + np.arange(nx) + 0.5) * h
-    rows = (pmap._iy0 + np.arange(ny) + 0.5) * h
     for cx, cy in centres.values():
-        conflict |= (cols[None, :] - cx) ** 2 + (rows[:, None] - cy) ** 2 <= r * r + _TOL * h * h
+        rs, cs = pmap._disc_window(cx, cy, r)
+        xs = (pmap._ix0 + np.arange(cs.start, cs.stop) + 0.5) * h
+        ys = (pmap._iy0 + np.arange(rs.start, rs.stop) + 0.5) * h
+        disc = (xs[None, :] - cx) ** 2 + (ys[:, None] - cy) ** 2 <= r * r + _TOL * h * h
+        conflict[rs, cs] |= disc
 
     def add_path(path: np.ndarray) -> None:
         cells = padded_cells(path, h, padding)
@@ -478,7 +548,7 @@ def move_idle_robots(
         if f is None:
             others = [c.position for c in everyone if c.key != child.key]
             f = shortest_paths(pmap, child.position, others + list(occupied), padding)
-        free = np.argwhere(~conflict & (f._dist >= 0))
+        free = np.argwhere(~conflict & (f.dist >= 0))
         if free.size == 0:
             stranded.append(child.key)
             continue

@@ -41,6 +41,7 @@ __all__ = [
 ]
 
 _EPS = 1e-9
+_NO_TARGET = np.zeros((0, 0), dtype=np.bool_)
 _DR = np.array([1, 0, -1, 0], dtype=np.int64)
 """Row step of the neighbours N, E, S, W (north = +y = next row)."""
 _DC = np.array([0, 1, 0, -1], dtype=np.int64)
@@ -107,35 +108,74 @@ def _supercover_cells(x0, y0, x1, y1):
 
 
 @njit(cache=True)
-def _bfs(drivable, sr, sc):
-    """Unit-cost 4-connected search from local cell (sr, sc) to every drivable cell.
+def _bfs(drivable, sr, sc, target, n_target):
+    """Unit-cost 4-connected search from local cell (sr, sc) over the drivable cells.
 
-    Returns ``dist`` (int32, -1 where unreachable) and ``pred`` (int8, the direction N/E/S/W = 0..3
-    taken into the cell, -1 for the source and unreached cells).
+    Stops early once ``n_target`` cells of the bool grid ``target`` have been reached (pass
+    ``n_target = -1`` to search everything): distances of cells reached are final either way.
+    Returns ``dist`` (int32, -1 where not reached), ``pred`` (int8, the direction N/E/S/W = 0..3
+    taken into the cell, -1 for the source and cells not reached) and whether the search ran to
+    exhaustion. Works on a flat copy of the grid framed by undrivable cells, so neighbours need
+    no bounds checks.
     """
     ny, nx = drivable.shape
-    dist = np.full((ny, nx), -1, dtype=np.int32)
-    pred = np.full((ny, nx), -1, dtype=np.int8)
-    queue = np.empty(ny * nx, dtype=np.int64)
-    dist[sr, sc] = 0
-    queue[0] = sr * nx + sc
+    w = nx + 2
+    n = (ny + 2) * w
+    free = np.zeros(n, dtype=np.bool_)
+    goal = np.zeros(n, dtype=np.bool_)
+    for r in range(ny):
+        base = (r + 1) * w + 1
+        for c in range(nx):
+            free[base + c] = drivable[r, c]
+            goal[base + c] = target[r, c]
+    dist = np.full(n, -1, dtype=np.int32)
+    pred = np.full(n, -1, dtype=np.int8)
+    queue = np.empty(ny * nx + 1, dtype=np.int32)
+    start = (sr + 1) * w + sc + 1
+    dist[start] = 0
+    queue[0] = start
     head = 0
     tail = 1
-    while head < tail:
+    found = 1 if goal[start] else 0
+    while head < tail and found != n_target:
         k = queue[head]
         head += 1
-        r = k // nx
-        c = k % nx
-        d0 = dist[r, c] + 1
-        for d in range(4):
-            rr = r + _DR[d]
-            cc = c + _DC[d]
-            if 0 <= rr < ny and 0 <= cc < nx and dist[rr, cc] < 0 and drivable[rr, cc]:
-                dist[rr, cc] = d0
-                pred[rr, cc] = d
-                queue[tail] = rr * nx + cc
-                tail += 1
-    return dist, pred
+        d0 = dist[k] + 1
+        j = k + w  # N
+        if dist[j] < 0 and free[j]:
+            dist[j] = d0
+            pred[j] = 0
+            queue[tail] = j
+            tail += 1
+            if goal[j]:
+                found += 1
+        j = k + 1  # E
+        if dist[j] < 0 and free[j]:
+            dist[j] = d0
+            pred[j] = 1
+            queue[tail] = j
+            tail += 1
+            if goal[j]:
+                found += 1
+        j = k - w  # S
+        if dist[j] < 0 and free[j]:
+            dist[j] = d0
+            pred[j] = 2
+            queue[tail] = j
+            tail += 1
+            if goal[j]:
+                found += 1
+        j = k - 1  # W
+        if dist[j] < 0 and free[j]:
+            dist[j] = d0
+            pred[j] = 3
+            queue[tail] = j
+            tail += 1
+            if goal[j]:
+                found += 1
+    grid_dist = dist.reshape(ny + 2, w)[1 : ny + 1, 1 : nx + 1].copy()
+    grid_pred = pred.reshape(ny + 2, w)[1 : ny + 1, 1 : nx + 1].copy()
+    return grid_dist, grid_pred, head >= tail
 
 
 @njit(cache=True)
@@ -384,9 +424,23 @@ class DistanceField:
     """Dijkstra (BFS) distances from one robot to every cell of a map (spec §3.2).
 
     Built by :func:`shortest_paths`. Distances are in cells (4-connected steps).
+
+    Args:
+        pmap: the map.
+        source: the robot's position (metres); its cell is always expandable.
+        drivable: the drivability grid for this robot (§3.1).
+        target: optional bool grid; the search may stop once every drivable target cell is
+            reached (an exact shortcut: it resumes in full if any other cell is queried).
+
     """
 
-    def __init__(self, pmap: ProbMap, source: Sequence[float], drivable: np.ndarray) -> None:
+    def __init__(
+        self,
+        pmap: ProbMap,
+        source: Sequence[float],
+        drivable: np.ndarray,
+        target: np.ndarray | None = None,
+    ) -> None:
         cell = pmap._local(*source)
         if cell is None:
             raise ValueError(f"source {tuple(source)} lies outside the map's routing region")
@@ -394,14 +448,38 @@ class DistanceField:
         self.source = (float(source[0]), float(source[1]))
         self._cell = cell
         self._drivable = drivable
-        self._dist, self._pred = _bfs(drivable, cell[0], cell[1])
+        if target is None:
+            target, n_target = _NO_TARGET, -1
+        else:
+            n_target = int(np.count_nonzero(target & drivable)) + int(
+                target[cell] and not drivable[cell]
+            )
+        if target.shape != drivable.shape:
+            target = np.zeros_like(drivable)
+        self._dist, self._pred, self._complete = _bfs(drivable, cell[0], cell[1], target, n_target)
+
+    def _finish(self) -> None:
+        """Run the search to exhaustion (after an early stop)."""
+        if not self._complete:
+            blank = np.zeros_like(self._drivable)
+            self._dist, self._pred, self._complete = _bfs(
+                self._drivable, self._cell[0], self._cell[1], blank, -1
+            )
+
+    @property
+    def dist(self) -> np.ndarray:
+        """Steps to every cell of the stored grid (-1 where unreachable), searched in full."""
+        self._finish()
+        return self._dist
 
     def distance(self, x: float, y: float) -> float:
         """Steps (cells) from the source cell to the cell holding ``(x, y)``; inf if unreachable."""
         cell = self._map._local(x, y)
-        if cell is None or self._dist[cell] < 0:
+        if cell is None:
             return math.inf
-        return float(self._dist[cell])
+        if self._dist[cell] < 0:
+            self._finish()
+        return math.inf if self._dist[cell] < 0 else float(self._dist[cell])
 
     def reachable(self, x: float, y: float) -> bool:
         """Whether the cell holding ``(x, y)`` can be reached through drivable cells."""
@@ -416,9 +494,9 @@ class DistanceField:
             ValueError: the target is unreachable.
 
         """
-        cell = self._map._local(x, y)
-        if cell is None or self._dist[cell] < 0:
+        if not self.reachable(x, y):
             raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
+        cell = self._map._local(x, y)
         cells = _walk(self._pred, self._cell[0], self._cell[1], cell[0], cell[1])
         h = self._map.cell_size
         centres = np.column_stack(
