@@ -36,6 +36,7 @@ __all__ = [
     "GradientFlood",
     "LinkPolicy",
     "MessageLog",
+    "RingLinks",
     "Shadowing",
     "TreeLinks",
 ]
@@ -99,6 +100,32 @@ class TreeLinks:
     def edges(self) -> list[tuple[Node, Node]]:
         """Every (parent, child) pair."""
         return [(p, c) for c, p in self.parent.items() if p is not None]
+
+
+class RingLinks:
+    """A ring's links: each node talks only to its two neighbours in ``order`` (a cycle).
+
+    Args:
+        order: the nodes around the ring.
+
+    """
+
+    def __init__(self, order: Iterable[Node]) -> None:
+        self.order = list(order)
+        self._index = {node: i for i, node in enumerate(self.order)}
+        if len(self._index) != len(self.order):
+            raise LinkError("a ring lists every node once")
+
+    def allows(self, a: Node, b: Node) -> bool:
+        """True for neighbours on the ring."""
+        if a not in self._index or b not in self._index or a == b:
+            return False
+        gap = abs(self._index[a] - self._index[b])
+        return gap == 1 or gap == len(self.order) - 1
+
+    def step(self, node: Node, direction: int) -> Node:
+        """The neighbour of ``node`` clockwise (+1) or counter-clockwise (-1)."""
+        return self.order[(self._index[node] + direction) % len(self.order)]
 
 
 class MessageLog:

@@ -157,3 +157,37 @@ def test_a_malformed_map_and_an_unreachable_start_are_config_errors(tmp_path):
     np.save(walled, free)
     with pytest.raises(ConfigError, match="start"):
         HierarchyModel(seed=1, world=str(walled))
+
+
+# ---------------------------------------------------------------------- topology comparison
+@pytest.fixture(scope="module")
+def arms():
+    kw = dict(SIZES[0], seed=7)
+    return {t: HierarchyModel(topology=t, **kw).run() for t in ("hst", "star", "fc", "ring")}
+
+
+def test_flat_arms_do_the_same_work_as_the_star_with_every_message_sent_to_all(arms):
+    star, fc, ring = (arms[t].summary() for t in ("star", "fc", "ring"))
+    for key in ("completion_time", "scout_scan_area", "scout_drive", "known_free_fraction"):
+        assert star[key] == fc[key] == ring[key], key  # same plans: the arms are comparable
+    n = fc["N"]
+    log = arms["fc"].comms.log.frame()
+    task = log[(log["phase"] == "task") & (log["src"] != "operator")]
+    origins = task.groupby(["origin", "kind"]).size()
+    assert (origins % (n - 1) == 0).all()  # one transmission to each other node
+    assert fc["messages"] == ring["messages"] and fc["links"] == n * (n - 1) // 2
+    assert ring["links"] == n and arms["hst"].summary()["links"] == arms["hst"].summary()["N"] - 1
+
+
+def test_a_ring_forwards_only_between_neighbours_within_half_the_ring(arms):
+    ring = arms["ring"]
+    log = ring.comms.log.frame()
+    log = log[log["src"] != "operator"]
+    n = ring.summary()["N"]
+    assert all(ring.comms.policy.allows(a, b) for a, b in zip(log["src"], log["dst"], strict=True))
+    assert log["hop"].max() == (n - 1 + 1) // 2 - 1
+
+
+def test_flat_arms_refuse_latency_they_do_not_model():
+    with pytest.raises(ConfigError, match="latency"):
+        HierarchyModel(topology="ring", latency=0.1)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from abm.comms import MessageLog, Shadowing, TreeLinks
+from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
 from abm.model import SwarmModel
 from abm.pathfollow import PathFollower, ground_robot
 from abm.robot import Robot
@@ -30,6 +30,7 @@ from abm.styles import Layer, StateStyle
 from models.hierarchy import published
 from models.hierarchy.agents import Director, Node, Scout
 from models.hierarchy.coverage import Plan, Status
+from models.hierarchy.flat import HOLDER, FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
 from models.hierarchy.planning import supercover
 from models.hierarchy.probmap import ProbMap, Rect
@@ -143,22 +144,27 @@ class HierarchyModel(SwarmModel):
     def _build_tree(self) -> None:
         p = self.params
         workers, scouts = self._starts
-        self.queen = Director(self, QUEEN, None)
-        self.nodes: dict[object, Node] = {QUEEN: self.queen}
-        self.tree.attach(QUEEN, None)
-        self.comms.add(QUEEN, None)
         self.workers: list[Director] = []
         self.scouts: list[Scout] = []
-        for w, wpos in enumerate(workers):
-            robot = Robot(self, wpos, "worker_idle", "drive")
-            node = Director(self, robot.unique_id, robot, p.worker_r_min_value, p.worker_r_max)
-            self._join(node, self.queen, w + 1)
-            self.workers.append(node)
-            for s, spos in enumerate(scouts[w]):
-                body = Robot(self, spos, "scout_idle", "drive")
-                scout = Scout(self, body.unique_id, body)
-                self._join(scout, node, s + 1)
-                self.scouts.append(scout)
+        self.nodes: dict[object, Node] = {}
+        if p.topology in ("fc", "ring"):
+            self._build_flat(scouts.reshape(-1, 2))
+        else:
+            self.queen = Director(self, QUEEN, None)
+            self.nodes[QUEEN] = self.queen
+            self.tree.attach(QUEEN, None)
+            self.comms.add(QUEEN, None)
+        if p.topology == "star":
+            for s, spos in enumerate(scouts.reshape(-1, 2)):
+                self._scout(spos, self.queen, s + 1)
+        if p.topology == "hst":
+            for w, wpos in enumerate(workers):
+                robot = Robot(self, wpos, "worker_idle", "drive")
+                node = Director(self, robot.unique_id, robot, p.worker_r_min_value, p.worker_r_max)
+                self._join(node, self.queen, w + 1)
+                self.workers.append(node)
+                for s, spos in enumerate(scouts[w]):
+                    self._scout(spos, node, s + 1)
         ids = np.array([s.robot.unique_id for s in self.scouts], dtype=np.int64)
         self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
@@ -167,12 +173,36 @@ class HierarchyModel(SwarmModel):
         for node in self.nodes.values():
             node.process = self.env.process(node.run())
 
+    def _scout(self, position: np.ndarray, parent: Node | None, local: int) -> Scout:
+        body = Robot(self, position, "scout_idle", "drive")
+        kind = FlatScout if self.params.topology in ("fc", "ring") else Scout
+        scout = kind(self, body.unique_id, body)
+        if parent is not None:
+            self._join(scout, parent, local)
+        self.scouts.append(scout)
+        return scout
+
+    def _build_flat(self, scouts: np.ndarray) -> None:
+        """The map holder and the scouts on a complete graph (FC) or a ring (spec §5.3)."""
+        self.queen = FlatHolder(self, HOLDER, None)
+        self.nodes[HOLDER] = self.queen
+        nodes = [self._scout(spos, None, s + 1) for s, spos in enumerate(scouts)]
+        ids = [n.id for n in nodes]
+        if self.params.topology == "ring":
+            self.comms.policy = RingLinks(ring_order(HOLDER, ids, scouts))
+        else:
+            self.comms.policy = None
+        self.tree.attach(HOLDER, None)
+        self.comms.add(HOLDER, None)
+        for s, scout in enumerate(nodes):
+            self._join(scout, self.queen, s + 1)
+
     def nodes_ids_max(self) -> int:
         """The largest robot id."""
         return max(n.robot.unique_id for n in self.nodes.values() if n.robot is not None)
 
     def _join(self, child: Node, parent: Node, local: int) -> None:
-        self.tree.attach(child.id, parent.id)
+        self.tree.attach(child.id, parent.id)  # the simulator's record of who is whose child
         self.comms.add(child.id, child.robot.position.copy())
         self.nodes[child.id] = child
         child.link(0, parent.id)
@@ -183,7 +213,8 @@ class HierarchyModel(SwarmModel):
         yield self.env.timeout(0)
         w = self.world_rect
         start = StartMsg(w.x_min, w.y_min, w.x_max, w.y_max)
-        self.comms.log.record(self.env.now, "operator", QUEEN, start.KIND, 0, start.nbytes)
+        root = self.queen.id
+        self.comms.log.record(self.env.now, "operator", root, start.KIND, 0, start.nbytes)
         self.queen.inbox.put((None, start))
 
     # ------------------------------------------------------------------ plumbing for nodes
@@ -282,24 +313,23 @@ class HierarchyModel(SwarmModel):
         scouts, workers = self.scouts, self.workers
         log = self.comms.log.frame()
         task = log[log["phase"] == "task"]
-        level = {QUEEN: 0, "operator": -1}
-        level.update({w.id: 1 for w in workers})
-        level.update({s.id: 2 for s in scouts})
         load = self.comms.log.load()
         out = {
-            "N": p.total_robots,
+            "topology": p.topology,
+            "N": len(self.nodes),
+            "links": self.comms.graph.number_of_edges(),
             "W": p.workers,
             "S": p.scouts_per_worker,
             "scouts": len(scouts),
             "complete": float(self.completion_status == Status.COMPLETE.value),
             "completion_time": self.completion_time if self.completion_time else math.nan,
             "scout_scan_area": CM**2 * float(np.mean([s.scan_area for s in scouts])),
-            "worker_scan_area": CM**2 * float(np.mean([w.scan_area for w in workers])),
+            "worker_scan_area": CM**2 * _mean([w.scan_area for w in workers]),
             "queen_scan_area": CM**2 * self.arena.width * self.arena.height,
             "scout_drive": CM * float(np.mean([s.drive_distance for s in scouts])),
-            "worker_drive": CM * float(np.mean([w.drive_distance for w in workers])),
+            "worker_drive": CM * _mean([w.drive_distance for w in workers]),
             "queen_iterations": self.queen.iterations,
-            "worker_iterations": float(np.mean([w.iterations for w in workers])),
+            "worker_iterations": _mean([w.iterations for w in workers]),
             "known_free_fraction": self.known_free_fraction(),
             "wave_order_violations": self.wave_order_violations,
             "robot_proximity_events": self.robot_proximity_events,
@@ -311,7 +341,7 @@ class HierarchyModel(SwarmModel):
             "messages_startup": int((log["phase"] == "startup").sum()),
             "bytes": int(log["bytes"].sum()),
             "max_node_load": int(load.max()) if len(load) else 0,
-            "queen_load": int(load.get(QUEEN, 0)),
+            "queen_load": int(load.get(self.queen.id, 0)),
             "worker_load_max": int(max((load.get(w.id, 0) for w in workers), default=0)),
             "scout_load_max": int(max((load.get(s.id, 0) for s in scouts), default=0)),
         }
@@ -379,3 +409,8 @@ def _close_to(pos, moving, reach):
                     first.append(a)
                     second.append(b)
     return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+
+
+def _mean(values: list[float]) -> float:
+    """The mean, NaN for no values (an arm without workers)."""
+    return float(np.mean(values)) if values else math.nan

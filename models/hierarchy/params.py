@@ -82,6 +82,10 @@ class HierarchyParams(SwarmParams):
             DataCollector) advances (s; ours: 10 s, runs last hours of simulated time).
         time_limit: the run ends at this simulated time at the latest (s).
         trace_interval: how often robot positions are sampled for pictures (s).
+        topology: "hst" (queen, workers, scouts: the report's tree), or an arm of the topology
+            comparison (spec §5.3) with the same W S scouts: "star" (the queen directs every
+            scout, a tree of depth 1), "fc" / "ring" (a map holder and the scouts with
+            replicated planning on a complete graph / a ring); ours.
         max_rounds: a director that needs more coverage rounds than this fails loudly (ours,
             the no-progress guard of spec §2.9).
 
@@ -121,6 +125,7 @@ class HierarchyParams(SwarmParams):
     latency: float = param(0.0, low=0.0)
     message_loss: float = param(0.0, low=0.0, high=0.99)
     comm_range: float = param(400.0, low=0.0, low_open=True)
+    topology: str = param("hst", choices=("hst", "star", "fc", "ring"))
     max_rounds: int = param(5000, low=1, integer=True)
     time_limit: float = param(50000.0, low=0.0, low_open=True)
     trace_interval: float | None = param(5.0, low=0.0, low_open=True)
@@ -155,6 +160,11 @@ class HierarchyParams(SwarmParams):
             raise ConfigError(
                 f"worker_r_min must be below worker_r_max ({self.worker_r_max}), "
                 f"got {self.worker_r_min_value}"
+            )
+        if self.topology in ("fc", "ring") and (self.latency > 0 or self.message_loss > 0):
+            raise ConfigError(
+                f"topology={self.topology!r} is modelled with reliable zero-latency delivery "
+                "(replicas stay identical); set latency=0 and message_loss=0"
             )
         if self.stamp == "peak" and self.sigma_sensor == 0:
             raise ConfigError(
