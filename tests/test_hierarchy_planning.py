@@ -17,6 +17,7 @@ from models.hierarchy.planning import (
     shortest_paths,
     smooth,
     supercover,
+    wave_order_violations,
     waves,
 )
 from models.hierarchy.probmap import Bubble, ProbMap, Rect
@@ -207,3 +208,63 @@ def test_no_conflict_inside_a_wave_and_every_move_in_one_wave(paths):
         for k in wave:
             for earlier in result[:later]:
                 assert any(cells[k] & cells[j] for j in earlier)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.9, 2.1), st.floats(0.9, 2.1), st.floats(0.10, 0.80))
+def test_a_clear_scan_leaves_no_gap_between_rays(x, y, r):
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    new = pmap.infer_scan(x, y, r)
+    inside = [
+        ((ix + 0.5) * H, (iy + 0.5) * H)
+        for ix in range(30)
+        for iy in range(30)
+        if ((ix + 0.5) * H - x) ** 2 + ((iy + 0.5) * H - y) ** 2 <= r * r - 1e-9
+    ]
+    assert all(pmap.scanned(cx, cy) for cx, cy in inside)
+    assert new == pmap.n_scanned >= len(inside)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(0.0, 3.0), st.floats(0.0, 3.0), st.sampled_from([0.0, 0.03])),
+             max_size=15),
+    st.lists(st.tuples(st.floats(0.5, 2.5), st.floats(0.5, 2.5), st.floats(0.1, 0.8)), max_size=4),
+    st.sampled_from(["mass", "peak"]),
+)  # fmt: skip
+def test_reports_never_add_knowledge_outside_the_bubble(points, scans, stamp):
+    pmap = ProbMap(Bubble(1.5, 1.5, 0.6), WORLD, cell_size=H, stamp=stamp)
+    for px, py, sigma in points:
+        accepted = pmap.stamp_point(px, py, sigma)
+        assert accepted == pmap.in_bounds(px, py)
+    for sx, sy, sr in scans:
+        pmap.infer_scan(sx, sy, sr)
+    assert not (pmap._scanned & ~pmap._in).any()  # spec §8 invariant 7
+    assert ((pmap._blocked >= 0) & (pmap._blocked <= 1)).all()
+
+
+def test_peak_stamp_gives_the_containing_cell_full_weight():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H, stamp="peak")
+    pmap.stamp_point(1.02, 1.02, sigma=0.05)
+    assert pmap.blocked(1.02, 1.02) == 1.0
+    assert pmap.blocked(1.15, 1.05) == pytest.approx(math.exp(-(0.13**2 + 0.03**2) / 0.005))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(half_cells, half_cells), min_size=2, max_size=12))
+def test_smoothing_keeps_the_ends_and_never_lengthens(points):
+    pmap = known_map(Rect(0.0, 0.0, 4.2, 4.2))
+    raw = np.array(points)
+    smoothed = smooth(pmap, raw)
+    assert smoothed[0].tolist() == raw[0].tolist() and smoothed[-1].tolist() == raw[-1].tolist()
+    assert path_length(smoothed) <= path_length(raw) + 1e-9
+    assert all(any(np.array_equal(p, q) for q in raw) for p in smoothed)  # a subsequence
+
+
+def test_wave_order_violation_counts_a_later_path_over_an_earlier_end():
+    first = np.array([(0.55, 1.05), (1.05, 1.05)])  # ends where the second path passes
+    second = np.array([(1.05, 0.55), (1.05, 1.55)])
+    assert waves({1: first, 2: second}, H) == [[1], [2]]
+    assert wave_order_violations([[1], [2]], {1: first, 2: second}, H) == 1
+    apart = np.array([(2.55, 0.55), (2.55, 1.55)])
+    assert wave_order_violations([[1], [3]], {1: first, 3: apart}, H) == 0
