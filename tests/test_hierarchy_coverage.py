@@ -20,7 +20,7 @@ from models.hierarchy.coverage import (
     worker_r_min,
 )
 from models.hierarchy.planning import _drivable, padded_cells, shortest_paths, supercover
-from models.hierarchy.probmap import ProbMap, Rect
+from models.hierarchy.probmap import Bubble, ProbMap, Rect
 
 H = 0.10
 WORLD = Rect(0.0, 0.0, 20.0, 20.0)
@@ -225,3 +225,14 @@ def test_no_path_cell_is_known_blocked_or_undrivable(scene):
         for i, a in enumerate(wave):
             for b in wave[i + 1 :]:
                 assert not cells[a] & cells[b]
+
+
+def test_a_child_with_no_route_is_dropped_before_the_closest_robot():
+    pmap = ProbMap(Bubble(1.0, 1.0, 0.6), SMALL, cell_size=H)
+    free, stranded = scout(1, 1.05, 1.05), scout(2, 3.55, 3.55)  # 2 is outside the routing grid
+    pmap.mark_free([free.position])
+    kids = [free, stranded]
+    plan = coverage(pmap, kids, np.random.default_rng(6))
+    assert plan.idle == (2,) and set(plan.centres) == {1}
+    literal = coverage(pmap, kids, np.random.default_rng(6), drop_unreachable_first=False)
+    assert literal.status is Status.CANNOT_COMPLETE  # the tie removes the placeable 1 first

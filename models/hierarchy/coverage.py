@@ -331,6 +331,7 @@ def coverage(
     occupied: Sequence[Sequence[float]] = (),
     padding: int = 1,
     reset_radius_after_removal: bool = False,
+    drop_unreachable_first: bool = True,
 ) -> Plan:
     """One call of the coverage algorithm (spec §2.4, report Fig. 24).
 
@@ -345,6 +346,10 @@ def coverage(
         padding: robot padding in cells (§3.1).
         reset_radius_after_removal: after a closest-robot removal, restart the radius at the
             smallest r_max (True) or stay at the floor (False, the pseudo-code; A15).
+        drop_unreachable_first: at the floor, first remove a child that cannot reach any VALID
+            cell (lowest local number), and use the closest-robot rule only when every child
+            could be placed alone [OURS: reading of H2 "as many bubbles as possible"; with False
+            the closest robot goes even if an unplaceable child stays, as in the pseudo-code].
 
     Returns:
         The Plan; COMPLETE if no VALID cell is left, CANNOT_COMPLETE if every child had to be
@@ -371,8 +376,13 @@ def coverage(
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
-        """Steps 8-11: the child's Dijkstra, once per call; its reachable VALID cells."""
+        """Steps 8-11: the child's Dijkstra, once per call; its reachable VALID cells (none for
+        a child outside the map's routing region: it has no route and stays idle).
+        """
         if child.key not in reach:
+            if not pmap.in_routing(*child.position):
+                reach[child.key] = (np.zeros(0, dtype=np.int64), np.zeros(0))
+                return reach[child.key]
             others = [c.position for c in children if c is not child]
             drivable = _without(base, pmap, others + list(occupied), padding)
             f = DistanceField(pmap, child.position, drivable, target=valid)
@@ -430,8 +440,9 @@ def coverage(
                 dict(zip(keys, steps_to.tolist(), strict=True)), vx, vy, r, fields, occupied,
                 padding, tried,
             )  # fmt: skip
-        else:  # failed at the floor: remove the closest robot (§2.5)
-            victim = closest_robot(active)
+        else:  # failed at the floor: remove a child (§2.5)
+            stuck = [c.key for c in active if drop_unreachable_first and not candidates(c)[0].size]
+            victim = stuck[0] if stuck else closest_robot(active)
             active = [c for c in active if c.key != victim]
             idle.append(victim)
             n_ready = 1
