@@ -271,7 +271,10 @@ def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
         return []
     out = []
     for metric in _metrics(runs, layout):
-        result = stats.anova(runs, metric, factors)
+        measured = runs.dropna(subset=[metric])  # a metric some conditions do not have
+        if measured.empty or (measured[factors].nunique() < 2).any():
+            continue
+        result = stats.anova(measured, metric, factors)
         if not result.empty:
             shown = result.reset_index(names="source")
             out.append({"title": label(layout, metric).replace("(kJ)", "(J)"),

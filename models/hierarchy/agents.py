@@ -273,7 +273,8 @@ class Director(Node):
         while True:
             plan = coverage(m, self._children(), self.model.rng, alpha=p.alpha, beta=p.beta,
                             decay=p.radius_decay, occupied=own,
-                            reset_radius_after_removal=p.reset_radius_after_removal)  # fmt: skip
+                            reset_radius_after_removal=p.reset_radius_after_removal,
+                            drop_unreachable_first=p.drop_unreachable_first)  # fmt: skip
             if plan.status is not Status.IN_PROGRESS:
                 break
             rounds += 1

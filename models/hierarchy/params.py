@@ -56,6 +56,9 @@ class HierarchyParams(SwarmParams):
         blocked_threshold: tau, a cell with blocked >= tau counts as an obstacle (ours: 0.5).
         reset_radius_after_removal: after the closest-robot removal, restart the radius
             schedule at the maximum (ours; False keeps the pseudo-code's floor, spec A15).
+        drop_unreachable_first: at the minimum radius, first remove a child that can reach no
+            VALID cell (lowest local number), then apply the closest-robot rule (ours: a
+            reading of H2, "as many bubbles as possible"; False: the literal pseudo-code).
         wave_generator: stagger children whose padded paths cross into waves (Fig. 33 [R]);
             False sends every move at once (the counterfactual of claim C12).
         speed: driving speed (m/s; 0.3048, the 1 ft/s design target [R]).
@@ -112,6 +115,7 @@ class HierarchyParams(SwarmParams):
     beta: float = param(3.0, low=0.0)
     blocked_threshold: float = param(0.5, low=0.0, high=1.0, low_open=True)
     reset_radius_after_removal: bool = False
+    drop_unreachable_first: bool = True
     wave_generator: bool = True
     speed: float = param(0.3048, low=0.0, high=1.0, low_open=True)
     scan_time: float = param(2.0, low=0.0)
