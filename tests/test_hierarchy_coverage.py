@@ -236,3 +236,34 @@ def test_a_child_with_no_route_is_dropped_before_the_closest_robot():
     assert plan.idle == (2,) and set(plan.centres) == {1}
     literal = coverage(pmap, kids, np.random.default_rng(6), drop_unreachable_first=False)
     assert literal.status is Status.CANNOT_COMPLETE  # the tie removes the placeable 1 first
+
+
+def brute_gain(pmap: ProbMap, x: float, y: float, r: float) -> int:
+    """C by definition: in-bounds unscanned cells with centre within r of (x, y)."""
+    rows, cols = np.nonzero(pmap._in & ~pmap._scanned)
+    cx = (pmap._ix0 + cols + 0.5) * H
+    cy = (pmap._iy0 + rows + 0.5) * H
+    return int(np.count_nonzero((cx - x) ** 2 + (cy - y) ** 2 <= r * r + 1e-9))
+
+
+@settings(max_examples=25, deadline=None)
+@given(scenes())
+def test_a_single_child_gets_a_cell_of_maximum_value(scene):
+    pmap, kids, seed = scene
+    kid = kids[0]
+    plan = coverage(pmap, [kid], np.random.default_rng(seed), alpha=1.0, beta=3.0)
+    field = shortest_paths(pmap, kid.position)
+    values = {
+        (x, y): brute_gain(pmap, x, y, 0.8) - 3.0 * field.distance(x, y)
+        for x, y in valid_cells(pmap)
+        if field.reachable(x, y)
+    }
+    if not values:
+        assert plan.status is not Status.IN_PROGRESS
+        return
+    assert plan.radius == 0.8  # one child: the first radius always fits
+    best = max(values.values())
+    (cx, cy), *_ = plan.centres.values()
+    chosen = min(values, key=lambda p: math.hypot(p[0] - cx, p[1] - cy))
+    assert math.hypot(chosen[0] - cx, chosen[1] - cy) < 1e-9
+    assert values[chosen] == best

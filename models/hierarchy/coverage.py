@@ -5,8 +5,15 @@ report's rules and heuristics: no overlap (R1), centres known and reachable (R2)
 every child's limits (R3), one common radius (H1), as many children as possible (H2), maximum
 ``V = alpha*C - beta*D`` (H3) over frontier centres (H4). The radius starts at the smallest
 ``r_max`` and shrinks by ``decay`` (0.9) per failed attempt, clamped at the largest ``r_min``;
-at the floor the closest robot is removed (§2.5). Idle robots in the way are moved to the
-nearest free cell of a square spiral (§2.6).
+at the floor a child is removed: one that can reach no VALID cell if any (OURS, switch
+``drop_unreachable_first``), else the closest robot (§2.5). Idle robots in the way are moved to
+the nearest free cell of a square spiral (§2.6).
+
+Run time (spec §8): each child's BFS runs once per call and stops as soon as every VALID cell it
+could reach is found; C_r is computed only for cells still placeable at radius r; the search
+over radii is compiled, and radii that provably cannot succeed (the first two children's
+reachable cells are closer than 2r, or a child reaches no VALID cell) are skipped. None of
+these shortcuts changes the plan.
 
 Pure functions: no SimPy, no Mesa; the caller's ``numpy.random.Generator`` breaks value ties.
 """
@@ -102,12 +109,13 @@ class Plan:
         paths: local number -> smoothed path (``(n, 2)`` metres) of every placed child; a
             one-point path means the child already stands on its centre.
         distances: local number -> D, the Dijkstra steps (cells) to its centre.
-        idle: children left without a bubble (removed by the closest-robot rule), local order.
+        idle: children left without a bubble (removed at the floor, §2.5), local order.
         idle_moves: idle child -> smoothed path to its refuge, for idle robots in the way.
         stranded: idle children in the way for which no reachable refuge exists (diagnostic).
         waves: placed children that must move, grouped into waves (§3.5).
         idle_waves: idle movers grouped into waves; dispatched before ``waves``.
-        radii_tried: how many radii the call tried (run-time diagnostic).
+        radii_tried: the final radius's position in the schedule (1 = the first radius; radii
+            skipped by the exact bounds count, and each restart after a removal counts one).
 
     """
 
