@@ -55,6 +55,8 @@ def test_point_stamp_noisy_or_and_mass():
     pmap.stamp_point(1.05, 1.05, sigma=0.05)
     assert pmap.blocked(1.05, 1.05) == pytest.approx(1 - (1 - once) ** 2)
     assert pmap.known_blocked(1.05, 1.05) and not pmap.known_blocked(1.25, 1.05)
+    probe = np.array([(1.05, 1.05), (1.25, 1.05), (9.0, 9.0)])
+    assert pmap.known_blocked_at(probe).tolist() == [True, False, False]
     assert pmap.scanned(1.25, 1.05)  # within 3 sigma: known, mostly free
 
 

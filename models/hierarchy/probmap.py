@@ -285,6 +285,19 @@ class ProbMap:
         cell = self._local(x, y)
         return cell is not None and bool(self._scanned[cell]) and self._blocked[cell] >= self.tau
 
+    def known_blocked_at(self, points: np.ndarray) -> np.ndarray:
+        """Vectorised :meth:`known_blocked`: one bool per row of ``points`` ``(n, 2)``."""
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        h = self.cell_size
+        cols = np.floor(pts[:, 0] / h + _EPS).astype(np.int64) - self._ix0
+        rows = np.floor(pts[:, 1] / h + _EPS).astype(np.int64) - self._iy0
+        ny, nx = self._scanned.shape
+        inside = (rows >= 0) & (rows < ny) & (cols >= 0) & (cols < nx)
+        out = np.zeros(pts.shape[0], dtype=np.bool_)
+        r, c = rows[inside], cols[inside]
+        out[inside] = self._scanned[r, c] & (self._blocked[r, c] >= self.tau)
+        return out
+
     def cell_centre(self, x: float, y: float) -> tuple[float, float]:
         """Centre (metres) of the lattice cell holding ``(x, y)``."""
         h = self.cell_size
