@@ -62,6 +62,8 @@ CASES = {
     "tiny": (8, "8.0", ("walking",), "launch_period (s)", ()),
     # the testbed's anchors land by 35 s (seed 1); then particle clouds and the GlobalMap
     "sugarmap": (45, "45.0", ("anchor", "exploring"), "particles per explorer", ("#E69F00",)),
+    # 10 m room, W = S = 3: by 30 s the workers direct their scouts over the queen's known map
+    "hierarchy": (3, "30.0", ("worker_directing",), "workers W", ("#009E73",)),
 }
 
 
