@@ -31,7 +31,8 @@ from numba import njit
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
-    _base_drivable,
+    _frame,
+    _framed_base,
     _smooth_on,
     _without,
     padded_cells,
@@ -372,14 +373,15 @@ def coverage(
     rows, cols = np.nonzero(valid)
     if rows.size == 0:
         return Plan(Status.COMPLETE)
-    flat = rows * valid.shape[1] + cols
     h = pmap.cell_size
     vx = (pmap._ix0 + cols + 0.5) * h
     vy = (pmap._iy0 + rows + 0.5) * h
     open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
     prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
     np.cumsum(open_, axis=1, out=prefix[:, 1:])
-    base = _base_drivable(pmap, padding)
+    base = _framed_base(pmap, padding)
+    goal = _frame(valid)
+    framed_flat = (rows + 1) * (valid.shape[1] + 2) + cols + 1
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
@@ -393,9 +395,9 @@ def coverage(
                 return reach[child.key]
             others = [c.position for c in children if c is not child]
             drivable = _without(base, pmap, others + list(occupied), padding)
-            f = DistanceField(pmap, child.position, drivable, target=valid)
+            f = DistanceField._from_framed(pmap, child.position, drivable, goal)
             fields[child.key] = f
-            d = f._dist.ravel()[flat]
+            d = f._dist_f.ravel()[framed_flat]
             ok = np.flatnonzero(d >= 0)
             reach[child.key] = (ok, d[ok].astype(np.float64))
         return reach[child.key]

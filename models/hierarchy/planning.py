@@ -108,74 +108,66 @@ def _supercover_cells(x0, y0, x1, y1):
 
 
 @njit(cache=True)
-def _bfs(drivable, sr, sc, target, n_target):
+def _bfs(free, goal, sr, sc, n_target):
     """Unit-cost 4-connected search from local cell (sr, sc) over the drivable cells.
 
-    Stops early once ``n_target`` cells of the bool grid ``target`` have been reached (pass
-    ``n_target = -1`` to search everything): distances of cells reached are final either way.
-    Returns ``dist`` (int32, -1 where not reached), ``pred`` (int8, the direction N/E/S/W = 0..3
-    taken into the cell, -1 for the source and cells not reached) and whether the search ran to
-    exhaustion. Works on a flat copy of the grid framed by undrivable cells, so neighbours need
-    no bounds checks.
+    ``free`` and ``goal`` are framed grids (one ring of False around the map, so neighbours need
+    no bounds checks): ``free[r + 1, c + 1]`` tells whether local cell (r, c) is drivable. The
+    search stops early once ``n_target`` cells of ``goal`` have been reached (``-1``: search
+    everything); distances of cells reached are final either way. Returns framed ``dist``
+    (int32, -1 where not reached), framed ``pred`` (int8, the direction N/E/S/W = 0..3 taken
+    into the cell, -1 for the source and cells not reached) and whether the search ran to
+    exhaustion.
     """
-    ny, nx = drivable.shape
-    w = nx + 2
-    n = (ny + 2) * w
-    free = np.zeros(n, dtype=np.bool_)
-    goal = np.zeros(n, dtype=np.bool_)
-    for r in range(ny):
-        base = (r + 1) * w + 1
-        for c in range(nx):
-            free[base + c] = drivable[r, c]
-            goal[base + c] = target[r, c]
-    dist = np.full(n, -1, dtype=np.int32)
-    pred = np.full(n, -1, dtype=np.int8)
-    queue = np.empty(ny * nx + 1, dtype=np.int32)
+    fy, w = free.shape
+    flat_free = free.ravel()
+    flat_goal = goal.ravel()
+    dist = np.full(fy * w, -1, dtype=np.int32)
+    pred = np.full(fy * w, -1, dtype=np.int8)
+    queue = np.empty(fy * w, dtype=np.int32)
     start = (sr + 1) * w + sc + 1
     dist[start] = 0
     queue[0] = start
     head = 0
     tail = 1
-    found = 1 if goal[start] else 0
+    found = 1 if flat_goal[start] else 0
     while head < tail and found != n_target:
         k = queue[head]
         head += 1
         d0 = dist[k] + 1
         j = k + w  # N
-        if dist[j] < 0 and free[j]:
+        if dist[j] < 0 and flat_free[j]:
             dist[j] = d0
             pred[j] = 0
             queue[tail] = j
             tail += 1
-            if goal[j]:
+            if flat_goal[j]:
                 found += 1
         j = k + 1  # E
-        if dist[j] < 0 and free[j]:
+        if dist[j] < 0 and flat_free[j]:
             dist[j] = d0
             pred[j] = 1
             queue[tail] = j
             tail += 1
-            if goal[j]:
+            if flat_goal[j]:
                 found += 1
-        j = k - w  # S
-        if dist[j] < 0 and free[j]:
+        j = k + -w  # S
+        if dist[j] < 0 and flat_free[j]:
             dist[j] = d0
             pred[j] = 2
             queue[tail] = j
             tail += 1
-            if goal[j]:
+            if flat_goal[j]:
                 found += 1
-        j = k - 1  # W
-        if dist[j] < 0 and free[j]:
+        j = k + -1  # W
+        if dist[j] < 0 and flat_free[j]:
             dist[j] = d0
             pred[j] = 3
             queue[tail] = j
             tail += 1
-            if goal[j]:
+            if flat_goal[j]:
                 found += 1
-    grid_dist = dist.reshape(ny + 2, w)[1 : ny + 1, 1 : nx + 1].copy()
-    grid_pred = pred.reshape(ny + 2, w)[1 : ny + 1, 1 : nx + 1].copy()
-    return grid_dist, grid_pred, head >= tail
+    return dist.reshape(fy, w), pred.reshape(fy, w), head >= tail
 
 
 @njit(cache=True)
@@ -374,49 +366,62 @@ def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
-def _base_drivable(pmap: ProbMap, padding: int = 1) -> np.ndarray:
-    """Drivability of §3.1 before robots are added: known, and no known-blocked cell (nor the
-    world's wall) within ``padding`` cells.
+def _framed_base(pmap: ProbMap, padding: int = 1) -> np.ndarray:
+    """Drivability of §3.1 before robots are added, framed by one ring of False (the layout
+    :func:`_bfs` reads): known, and no known-blocked cell (nor the world's wall) within
+    ``padding`` cells.
 
     The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
     ring of world cells); the edge of a routing region inside the world is not.
     """
     known_blocked = pmap._scanned & (pmap._blocked >= pmap.tau)
-    if padding <= 0:
-        return pmap._scanned & ~known_blocked
-    k = padding
-    framed = np.pad(known_blocked, k, constant_values=False)
+    k = max(padding, 0)
+    out = np.zeros((known_blocked.shape[0] + 2, known_blocked.shape[1] + 2), dtype=np.bool_)
+    if k == 0:
+        out[1:-1, 1:-1] = pmap._scanned & ~known_blocked
+        return out
+    wall = np.pad(known_blocked, k, constant_values=False)
     west, south, east, north = pmap._world_edges
     if west:
-        framed[:, :k] = True
+        wall[:, :k] = True
     if south:
-        framed[:k, :] = True
+        wall[:k, :] = True
     if east:
-        framed[:, -k:] = True
+        wall[:, -k:] = True
     if north:
-        framed[-k:, :] = True
-    return pmap._scanned & ~_dilate(framed, k)[k:-k, k:-k]
+        wall[-k:, :] = True
+    out[1:-1, 1:-1] = pmap._scanned & ~_dilate(wall, k)[k:-k, k:-k]
+    return out
 
 
 def _without(
-    base: np.ndarray, pmap: ProbMap, occupied: Sequence[Sequence[float]], padding: int = 1
+    framed: np.ndarray, pmap: ProbMap, occupied: Sequence[Sequence[float]], padding: int = 1
 ) -> np.ndarray:
-    """``base`` with every cell within ``padding`` of an occupied cell made undrivable."""
-    grid = base.copy()
+    """A copy of the framed grid with every cell within ``padding`` of an occupied cell made
+    undrivable.
+    """
+    grid = framed.copy()
     k = max(padding, 0)
+    h = pmap.cell_size
+    ny, nx = pmap._scanned.shape
     for x, y in occupied:
-        cell = pmap._local(x, y)
-        if cell is not None:
-            r, c = cell
-            grid[max(r - k, 0) : r + k + 1, max(c - k, 0) : c + k + 1] = False
+        r = math.floor(y / h + _EPS) - pmap._iy0
+        c = math.floor(x / h + _EPS) - pmap._ix0
+        if 0 <= r < ny and 0 <= c < nx:
+            grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
     return grid
+
+
+def _frame(grid: np.ndarray) -> np.ndarray:
+    """``grid`` inside one ring of False."""
+    return np.pad(grid, 1, constant_values=False)
 
 
 def _drivable(
     pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
 ) -> np.ndarray:
     """Drivability grid of §3.1 over the map's routing region, robots at ``occupied``."""
-    return _without(_base_drivable(pmap, padding), pmap, occupied, padding)
+    return _without(_framed_base(pmap, padding), pmap, occupied, padding)[1:-1, 1:-1].copy()
 
 
 # ---------------------------------------------------------------------------- public API
@@ -441,29 +446,50 @@ class DistanceField:
         drivable: np.ndarray,
         target: np.ndarray | None = None,
     ) -> None:
+        self._start(pmap, source, _frame(drivable), None if target is None else _frame(target))
+
+    @classmethod
+    def _from_framed(cls, pmap, source, free, goal) -> DistanceField:
+        """Build from framed grids (see :func:`_bfs`) without copying them."""
+        field = cls.__new__(cls)
+        field._start(pmap, source, free, goal)
+        return field
+
+    def _start(self, pmap, source, free, goal) -> None:
         cell = pmap._local(*source)
         if cell is None:
             raise ValueError(f"source {tuple(source)} lies outside the map's routing region")
         self._map = pmap
         self.source = (float(source[0]), float(source[1]))
         self._cell = cell
-        self._drivable = drivable
-        if target is None:
-            target, n_target = _NO_TARGET, -1
+        self._free = free
+        if goal is None:
+            goal, n_target = np.zeros_like(free), -1
         else:
-            n_target = int(np.count_nonzero(target & drivable)) + int(
-                target[cell] and not drivable[cell]
-            )
-        if target.shape != drivable.shape:
-            target = np.zeros_like(drivable)
-        self._dist, self._pred, self._complete = _bfs(drivable, cell[0], cell[1], target, n_target)
+            fr, fc = cell[0] + 1, cell[1] + 1
+            n_target = int(np.count_nonzero(goal & free)) + int(goal[fr, fc] and not free[fr, fc])
+        self._dist_f, self._pred_f, self._complete = _bfs(free, goal, cell[0], cell[1], n_target)
+
+    @property
+    def _drivable(self) -> np.ndarray:
+        """The robot's drivability grid (a view)."""
+        return self._free[1:-1, 1:-1]
+
+    @property
+    def _dist(self) -> np.ndarray:
+        """Steps to each cell, -1 where not (yet) reached (a view)."""
+        return self._dist_f[1:-1, 1:-1]
+
+    @property
+    def _pred(self) -> np.ndarray:
+        """Direction into each reached cell (a view)."""
+        return self._pred_f[1:-1, 1:-1]
 
     def _finish(self) -> None:
         """Run the search to exhaustion (after an early stop)."""
         if not self._complete:
-            blank = np.zeros_like(self._drivable)
-            self._dist, self._pred, self._complete = _bfs(
-                self._drivable, self._cell[0], self._cell[1], blank, -1
+            self._dist_f, self._pred_f, self._complete = _bfs(
+                self._free, np.zeros_like(self._free), self._cell[0], self._cell[1], -1
             )
 
     @property
