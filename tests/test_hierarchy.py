@@ -191,3 +191,15 @@ def test_a_ring_forwards_only_between_neighbours_within_half_the_ring(arms):
 def test_flat_arms_refuse_latency_they_do_not_model():
     with pytest.raises(ConfigError, match="latency"):
         HierarchyModel(topology="ring", latency=0.1)
+
+
+def test_message_switches_change_what_is_sent():
+    kw = dict(SIZES[2], seed=9)
+    base = HierarchyModel(**kw).run().summary()
+    combined = HierarchyModel(combine_move_scan=True, **kw).run().summary()
+    hinted = HierarchyModel(los_hint_separate=True, **kw).run().summary()
+    deduped = HierarchyModel(dedupe_points_per_cell=True, **kw).run().summary()
+    assert base["msg_ASSIGN"] == 0 and combined["msg_ASSIGN"] > 0
+    assert combined["msg_SCAN"] < base["msg_SCAN"]
+    assert base["msg_LOS_HINT"] == 0 and hinted["msg_LOS_HINT"] > 0
+    assert deduped["msg_POINT"] < base["msg_POINT"]
