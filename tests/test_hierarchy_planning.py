@@ -173,6 +173,14 @@ def test_bfs_routes_around_occupied_cells_and_not_through_unknown():
     assert not blocked.reachable(1.25, 1.05)
 
 
+def test_bfs_ties_follow_the_neighbour_order_north_east_south_west():
+    field = shortest_paths(known_map(), (1.05, 1.05))
+    north_first = [[1.05, 1.05], [1.05, 1.15], [1.05, 1.25], [1.15, 1.25], [1.25, 1.25]]
+    assert field.path_to(1.25, 1.25) == pytest.approx(np.array(north_first))
+    east_first = [[1.05, 1.05], [1.15, 1.05], [1.25, 1.05], [1.25, 0.95], [1.25, 0.85]]
+    assert field.path_to(1.25, 0.85) == pytest.approx(np.array(east_first))
+
+
 def test_the_world_boundary_is_a_wall_for_the_padding():
     pmap = known_map()
     field = shortest_paths(pmap, (1.05, 1.05))
