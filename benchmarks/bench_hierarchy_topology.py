@@ -39,6 +39,14 @@ METRICS = {
     "completion_time": "completion time (s)",
 }
 ORDER = ("hst", "star", "fc", "ring")
+#: Line styles that keep coinciding arms visible (FC and RING send the same totals; STAR, FC and
+#: RING make the same plans, so their completion times coincide).
+STYLE = {
+    "hst": {"marker": "o", "linestyle": "-", "linewidth": 2.0},
+    "star": {"marker": "s", "linestyle": "-", "linewidth": 2.0},
+    "fc": {"marker": "^", "linestyle": "--", "linewidth": 3.0, "markersize": 9},
+    "ring": {"marker": "v", "linestyle": ":", "linewidth": 2.0},
+}
 
 
 def _markdown(mean) -> str:
@@ -58,13 +66,8 @@ def _one(topology: str, workers: int, scouts: int, seed: int) -> dict:
             "n_s": workers * scouts}  # fmt: skip
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("out/hierarchy_topology"))
-    parser.add_argument("--seeds", type=int, default=5, help="seeds per arm and size")
-    parser.add_argument("--workers", type=int, default=None, help="default: all cores")
-    args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
+def _run_all(args) -> pd.DataFrame:
+    """Every arm x size x seed on a process pool; the rows also go to ``<out>/runs.csv``."""
     jobs = list(itertools.product(ORDER, SIZES, range(FIRST_SEED, FIRST_SEED + args.seeds)))
     t0 = time.perf_counter()
     rows = []
@@ -75,13 +78,28 @@ def main() -> None:
     print(f"{len(rows)} runs in {time.perf_counter() - t0:.1f} s")
     ok = pd.DataFrame(rows)
     ok.to_csv(args.out / "runs.csv", index=False)
+    return ok
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("out/hierarchy_topology"))
+    parser.add_argument("--seeds", type=int, default=5, help="seeds per arm and size")
+    parser.add_argument("--workers", type=int, default=None, help="default: all cores")
+    parser.add_argument("--plot-only", action="store_true", help="redraw from <out>/runs.csv")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.plot_only:
+        ok = pd.read_csv(args.out / "runs.csv")
+    else:
+        ok = _run_all(args)
     means = ok.groupby(["topology", "n_s"])[[*METRICS, "known_free_fraction", "links"]]
     mean, sd = means.mean(), means.std()
     fig, axes = plt.subplots(1, len(METRICS), figsize=(4.6 * len(METRICS), 4.0))
     for ax, (metric, label) in zip(axes, METRICS.items(), strict=True):
         for topo in ORDER:
             m, s = mean.loc[topo, metric], sd.loc[topo, metric]
-            ax.errorbar(m.index, m.values, yerr=s.values, marker="o", capsize=3, label=topo)
+            ax.errorbar(m.index, m.values, yerr=s.values, capsize=3, label=topo, **STYLE[topo])
         ax.set_xscale("log", base=2)
         ax.set_yscale("log" if metric != "completion_time" else "linear")
         ax.set_xlabel("scanning robots n_s = W S")
