@@ -203,3 +203,14 @@ def test_message_switches_change_what_is_sent():
     assert combined["msg_SCAN"] < base["msg_SCAN"]
     assert base["msg_LOS_HINT"] == 0 and hinted["msg_LOS_HINT"] > 0
     assert deduped["msg_POINT"] < base["msg_POINT"]
+
+
+def test_claim_c14_is_judged_on_the_arms_runs(arms):
+    import pandas as pd
+
+    from models.hierarchy.claims import c14
+
+    verdict = c14(pd.DataFrame([m.summary() for m in arms.values()]), None)
+    assert verdict is not None and "at 4 scouts" in verdict.ours
+    fc, hst = arms["fc"].summary()["messages_task"], arms["hst"].summary()["messages_task"]
+    assert verdict.holds == (fc > hst)

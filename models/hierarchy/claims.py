@@ -228,5 +228,23 @@ def c12(runs, samples) -> Verdict | None:
     return Verdict(text, holds, "both diagnostics 0 with the wave generator (spec §4.5)")
 
 
+def c14(runs, samples) -> Verdict | None:
+    if "topology" not in runs or runs["topology"].nunique() < 2:
+        return None
+    ok = runs[runs["scout_scan_area"].notna()].assign(n_s=runs["W"] * runs["S"])
+    mean = ok.groupby(["n_s", "topology"])["messages_task"].mean().unstack()
+    flat = [t for t in ("fc", "ring") if t in mean]
+    if "hst" not in mean or not flat:
+        return None
+    ratio = mean[flat].min(axis=1) / mean["hst"]
+    star = (mean["star"] / mean["hst"]) if "star" in mean else None
+    ours = "flat / HST task transmissions: " + ", ".join(
+        f"{r:.1f} at {n} scouts" for n, r in ratio.items()
+    )
+    if star is not None:
+        ours += "; star / HST: " + ", ".join(f"{r:.2f}" for r in star)
+    return Verdict(ours, bool((ratio > 1).all()), "HST sends fewer than FC and RING at every size")
+
+
 TESTS = {"C1": c1, "C2": c2, "C3": c3, "C4": c4, "C5": c5, "C6": c6, "C7": c7, "C8": c8,
-         "C9": c9, "C12": c12}  # fmt: skip
+         "C9": c9, "C12": c12, "C14": c14}  # fmt: skip
