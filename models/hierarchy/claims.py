@@ -24,12 +24,14 @@ C8_RATIO = 1.25
 
 
 def _ok(runs: pd.DataFrame) -> pd.DataFrame:
-    """The finished runs of the standard set-up (wave generator on)."""
+    """The finished runs of the standard set-up (the hierarchy, wave generator on)."""
     if "scout_scan_area" not in runs:
         return runs.iloc[0:0]
     out = runs[runs["scout_scan_area"].notna()]
     if "wave_generator" in out:
         out = out[out["wave_generator"].astype(bool)]
+    if "topology" in out:
+        out = out[out["topology"] == "hst"]
     return out
 
 
@@ -219,11 +221,16 @@ def c12(runs, samples) -> Verdict | None:
     )
     if on.empty:
         return None
-    text = (f"with waves: {on['wave_order_violations'].mean():.1f} wave-order violations and "
-            f"{on['robot_proximity_events'].mean():.1f} proximity events per run")  # fmt: skip
+
+    def per_run(runs: pd.DataFrame) -> str:
+        return (f"{runs['wave_order_violations'].mean():.1f} wave-order violations, "
+                f"{runs['robot_proximity_events'].mean():.1f} scout proximity events "
+                f"({runs['sibling_proximity_events'].mean():.1f} between siblings), "
+                f"{runs['robot_collisions'].mean():.1f} body contacts per run")  # fmt: skip
+
+    text = f"with waves ({len(on)} runs): {per_run(on)}"
     if not off.empty:
-        text += (f"; without waves: {off['robot_proximity_events'].mean():.1f} proximity events "
-                 "per run")  # fmt: skip
+        text += f"; without waves ({len(off)} runs): {per_run(off)}"
     holds = bool(on["wave_order_violations"].sum() == 0 and on["robot_proximity_events"].sum() == 0)
     return Verdict(text, holds, "both diagnostics 0 with the wave generator (spec §4.5)")
 
