@@ -291,7 +291,7 @@ class HierarchyModel(SwarmModel):
                 or [np.floor(path[:1] / h).astype(np.int64)]
             )
             centres = (cells + 0.5) * h
-            blocked = sum(m.known_blocked(x, y) for x, y in centres)
+            blocked = int(m.known_blocked_at(centres).sum())
             self.path_cells_blocked += blocked
             self.plans.append(
                 {"director": director.id, "child": director.links[k], "path": path,
