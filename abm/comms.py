@@ -9,22 +9,179 @@ or not. A message takes ``latency`` seconds. With a loss
 probability ``loss`` each attempt may be lost; because the papers' robots re-send continually,
 a lost message arrives on a later attempt, so loss shows up as extra delay (a geometric number
 of periods), never as a silent gap.
+
+A :class:`LinkPolicy` (e.g. :class:`TreeLinks`, a rooted tree's parent/child edges) says which
+links may carry messages at all: the graph holds only links the radio reaches *and* the policy
+allows, and sending over a pair the policy forbids raises :class:`~abm.errors.LinkError`. A
+:class:`MessageLog` counts every transmission (one row per hop) by kind, sender, receiver,
+payload items and bytes. A node added without a position is off the arena (a base station, a
+laptop): its radio reaches every node.
 """
 
-from collections.abc import Callable, Hashable, Iterable
+from collections.abc import Callable, Hashable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Protocol
 
 import networkx as nx
 import numpy as np
+import pandas as pd
 import simpy
 from scipy.special import ndtr
 
 from abm.arena import Arena
-from abm.errors import check_range
+from abm.errors import LinkError, check_range
 
-__all__ = ["CommNetwork", "GradientFlood", "Shadowing"]
+__all__ = [
+    "CommNetwork",
+    "GradientFlood",
+    "LinkPolicy",
+    "MessageLog",
+    "RingLinks",
+    "Shadowing",
+    "TreeLinks",
+]
 
 Node = Hashable
+
+
+class LinkPolicy(Protocol):
+    """Which pairs of nodes may ever exchange messages (whatever the radio reaches)."""
+
+    def allows(self, a: Node, b: Node) -> bool:
+        """True if a message may travel between ``a`` and ``b`` (in either direction)."""
+        ...
+
+
+class TreeLinks:
+    """A rooted tree's links: a node talks only to its parent and its children, never to a
+    sibling, a cousin or across levels (the rule of hierarchical swarms).
+
+    Args:
+        parents: node -> its parent (None for the root); more nodes join with :meth:`attach`.
+
+    """
+
+    def __init__(self, parents: Mapping[Node, Node | None] | None = None) -> None:
+        self.parent: dict[Node, Node | None] = {}
+        self._children: dict[Node, list[Node]] = {}
+        for node, parent in (parents or {}).items():
+            self.attach(node, parent)
+
+    def attach(self, node: Node, parent: Node | None) -> None:
+        """Add ``node`` below ``parent`` (None: ``node`` is the root; there is only one)."""
+        if node in self.parent:
+            raise LinkError(f"node {node!r} is already in the tree")
+        if parent is None and any(p is None for p in self.parent.values()):
+            raise LinkError(f"node {node!r} cannot be a second root")
+        self.parent[node] = parent
+        self._children.setdefault(node, [])
+        if parent is not None:
+            self._children.setdefault(parent, []).append(node)
+
+    def allows(self, a: Node, b: Node) -> bool:
+        """True for a parent/child pair."""
+        return (a in self.parent and self.parent[a] == b and b is not None) or (
+            b in self.parent and self.parent[b] == a and a is not None
+        )
+
+    def children(self, node: Node) -> list[Node]:
+        """``node``'s children in the order they were attached (local numbers 1..k)."""
+        return list(self._children.get(node, []))
+
+    def level(self, node: Node) -> int:
+        """Depth of ``node`` (the root is level 0)."""
+        depth = 0
+        while self.parent[node] is not None:
+            node = self.parent[node]
+            depth += 1
+        return depth
+
+    @property
+    def edges(self) -> list[tuple[Node, Node]]:
+        """Every (parent, child) pair."""
+        return [(p, c) for c, p in self.parent.items() if p is not None]
+
+
+class RingLinks:
+    """A ring's links: each node talks only to its two neighbours in ``order`` (a cycle).
+
+    Args:
+        order: the nodes around the ring.
+
+    """
+
+    def __init__(self, order: Iterable[Node]) -> None:
+        self.order = list(order)
+        self._index = {node: i for i, node in enumerate(self.order)}
+        if len(self._index) != len(self.order):
+            raise LinkError("a ring lists every node once")
+
+    def allows(self, a: Node, b: Node) -> bool:
+        """True for neighbours on the ring."""
+        if a not in self._index or b not in self._index or a == b:
+            return False
+        gap = abs(self._index[a] - self._index[b])
+        return gap == 1 or gap == len(self.order) - 1
+
+    def step(self, node: Node, direction: int) -> Node:
+        """The neighbour of ``node`` clockwise (+1) or counter-clockwise (-1)."""
+        return self.order[(self._index[node] + direction) % len(self.order)]
+
+
+class MessageLog:
+    """Every transmission over one link, one row per hop (the unit the comparisons count).
+
+    Columns: ``time`` (s), ``src``, ``dst``, ``kind``, ``items`` (points, cells or waypoints
+    carried), ``bytes`` (under the sender's declared encoding), ``phase`` ("startup" or
+    "task"), ``origin`` (the node where the information arose; the sender when it is its own)
+    and ``hop`` (0 for the first transmission of that information).
+    """
+
+    COLUMNS = ("time", "src", "dst", "kind", "items", "bytes", "phase", "origin", "hop")
+
+    def __init__(self) -> None:
+        self._rows: list[tuple] = []
+
+    def record(
+        self,
+        time: float,
+        src: Node,
+        dst: Node,
+        kind: str,
+        items: int = 0,
+        nbytes: int = 0,
+        phase: str = "task",
+        origin: Node | None = None,
+        hop: int = 0,
+    ) -> None:
+        """Log one transmission."""
+        self._rows.append(
+            (
+                time,
+                src,
+                dst,
+                kind,
+                int(items),
+                int(nbytes),
+                phase,
+                src if origin is None else origin,
+                int(hop),
+            )
+        )
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def frame(self) -> pd.DataFrame:
+        """The log as a DataFrame, in sending order."""
+        return pd.DataFrame(self._rows, columns=list(self.COLUMNS))
+
+    def load(self) -> pd.Series:
+        """Messages sent plus received per node (the per-node load of a topology)."""
+        frame = self.frame()
+        if frame.empty:
+            return pd.Series(dtype=int)
+        return pd.concat([frame["src"], frame["dst"]]).value_counts()
 
 
 @dataclass(frozen=True)
@@ -66,10 +223,14 @@ class CommNetwork:
         rng: the model's random generator (message loss).
         comm_range: the range within which nodes in line of sight are linked (m); with
             shadowing, its nominal range R.
-        latency: delay of one message (s).
+        latency: delay of one message (s; 0: delivered at the same instant, after the sender's
+            current step).
         loss: probability that one transmission attempt is lost.
         shadowing: a radio with log-normal shadowing (links drawn from the model's generator)
             instead of the default disc with line of sight.
+        policy: which links may carry messages (None: every link the radio reaches); set it
+            before adding nodes.
+        log: a message log that records every transmission (None: only ``messages_sent``).
 
     """
 
@@ -82,9 +243,11 @@ class CommNetwork:
         latency: float,
         loss: float = 0.0,
         shadowing: Shadowing | None = None,
+        policy: LinkPolicy | None = None,
+        log: MessageLog | None = None,
     ) -> None:
         check_range("comm_range", comm_range, 0.0, low_open=True)
-        check_range("latency", latency, 0.0, low_open=True)
+        check_range("latency", latency, 0.0)
         check_range("loss", loss, 0.0, 0.99)
         self.env = env
         self.arena = arena
@@ -93,6 +256,8 @@ class CommNetwork:
         self.latency = float(latency)
         self.loss = float(loss)
         self.shadowing = shadowing
+        self.policy = policy
+        self.log = log
         self.graph = nx.Graph()
         self.messages_sent = 0
         self._listeners: list[Callable[[str, Node, Node], None]] = []
@@ -101,12 +266,14 @@ class CommNetwork:
         """Call ``listener("up"|"down", a, b)`` whenever a link appears or disappears."""
         self._listeners.append(listener)
 
-    def add(self, node: Node, position: np.ndarray) -> list[Node]:
-        """Add a node at ``position`` and link it to every node the link model reaches."""
-        position = np.asarray(position, dtype=float)
+    def add(self, node: Node, position: np.ndarray | None) -> list[Node]:
+        """Add a node at ``position`` and link it to every node the link model reaches (and the
+        policy allows); ``position`` None: an off-arena node whose radio reaches every node.
+        """
+        position = None if position is None else np.asarray(position, dtype=float)
         others = list(self.graph.nodes)
         self.graph.add_node(node, pos=position)
-        linked = self._reachable(position, others)
+        linked = self._reachable(position, others, node)
         for other in linked:
             self.graph.add_edge(node, other)
         for other in linked:
@@ -120,7 +287,7 @@ class CommNetwork:
         position = np.asarray(position, dtype=float)
         self.graph.nodes[node]["pos"] = position
         others = [o for o in self.graph.nodes if o != node]
-        now = self._reachable(position, others)
+        now = self._reachable(position, others, node)
         before = set(self.graph.neighbors(node))
         gone = [o for o in before if o not in set(now)]
         new = [o for o in now if o not in before]
@@ -134,10 +301,18 @@ class CommNetwork:
             self._notify("up", node, other)
         return now
 
-    def _reachable(self, position: np.ndarray, others: list[Node]) -> list[Node]:
-        """The nodes among ``others`` a node at ``position`` is linked to."""
-        if not others:
-            return []
+    def _reachable(self, position: np.ndarray | None, others: list[Node], node: Node) -> list[Node]:
+        """The nodes among ``others`` that ``node`` at ``position`` is linked to."""
+        if self.policy is not None:
+            others = [o for o in others if self.policy.allows(node, o)]
+        unplaced = [o for o in others if self.graph.nodes[o]["pos"] is None]
+        if position is None or len(unplaced) == len(others):
+            return others if position is None else unplaced
+        placed = [o for o in others if self.graph.nodes[o]["pos"] is not None]
+        return unplaced + self._in_range(position, placed)
+
+    def _in_range(self, position: np.ndarray, others: list[Node]) -> list[Node]:
+        """The placed nodes among ``others`` the radio of a node at ``position`` reaches."""
         pts = np.array([self.graph.nodes[o]["pos"] for o in others])
         distance = np.hypot(*(pts - position).T)
         if self.shadowing is None:
@@ -185,12 +360,29 @@ class CommNetwork:
         payload: object,
         handler: Callable[[Node, Node, object], None],
         on_drop: Callable[[Node, Node, object], None] | None = None,
+        *,
+        kind: str = "message",
+        items: int = 0,
+        nbytes: int = 0,
+        phase: str = "task",
+        origin: Node | None = None,
+        hop: int = 0,
     ) -> simpy.Event:
         """Deliver ``payload`` from ``src`` to ``dst`` as a SimPy event.
 
         On arrival ``handler(src, dst, payload)`` runs; if a node left the network or the link
         broke while the message was in flight, ``on_drop(src, dst, payload)`` runs instead.
+        ``kind``, ``items``, ``nbytes``, ``phase``, ``origin`` and ``hop`` describe the message
+        for the log (see :class:`MessageLog`).
+
+        Raises:
+            LinkError: the policy forbids the pair (e.g. two siblings of a tree).
+
         """
+        if self.policy is not None and not self.policy.allows(src, dst):
+            raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
+        if self.log is not None:
+            self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
         self.messages_sent += 1
         event = self.env.timeout(self.delivery_delay(), value=payload)
 

@@ -5,7 +5,15 @@ parameter, the value it got and the rule it broke, so a user can fix the call wi
 the source.
 """
 
-__all__ = ["ABMError", "ConfigError", "ContractError", "MapError", "check_choice", "check_range"]
+__all__ = [
+    "ABMError",
+    "ConfigError",
+    "ContractError",
+    "LinkError",
+    "MapError",
+    "check_choice",
+    "check_range",
+]
 
 
 class ABMError(Exception):
@@ -18,6 +26,10 @@ class ConfigError(ABMError, ValueError):
 
 class MapError(ABMError, ValueError):
     """A map (cell list, bitmap file or array) cannot be turned into an arena."""
+
+
+class LinkError(ABMError, ValueError):
+    """A message was sent over a pair of nodes the comm network's link policy forbids."""
 
 
 class ContractError(ABMError, TypeError):

@@ -94,8 +94,9 @@ class ReportLayout:
     """The paper's figure types for a model's sweeps (``abm report`` draws them).
 
     Attributes:
-        x: the swept parameter on the x axis (e.g. the inter-launch period).
-        hue: one line (or panel) per value of this parameter.
+        x: the swept parameter on the x axis (e.g. the inter-launch period), or a numeric
+            summary column derived from the swept parameters (e.g. the total robot count).
+        hue: one line (or panel) per value of this parameter (or summary column).
         hue_order: the order of ``hue``'s values.
         metrics: summary columns drawn as mean +- standard error against ``x``.
         stacked: columns stacked into one bar per ``x`` value (e.g. energy per mode), with

@@ -40,6 +40,10 @@ __all__ = [
 _BAR_COLOURS = ("#d1495b", "#00798c", "#edae49", "#66a182", "#2e4057", "#8d96a3")
 
 
+#: The most x values that each get a tick of their own (e.g. 30 robot totals would overlap).
+MAX_TICKS = 12
+
+
 def label(layout: ReportLayout, column: str) -> str:
     """The axis label of ``column`` (the layout's, else the column's name)."""
     return layout.labels.get(column, column.replace("_", " "))
@@ -81,8 +85,9 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             color=None if len(hues) > 1 else "#00798c",
         )
         xs = sorted(runs[layout.x].unique())
-        ax.set_xticks(xs)
-        ax.set_xticklabels([f"{x:g}" for x in xs])
+        if len(xs) <= MAX_TICKS:  # a tick per condition; beyond that matplotlib's own ticks
+            ax.set_xticks(xs)
+            ax.set_xticklabels([f"{x:g}" for x in xs])
         ax.set_xlabel(label(layout, layout.x))
         ax.set_ylabel(label(layout, metric))
         ax.set_ylim(bottom=0)

@@ -43,15 +43,29 @@ def _numeric(runs: pd.DataFrame, column: str) -> bool:
     return pd.api.types.is_numeric_dtype(runs[column]) and runs[column].dtype != bool
 
 
+def _derived(runs: pd.DataFrame, column: str | None) -> bool:
+    """A numeric summary column that varies over the runs (e.g. a total derived from two swept
+    parameters), usable as a layout's ``x`` or ``hue``.
+    """
+    return (
+        column is not None
+        and column in runs
+        and _numeric(runs, column)
+        and (runs[column].nunique() > 1)
+    )
+
+
 def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame) -> ReportLayout:
     """The layout for these runs: the model's, with ``x`` and ``hue`` kept only where they
-    vary; otherwise the first numeric swept parameter as ``x`` and another as ``hue``.
+    vary (a swept parameter, or a numeric summary column derived from them); otherwise the
+    first numeric swept parameter as ``x`` and another as ``hue``.
     """
     swept = swept_keys(manifest, runs)
     numeric = [k for k in swept if _numeric(runs, k)]
     layout = declared or ReportLayout(metrics=tuple(m for m in COMMON_METRICS if m in runs))
-    x = layout.x if layout.x in swept else (numeric[0] if numeric else None)
-    hue = layout.hue if layout.hue in swept and layout.hue != x else None
+    varies = set(swept) | {c for c in (layout.x, layout.hue) if _derived(runs, c)}
+    x = layout.x if layout.x in varies else (numeric[0] if numeric else None)
+    hue = layout.hue if layout.hue in varies and layout.hue != x else None
     if hue is None and declared is None:
         hue = next((k for k in swept if k != x), None)
     compare = layout.compare if layout.compare in swept else None
@@ -257,7 +271,10 @@ def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
         return []
     out = []
     for metric in _metrics(runs, layout):
-        result = stats.anova(runs, metric, factors)
+        measured = runs.dropna(subset=[metric])  # a metric some conditions do not have
+        if measured.empty or (measured[factors].nunique() < 2).any():
+            continue
+        result = stats.anova(measured, metric, factors)
         if not result.empty:
             shown = result.reset_index(names="source")
             out.append({"title": label(layout, metric).replace("(kJ)", "(J)"),

@@ -6,7 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.arena import Arena
-from abm.comms import CommNetwork, GradientFlood
+from abm.comms import CommNetwork, GradientFlood, MessageLog, TreeLinks
+from abm.errors import LinkError
 
 
 def settle(env: simpy.Environment, *floods: GradientFlood) -> None:
@@ -140,3 +141,77 @@ def test_moving_a_node_redraws_its_links_and_reports_the_changes():
     assert net.move("explorer", [12.0, 5.0]) == ["anchor"]
     assert changes[-1] == ("up", {"anchor", "explorer"}) and len(changes) == 3
     assert np.array_equal(net.position("explorer"), [12.0, 5.0])
+
+
+# ---------------------------------------------------------------------- link policy and log
+def tree_network(log=None):
+    """A queen off the arena, two workers, two scouts under worker 1 (all in radio range)."""
+    env = simpy.Environment()
+    tree = TreeLinks({"q": None, "w1": "q", "w2": "q", "s1": "w1", "s2": "w1"})
+    net = CommNetwork(
+        env,
+        Arena(np.ones((20, 20), dtype=bool), 1.0),
+        np.random.default_rng(0),
+        50.0,
+        0.5,
+        policy=tree,
+        log=log,
+    )
+    net.add("q", None)
+    for i, node in enumerate(["w1", "w2", "s1", "s2"]):
+        net.add(node, np.array([2.0 + i, 2.0]))
+    return env, net, tree
+
+
+def test_a_tree_policy_links_only_parents_and_children():
+    _env, net, tree = tree_network()
+    assert {frozenset(e) for e in net.graph.edges} == {frozenset(e) for e in tree.edges}
+    assert tree.level("s2") == 2 and tree.children("w1") == ["s1", "s2"]
+
+
+@pytest.mark.parametrize("pair", [("w1", "w2"), ("s1", "s2"), ("s1", "q"), ("q", "s2")])
+def test_sending_between_siblings_or_across_levels_raises(pair):
+    _env, net, _tree = tree_network()
+    with pytest.raises(LinkError, match="no link may carry MOVE"):
+        net.send(*pair, None, lambda *a: None, kind="MOVE")
+
+
+def test_the_log_counts_every_transmission_with_kind_items_and_bytes():
+    log = MessageLog()
+    env, net, _tree = tree_network(log)
+    got = []
+    net.send(
+        "q", "w1", "a", lambda s, d, p: got.append((env.now, p)), kind="MOVE", items=3, nbytes=12
+    )
+    net.send(
+        "s1", "w1", "b", lambda s, d, p: got.append((env.now, p)), kind="POINT", items=1, nbytes=4
+    )
+    net.send(
+        "w1",
+        "q",
+        "c",
+        lambda s, d, p: got.append((env.now, p)),
+        kind="POINT",
+        items=1,
+        nbytes=4,
+        origin="s1",
+        hop=1,
+    )
+    env.run()
+    assert got == [(0.5, "a"), (0.5, "b"), (0.5, "c")]
+    frame = log.frame()
+    assert frame["kind"].tolist() == ["MOVE", "POINT", "POINT"]
+    assert frame["bytes"].sum() == 20 and frame["items"].sum() == 5
+    assert frame["origin"].tolist() == ["q", "s1", "s1"] and frame["hop"].tolist() == [0, 0, 1]
+    assert log.load().to_dict() == {"w1": 3, "q": 2, "s1": 1}
+
+
+def test_an_off_arena_node_reaches_placed_nodes_whatever_the_distance():
+    env = simpy.Environment()
+    net = CommNetwork(
+        env, Arena(np.ones((20, 20), dtype=bool), 1.0), np.random.default_rng(0), 1.0, 0.1
+    )
+    net.add("a", np.array([1.0, 1.0]))
+    net.add("far", np.array([18.0, 18.0]))
+    assert net.add("base", None) == ["a", "far"]
+    assert not net.graph.has_edge("a", "far")

@@ -64,6 +64,8 @@ CASES = {
     "sugarmap": (45, "45.0", ("anchor", "exploring"), "particles per explorer", ("#E69F00",)),
     # two 10 s steps fly a few PSO transitions; the best swarm b_g is drawn in black
     "tangible-pso": (2, "20.0", ("free",), "required neighbours k", ("#000000",)),
+    # 10 m room, W = S = 3: by 30 s the workers direct their scouts over the queen's known map
+    "hierarchy": (3, "30.0", ("worker_directing",), "workers W", ("#009E73",)),
 }
 
 

@@ -71,8 +71,14 @@ def scene_of(model) -> Scene:
     )
     states = np.array([agent.state for agent in agents], dtype=object)
     graph = model.comms.graph
+    placed = graph.nodes(data="pos")
     links = np.array(
-        [[graph.nodes[a]["pos"], graph.nodes[b]["pos"]] for a, b in graph.edges], dtype=float
+        [
+            [placed[a], placed[b]]
+            for a, b in graph.edges
+            if placed[a] is not None and placed[b] is not None  # off-arena nodes: no line
+        ],
+        dtype=float,
     ).reshape(-1, 2, 2)
     return Scene(
         time=float(model.time),

@@ -1,0 +1,137 @@
+"""A vectorised controller that drives ground robots along polylines through the physics.
+
+Each flying robot follows its own list of waypoints at a constant speed: every tick all flyers'
+desired velocities point at their current waypoint (one numpy step), a flyer within one tick's
+travel of an intermediate waypoint moves on to the next, and a flyer at its last waypoint lands
+(its flight event fires). A flyer that makes no progress for ``stall_ticks`` ticks (a body
+pressed against a wall it was not told about) lands where it is, and is counted as stalled.
+With the physics' time constant equal to its tick, the robot moves at exactly the commanded
+velocity, so a path of length L takes L / speed seconds (to within one tick).
+"""
+
+import math
+
+import numpy as np
+import simpy
+from numba import njit
+
+from abm.errors import ConfigError, check_range
+from abm.physics import FlightParams, Physics
+
+__all__ = ["PathFollower", "ground_robot"]
+
+
+def ground_robot(speed: float, body_radius: float, dt: float) -> FlightParams:
+    """Flight parameters of a wheeled robot that moves at exactly its commanded velocity."""
+    return FlightParams(
+        mass=1.0,
+        max_speed=speed,
+        max_force=1e6,
+        tau=dt,
+        rho=0.0,
+        area=0.0,
+        drag_coefficient=0.0,
+        body_noise=0.0,
+        body_radius=body_radius,
+    )
+
+
+class PathFollower:
+    """The physics controller of robots that drive polylines.
+
+    Args:
+        physics: the model's physics (this object becomes its controller).
+        speed: driving speed (m/s).
+        stall_ticks: ticks without progress after which a flyer lands where it is.
+
+    """
+
+    def __init__(self, physics: Physics, speed: float, stall_ticks: int = 20) -> None:
+        check_range("speed", speed, 0.0, low_open=True)
+        self.physics = physics
+        self.speed = float(speed)
+        self.stall_ticks = int(stall_ticks)
+        self.stalled = 0
+        self._paths: dict[int, np.ndarray] = {}
+        self._next: dict[int, int] = {}
+        self._target = physics.add_flyer_state("path_target", 2)
+        physics.add_flyer_state("path_last", 1)
+        physics.add_flyer_state("path_idle", 1)
+        physics.controller = self
+
+    def drive(self, robot_id: int, start: np.ndarray, waypoints: np.ndarray) -> simpy.Event:
+        """Start driving ``robot_id`` from ``start`` through ``waypoints`` ``(k, 2)`` (m); the
+        event fires on arrival at the last one.
+        """
+        waypoints = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+        if len(waypoints) == 0:
+            raise ConfigError("waypoints must hold at least one point")
+        self._paths[robot_id] = waypoints
+        self._next[robot_id] = 0
+        event = self.physics.fly(robot_id, start)
+        row = len(self.physics.ids) - 1
+        self.physics.flyer_state["path_target"][row] = waypoints[0]
+        self.physics.flyer_state["path_last"][row] = float(len(waypoints) == 1)
+        event.callbacks.append(lambda _ev: self._forget(robot_id))
+        return event
+
+    def _forget(self, robot_id: int) -> None:
+        self._paths.pop(robot_id, None)
+        self._next.pop(robot_id, None)
+
+    def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
+        """Desired velocities toward each flyer's waypoint, and which flyers arrived."""
+        state = physics.flyer_state
+        target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
+        for row in np.flatnonzero(_passing(physics.pos, target, last, self.speed * physics.dt)):
+            rid = int(physics.ids[row])  # only the flyers at a corner this tick
+            k = self._next[rid] + 1
+            self._next[rid] = k
+            path = self._paths[rid]
+            target[row] = path[k]
+            last[row, 0] = float(k == len(path) - 1)
+        desired, done, stalled = _steer(
+            physics.pos, physics.vel, target, last, idle, self.speed, physics.dt, self.stall_ticks
+        )
+        self.stalled += stalled
+        return desired, done
+
+
+@njit(cache=True)
+def _passing(pos, target, last, step):
+    """Flyers within one tick's travel of an intermediate waypoint."""
+    n = pos.shape[0]
+    out = np.zeros(n, dtype=np.bool_)
+    for k in range(n):
+        if last[k, 0] == 0.0:
+            d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
+            out[k] = d <= step
+    return out
+
+
+@njit(cache=True)
+def _steer(pos, vel, target, last, idle, speed, dt, stall_ticks):
+    """Desired velocity of every flyer (at most ``speed``, landing exactly on the last
+    waypoint), and which flyers are done (arrived, or stalled ``stall_ticks`` ticks).
+    """
+    n = pos.shape[0]
+    desired = np.zeros((n, 2))
+    done = np.zeros(n, dtype=np.bool_)
+    stalled = 0
+    for k in range(n):
+        gx = target[k, 0] - pos[k, 0]
+        gy = target[k, 1] - pos[k, 1]
+        dist = math.hypot(gx, gy)
+        arrived = last[k, 0] == 1.0 and dist < 1e-6
+        v = min(speed, dist / dt)
+        if dist > 1e-12:
+            desired[k, 0] = gx * v / dist
+            desired[k, 1] = gy * v / dist
+        moving = math.hypot(vel[k, 0], vel[k, 1]) * dt > 1e-4
+        idle[k, 0] = 0.0 if (moving or arrived) else idle[k, 0] + 1.0
+        if idle[k, 0] >= stall_ticks:
+            stalled += 1
+            done[k] = True
+        if arrived:
+            done[k] = True
+    return desired, done, stalled

@@ -1,0 +1,380 @@
+"""The queen, the workers and the scouts as SimPy behaviours (spec §1.6).
+
+Every node holds only its local address book (0 = parent, 1..k = children, spec §1.3) and an
+inbox; it sends through the model's comm network, whose tree policy refuses anything but a
+parent/child link. Nothing a node keeps names the swarm's size or depth.
+
+- A **scout** (leaf) answers REQUEST_INFO with its limits (the IR range), then runs its FIFO
+  command loop: MOVE -> drive, ARRIVED; SCAN r -> sweep the sensors, one POINT per obstacle
+  reading, SCAN_COMPLETE asking the parent to infer line-of-sight coverage.
+- A **director** (the queen, or a worker) first learns its children's limits, then on every
+  assignment runs the coverage loop over its ProbMap: place all children (synchronous rounds),
+  move idle robots in the way, then the placed children wave by wave, send MAP_DOWN (to children
+  with children) and SCAN, merge the reports as they arrive, and re-plan when every placed child
+  has finished. A worker reports its bubble upward (MAP_REPORT + SCAN_COMPLETE); the queen's
+  COMPLETE (or CANNOT_COMPLETE) ends the run.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+import simpy
+
+from models.hierarchy.coverage import Child, Plan, Status, coverage
+from models.hierarchy.planning import path_length, wave_order_violations, waves
+from models.hierarchy.probmap import Bubble, ProbMap, Rect
+from models.hierarchy.protocol import (
+    ArrivedMsg,
+    AssignMsg,
+    InfoMsg,
+    LosHintMsg,
+    MapDownMsg,
+    MapReportMsg,
+    Message,
+    MoveMsg,
+    PointMsg,
+    RequestInfoMsg,
+    ScanCompleteMsg,
+    ScanMsg,
+    rle_bytes,
+)
+
+if TYPE_CHECKING:
+    from abm.robot import Robot
+    from models.hierarchy.model import HierarchyModel
+
+__all__ = ["Director", "NoProgressError", "Node", "Scout"]
+
+#: Nudge (m) that puts a ray's hit point inside the obstacle it hit, not on its surface.
+HIT_NUDGE = 1e-6
+
+
+class NoProgressError(RuntimeError):
+    """A director exceeded ``max_rounds`` coverage rounds (the guard of spec §2.9)."""
+
+
+class Node:
+    """One member of the tree: its address book, inbox and (if it has one) its robot body.
+
+    Args:
+        model: the HST model.
+        node_id: its name on the comm network (the simulator's, never seen by other nodes).
+        robot: its body; None for the queen, who has no position (spec A26).
+
+    """
+
+    def __init__(self, model: HierarchyModel, node_id: object, robot: Robot | None) -> None:
+        self.model = model
+        self.id = node_id
+        self.robot = robot
+        self.links: dict[int, object] = {}
+        self._local_of: dict[object, int] = {}
+        self.inbox = simpy.Store(model.env)
+        self.scan_area = 0.0
+        self.drive_distance = 0.0
+
+    @property
+    def env(self) -> simpy.Environment:
+        """The clock."""
+        return self.model.env
+
+    def link(self, local: int, node_id: object) -> None:
+        """Learn a local address (0: the parent, 1..k: the children)."""
+        self.links[local] = node_id
+        self._local_of[node_id] = local
+
+    @property
+    def children(self) -> list[int]:
+        """Local numbers of the children, 1..k."""
+        return sorted(k for k in self.links if k > 0)
+
+    @property
+    def position(self) -> np.ndarray:
+        """Where the body is (m)."""
+        return self.robot.position
+
+    def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:
+        """Send ``msg`` to local address ``local`` over the comm network (logged there)."""
+        dst = self.links[local]
+        self.model.comms.send(
+            self.id,
+            dst,
+            msg,
+            self.model.deliver,
+            kind=msg.KIND,
+            items=msg.items,
+            nbytes=msg.nbytes,
+            phase=msg.PHASE,
+            origin=origin,
+            hop=hop,
+        )
+
+    def receive(self, src: object, msg: Message) -> None:
+        """A message arrived from ``src``: file it under the sender's local number."""
+        self.inbox.put((self._local_of[src], msg))
+
+    def set_state(self, state: str) -> None:
+        """Show what the body is doing (the queen has no body)."""
+        if self.robot is not None:
+            self.robot.set_state(state)
+
+    def drive(self, waypoints: np.ndarray):
+        """Drive the waypoints through the physics (a SimPy generator)."""
+        waypoints = np.asarray(waypoints, dtype=float)
+        self.drive_distance += path_length(waypoints)
+        if len(waypoints) < 2:
+            return
+        self.set_state(f"{self.role}_driving")
+        yield self.model.follower.drive(self.robot.unique_id, waypoints[0], waypoints[1:])
+        self.model.arrived(self, waypoints[-1])
+
+    role = "node"
+
+
+class Scout(Node):
+    """A level-2 robot: no map; it drives what it is told and reports what its IR sees."""
+
+    role = "scout"
+
+    def run(self):
+        """Start-up, then the FIFO command loop (spec §1.6)."""
+        p = self.model.params
+        _, _request = yield self.inbox.get()
+        x, y = self.position
+        self.send(0, InfoMsg(float(x), float(y), p.scout_r_min, p.scout_r_max))
+        while True:
+            _, cmd = yield self.inbox.get()
+            if isinstance(cmd, MoveMsg | AssignMsg):
+                yield from self.drive(cmd.waypoints)
+                self.send(0, ArrivedMsg())
+                self.set_state("scout_idle")
+            if isinstance(cmd, ScanMsg | AssignMsg):
+                yield from self.scan(cmd.r)
+
+    def scan(self, r: float):
+        """One stationary sweep of radius ``r``: a POINT per obstacle hit, then SCAN_COMPLETE."""
+        p = self.model.params
+        self.scan_area += math.pi * r * r
+        self.set_state("scout_scanning")
+        if p.scan_time > 0:
+            yield self.env.timeout(p.scan_time)
+        for x, y in self.model.sense(self.position, min(r, p.scout_r_max)):
+            self.send(0, PointMsg(float(x), float(y), p.sigma_sensor))
+        if p.los_hint_separate:
+            self.send(0, LosHintMsg())
+        self.send(0, ScanCompleteMsg(infer_los=not p.los_hint_separate))
+        self.set_state("scout_idle")
+
+
+class Director(Node):
+    """The queen (no body) or a worker: runs the coverage loop for its children.
+
+    Args:
+        model: the HST model.
+        node_id: its comm-network name.
+        robot: a worker's body; None for the queen.
+        r_min: a worker's minimum bubble radius (m); ignored by the queen (no parent).
+        r_max: a worker's maximum bubble radius (m).
+
+    """
+
+    def __init__(self, model, node_id, robot, r_min: float = 0.0, r_max: float = 0.0) -> None:
+        super().__init__(model, node_id, robot)
+        self.role = "queen" if robot is None else "worker"
+        self.r_min, self.r_max = r_min, r_max
+        self.info: dict[int, InfoMsg] = {}
+        self.where: dict[int, np.ndarray] = {}
+        self.iterations = 0
+        self.retained = None  # the worker's map of its last bubble (spec §2.8 step 5)
+        self.map_down = None
+        self.bubble: dict[int, Bubble] = {}  # the last bubble given to each child
+        self.map: ProbMap | None = None
+        #: Reports that arrived while a wave was still driving (with ASSIGN a child scans on
+        #: arrival), merged by the next :meth:`collect`.
+        self.early: list[tuple[int, Message]] = []
+
+    # ------------------------------------------------------------------ the story
+    def run(self):
+        """Start-up (bottom-up radius discovery), then the command loop (spec §1.6)."""
+        _, first = yield self.inbox.get()  # REQUEST_INFO, or the operator's START at the root
+        yield from self.discover()
+        if self.role == "queen":
+            start = first
+            world = Rect(start.x_min, start.y_min, start.x_max, start.y_max)
+            status = yield from self.assignment(world, cover=())
+            self.model.queen_done(status)
+            return
+        x, y = self.position
+        self.send(0, InfoMsg(float(x), float(y), self.r_min, self.r_max))
+        while True:
+            _, cmd = yield self.inbox.get()
+            if isinstance(cmd, MapDownMsg):
+                self.map_down = cmd.window
+            if isinstance(cmd, MoveMsg | AssignMsg):
+                yield from self.drive(cmd.waypoints)
+                self.send(0, ArrivedMsg())
+                self.set_state("worker_idle")
+            if isinstance(cmd, ScanMsg | AssignMsg):
+                self.scan_area += math.pi * cmd.r * cmd.r
+                x, y = self.position
+                cover = [w.box for w in (self.map_down, self.retained) if w is not None]
+                cover.append(self._children_box())
+                yield from self.assignment(Bubble(float(x), float(y), cmd.r), cover)
+                points = np.array(
+                    self.map.points if self.model.params.worker_report == "batch" else [],
+                    dtype=float,
+                ).reshape(-1, 3)
+                raster, _extent = self.map.raster()
+                unscanned = self.map.unscanned_points()
+                self.send(0, MapReportMsg(points, unscanned, rle_bytes(raster == -1)))
+                self.send(0, ScanCompleteMsg(infer_los=False))
+                self.set_state("worker_idle")
+
+    def discover(self):
+        """REQUEST_INFO to every child and wait for all their INFOs."""
+        for k in self.children:
+            self.send(k, RequestInfoMsg())
+        while len(self.info) < len(self.children):
+            k, msg = yield self.inbox.get()
+            self.info[k] = msg
+            self.where[k] = np.array([msg.x, msg.y])
+
+    def _children_box(self) -> Rect:
+        """A box around its children's positions, so that its map can route them all."""
+        xy = np.array(list(self.where.values()))
+        pad = 2 * self.model.params.cell_size
+        return Rect(*(xy.min(axis=0) - pad), *(xy.max(axis=0) + pad))
+
+    def _children(self) -> list[Child]:
+        return [
+            Child(k, float(self.where[k][0]), float(self.where[k][1]), i.r_min, i.r_max)
+            for k, i in sorted(self.info.items())
+        ]
+
+    def assignment(self, region: Rect | Bubble, cover):
+        """Cover ``region`` with the children (run_assignment of spec §1.6); returns the last
+        coverage status.
+        """
+        p = self.model.params
+        m = ProbMap(region, self.model.world_rect, cell_size=p.cell_size,
+                    tau=p.blocked_threshold, stamp=p.stamp, cover=cover)  # fmt: skip
+        for known in (self.retained, self.map_down):
+            if known is not None:
+                m.merge(known)
+        own = [] if self.robot is None else [tuple(self.position)]
+        m.mark_free([tuple(w) for w in self.where.values()] + own)
+        self.map = m
+        self.model.director_maps[self.id] = m
+        self.set_state("worker_directing")
+        rounds = 0
+        while True:
+            plan = coverage(m, self._children(), self.model.rng, alpha=p.alpha, beta=p.beta,
+                            decay=p.radius_decay, occupied=own,
+                            reset_radius_after_removal=p.reset_radius_after_removal,
+                            drop_unreachable_first=p.drop_unreachable_first)  # fmt: skip
+            if plan.status is not Status.IN_PROGRESS:
+                break
+            rounds += 1
+            if rounds > p.max_rounds:
+                raise NoProgressError(
+                    f"{self.role} {self.id} needed more than max_rounds={p.max_rounds} rounds"
+                )
+            self.iterations += 1
+            yield from self.round(m, plan, region)
+        if self.robot is not None:
+            self.retained = m.window(m.bounds)
+        self.model.director_maps.pop(self.id, None)
+        return plan.status
+
+    def round(self, m: ProbMap, plan: Plan, region):
+        """Dispatch one plan and merge every placed child's report (spec §1.5)."""
+        p = self.model.params
+        self.model.log_plan(self, m, plan)
+        yield from self.dispatch(plan.idle_moves, MoveMsg)
+        placed = sorted(plan.centres)
+        combine = p.combine_move_scan
+        moves = {k: plan.paths[k] for k in placed if len(plan.paths[k]) > 1}
+        for k in placed:
+            self._map_down(k, plan, m)
+        if combine:
+            yield from self.dispatch(moves, AssignMsg, r=plan.radius)
+            for k in placed:
+                if k not in moves:
+                    self.send(k, ScanMsg(plan.radius))
+        else:
+            yield from self.dispatch(moves, MoveMsg)
+            for k in placed:
+                self.send(k, ScanMsg(plan.radius))
+        for k in placed:
+            self.bubble[k] = Bubble(*plan.centres[k], plan.radius)
+        yield from self.collect(m, plan, placed)
+
+    def _map_down(self, k: int, plan: Plan, m: ProbMap) -> None:
+        """MAP_DOWN to a child with children: known cells over its previous and new bubble."""
+        if self.model.has_children(self.links[k]):
+            box = Bubble(*plan.centres[k], plan.radius).box()
+            if k in self.bubble:
+                box = box.union(self.bubble[k].box())
+            self.send(k, MapDownMsg(m.window(box), m.tau))
+
+    def dispatch(self, moves: dict[int, np.ndarray], kind, r: float | None = None):
+        """Send the moves wave by wave; the next wave leaves when the last has arrived."""
+        if not moves:
+            return
+        h = self.model.params.cell_size
+        if self.model.params.wave_generator:
+            wave_list = waves(moves, h)
+        else:
+            wave_list = [sorted(moves)]
+        self.model.wave_order_violations += wave_order_violations(wave_list, moves, h)
+        for wave in wave_list:
+            for k in wave:
+                msg = MoveMsg(moves[k]) if kind is MoveMsg else AssignMsg(moves[k], r)
+                self.send(k, msg)
+                self.where[k] = np.asarray(moves[k][-1], dtype=float)
+            waiting = set(wave)
+            while waiting:
+                k, msg = yield self.inbox.get()
+                if isinstance(msg, ArrivedMsg):
+                    waiting.discard(k)
+                else:
+                    self.early.append((k, msg))
+
+    def collect(self, m: ProbMap, plan: Plan, placed: list[int]):
+        """Merge reports until every placed child sent SCAN_COMPLETE (spec §2.8)."""
+        p = self.model.params
+        gained = dict.fromkeys(placed, 0)
+        pending = set(placed)
+        los: set[int] = set()
+        unscanned: dict[int, np.ndarray] = {}
+        queue, self.early = list(self.early), []
+        while pending:
+            if queue:
+                k, msg = queue.pop(0)
+            else:
+                k, msg = yield self.inbox.get()
+            before = m.n_scanned
+            if isinstance(msg, PointMsg):
+                accepted = m.stamp_point(msg.x, msg.y, msg.sigma)
+                if accepted and self.role == "worker" and p.worker_report == "relay":
+                    self.send(0, PointMsg(msg.x, msg.y, msg.sigma), origin=self.links[k], hop=1)
+            elif isinstance(msg, LosHintMsg):
+                los.add(k)
+            elif isinstance(msg, MapReportMsg):
+                for x, y, sigma in msg.points:
+                    m.stamp_point(x, y, sigma)
+                unscanned[k] = msg.unscanned
+            elif isinstance(msg, ScanCompleteMsg):
+                b = self.bubble[k]
+                if msg.infer_los or k in los:
+                    m.infer_scan(b.x, b.y, b.r)
+                else:
+                    m.mark_bubble(b.x, b.y, b.r, unscanned.pop(k, ()))
+                pending.discard(k)
+            gained[k] += m.n_scanned - before
+            if k not in pending and gained[k] == 0:
+                m.exhaust(*plan.centres[k])  # the no-progress guard (spec §2.9)
+                gained[k] = -1

@@ -1,0 +1,257 @@
+"""The tests of the report's checkable claims (spec §4.4-4.5), on a sweep's tidy run rows.
+
+Each function takes the runs (one row per run: parameters and summary) and the model's time
+series (unused) and returns a :class:`abm.published.Verdict`, or None when the runs lack the
+claim's set-up. The thresholds are the spec's (§4.5), not the report's: the report publishes no
+numbers, so only shapes and trends are judged.
+"""
+
+import numpy as np
+import pandas as pd
+from scipy import stats as sps
+
+from abm.published import Verdict
+
+__all__ = ["TESTS"]
+
+#: C1: share of the free cells that must be known at the end (ours; cells in world corners and
+#: wall pockets next to a parked worker cannot be reached under the padding rules).
+KNOWN_MIN = 0.999
+#: C3: the W term may explain at most this share of the variance left after log N (spec §4.5).
+W_SHARE = 0.05
+#: C8: "almost no increase": queen iterations at W=7 at most this times those at W=2 (ours).
+C8_RATIO = 1.25
+
+
+def _ok(runs: pd.DataFrame) -> pd.DataFrame:
+    """The finished runs of the standard set-up (the hierarchy, wave generator on)."""
+    if "scout_scan_area" not in runs:
+        return runs.iloc[0:0]
+    out = runs[runs["scout_scan_area"].notna()]
+    if "wave_generator" in out:
+        out = out[out["wave_generator"].astype(bool)]
+    if "topology" in out:
+        out = out[out["topology"] == "hst"]
+    return out
+
+
+def _configs(runs: pd.DataFrame, metric: str) -> pd.DataFrame:
+    """Mean of ``metric`` per (W, S), with N (empty when no run has the metric)."""
+    if metric not in runs:
+        return pd.DataFrame(columns=["W", "S", "N", "y"])
+    runs = runs.dropna(subset=[metric])
+    return runs.groupby(["W", "S"], as_index=False).agg(N=("N", "first"), y=(metric, "mean"))
+
+
+def _falls(runs: pd.DataFrame, metric: str) -> Verdict | None:
+    """C2/C6: Spearman rho(N, mean) <= -0.9 over configurations, each W-series non-increasing."""
+    runs = _ok(runs)
+    cfg = _configs(runs, metric) if len(runs) else runs
+    if len(cfg) < 4 or cfg["N"].nunique() < 4:
+        return None
+    rho = float(sps.spearmanr(cfg["N"], cfg["y"]).statistic)
+    rises = []
+    for w, g in cfg.groupby("W"):
+        y = g.sort_values("S")["y"].to_numpy()
+        rises += [f"W={w}" for a, b in zip(y[:-1], y[1:], strict=True) if b > a * 1.0001][:1]
+    first, last = cfg.loc[cfg["N"].idxmin()], cfg.loc[cfg["N"].idxmax()]
+    ours = (
+        f"Spearman rho(N, mean) = {rho:.3f} over {len(cfg)} configurations; "
+        f"{first.y:,.0f} at N={first.N:.0f} -> {last.y:,.0f} at N={last.N:.0f}; "
+        f"series not monotone: {', '.join(rises) or 'none'}"
+    )
+    return Verdict(
+        ours, rho <= -0.9 and not rises, "rho <= -0.9 and every W-series non-increasing in S"
+    )
+
+
+def c1(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    if runs.empty:
+        return None
+    done = runs["complete"].astype(float)
+    known = runs["known_free_fraction"].astype(float)
+    ended = runs["end_reason"].isin(["complete", "cannot_complete"])
+    ours = (
+        f"{ended.mean():.0%} of {len(runs)} runs end by the queen's coverage call "
+        f"({done.mean():.0%} COMPLETE, the rest CANNOT_COMPLETE once the no-progress guard "
+        f"has exhausted wall-ring pockets); free cells known: min {known.min():.4f}, "
+        f"mean {known.mean():.4f}"
+    )
+    return Verdict(
+        ours,
+        bool(ended.all() and known.min() >= KNOWN_MIN),
+        f"every run ends by the coverage call with >= {KNOWN_MIN:.1%} of the free cells known",
+    )
+
+
+def c2(runs, samples) -> Verdict | None:
+    return _falls(runs, "scout_scan_area")
+
+
+def c6(runs, samples) -> Verdict | None:
+    return _falls(runs, "scout_drive")
+
+
+def _w_share(runs: pd.DataFrame, metric: str, size: str) -> tuple[float, float]:
+    """(c, share): the W coefficient of log y = a + b log size + c W and the share of the
+    variance left after log size that W explains (partial R^2).
+    """
+    y = np.log(runs[metric].astype(float).to_numpy())
+    s = np.log(runs[size].astype(float).to_numpy())
+    w = runs["W"].astype(float).to_numpy()
+    base = np.column_stack([np.ones_like(s), s])
+    full = np.column_stack([base, w])
+    rss0 = float(np.sum((y - base @ np.linalg.lstsq(base, y, rcond=None)[0]) ** 2))
+    coef = np.linalg.lstsq(full, y, rcond=None)[0]
+    rss1 = float(np.sum((y - full @ coef) ** 2))
+    return float(coef[2]), (rss0 - rss1) / rss0 if rss0 > 0 else 0.0
+
+
+def c3(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    if len(runs) < 10 or runs["W"].nunique() < 3:
+        return None
+    runs = runs.assign(scouts_total=runs["W"] * runs["S"])
+    c_n, share_n = _w_share(runs, "scout_scan_area", "N")
+    c_s, share_s = _w_share(runs, "scout_scan_area", "scouts_total")
+    spreads = []
+    for total, sel in runs.groupby("scouts_total"):
+        means = sel.groupby("W")["scout_scan_area"].mean()
+        if len(means) >= 2:
+            spreads.append(f"{total} scouts: W={list(means.index)} spread "
+                           f"{(means.max() - means.min()) / means.mean():.1%}")  # fmt: skip
+    ours = (
+        f"log A = a + b log N + c W: c = {c_n:+.3f}, W explains {share_n:.1%} of the variance "
+        f"left after log N; with log(W S) instead: c = {c_s:+.3f}, {share_s:.1%}. "
+        f"Equal-scout groups: {'; '.join(spreads) or 'none in these runs'}"
+    )
+    return Verdict(ours, share_n < W_SHARE, f"W explains < {W_SHARE:.0%} after log N (spec §4.5)")
+
+
+def _scatter(runs: pd.DataFrame, metric: str) -> float:
+    """Relative residual scatter of the configuration means about a quadratic in log N."""
+    cfg = _configs(runs, metric)
+    x, y = np.log(cfg["N"].to_numpy(float)), np.log(cfg["y"].to_numpy(float))
+    fit = np.polyval(np.polyfit(x, y, 2), x)
+    return float(np.std(y - fit, ddof=3))
+
+
+def c4(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    if runs.empty or runs["N"].nunique() < 6:
+        return None
+    workers, scouts = _scatter(runs, "worker_scan_area"), _scatter(runs, "scout_scan_area")
+    rho = float(
+        sps.spearmanr(*_configs(runs, "worker_scan_area")[["N", "y"]].T.to_numpy()).statistic
+    )
+    ours = (
+        f"worker area: Spearman rho(N) = {rho:.3f}, residual scatter {workers:.3f} (log units) "
+        f"vs scouts' {scouts:.3f}"
+    )
+    return Verdict(
+        ours, rho < 0 and workers > scouts, "falls with N and scatters more than level 2"
+    )
+
+
+def c5(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    if runs.empty:
+        return None
+    area = runs["queen_scan_area"].astype(float)
+    ours = f"queen scan area {area.mean():,.0f} cm^2 (the world is {area.max():,.0f} cm^2)"
+    return Verdict(ours, bool(np.allclose(area, area.max())), "equals the map area by definition")
+
+
+def _slope(runs: pd.DataFrame, metric: str) -> float:
+    cfg = _configs(runs, metric)
+    return float(
+        np.polyfit(np.log(cfg["N"].to_numpy(float)), np.log(cfg["y"].to_numpy(float)), 1)[0]
+    )
+
+
+def c7(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    if runs.empty or runs["N"].nunique() < 4:
+        return None
+    workers, scouts = _slope(runs, "worker_drive"), _slope(runs, "scout_drive")
+    ours = f"log-log slope in N: worker drive {workers:+.2f}, scout drive {scouts:+.2f}"
+    return Verdict(ours, abs(workers) < abs(scouts), "|level-1 slope| < |level-2 slope|")
+
+
+def c8(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    two, seven = runs[runs["W"] == 2], runs[runs["W"] == 7]
+    both = sorted(set(two["S"]) & set(seven["S"]))
+    if not both:
+        return None
+    a = two[two["S"].isin(both)]["queen_iterations"].astype(float)
+    b = seven[seven["S"].isin(both)]["queen_iterations"].astype(float)
+    ratio = b.mean() / a.mean()
+    ours = (f"queen iterations: {a.mean():.1f} with 2 workers, {b.mean():.1f} with 7 "
+            f"(same S = {both}); ratio {ratio:.2f}")  # fmt: skip
+    return Verdict(ours, ratio <= C8_RATIO, f"ratio W=7 / W=2 <= {C8_RATIO} (ours)")
+
+
+def c9(runs, samples) -> Verdict | None:
+    runs = _ok(runs)
+    cfg = _configs(runs, "completion_time") if len(runs) else runs
+    if len(cfg) < 4:
+        return None
+    rho = float(sps.spearmanr(cfg["N"], cfg["y"]).statistic)
+    first, last = cfg.loc[cfg["N"].idxmin()], cfg.loc[cfg["N"].idxmax()]
+    ours = (f"Spearman rho(N, completion time) = {rho:.3f}; {first.y:,.0f} s at N={first.N:.0f}"
+            f" -> {last.y:,.0f} s at N={last.N:.0f}")  # fmt: skip
+    return Verdict(ours, rho < 0, "completion time decreases with N (rho < 0)")
+
+
+def c12(runs, samples) -> Verdict | None:
+    if "wave_order_violations" not in runs:
+        return None
+    finished = runs[runs["scout_scan_area"].notna()]
+    on = (
+        finished[finished["wave_generator"].astype(bool)]
+        if "wave_generator" in finished
+        else finished
+    )
+    off = (
+        finished[~finished["wave_generator"].astype(bool)]
+        if "wave_generator" in finished
+        else on.iloc[0:0]
+    )
+    if on.empty:
+        return None
+
+    def per_run(runs: pd.DataFrame) -> str:
+        return (f"{runs['wave_order_violations'].mean():.1f} wave-order violations, "
+                f"{runs['robot_proximity_events'].mean():.1f} scout proximity events "
+                f"({runs['sibling_proximity_events'].mean():.1f} between siblings), "
+                f"{runs['robot_collisions'].mean():.1f} body contacts per run")  # fmt: skip
+
+    text = f"with waves ({len(on)} runs): {per_run(on)}"
+    if not off.empty:
+        text += f"; without waves ({len(off)} runs): {per_run(off)}"
+    holds = bool(on["wave_order_violations"].sum() == 0 and on["robot_proximity_events"].sum() == 0)
+    return Verdict(text, holds, "both diagnostics 0 with the wave generator (spec §4.5)")
+
+
+def c14(runs, samples) -> Verdict | None:
+    if "topology" not in runs or runs["topology"].nunique() < 2:
+        return None
+    ok = runs[runs["scout_scan_area"].notna()].assign(n_s=runs["W"] * runs["S"])
+    mean = ok.groupby(["n_s", "topology"])["messages_task"].mean().unstack()
+    flat = [t for t in ("fc", "ring") if t in mean]
+    if "hst" not in mean or not flat:
+        return None
+    ratio = mean[flat].min(axis=1) / mean["hst"]
+    star = (mean["star"] / mean["hst"]) if "star" in mean else None
+    ours = "flat / HST task transmissions: " + ", ".join(
+        f"{r:.1f} at {n} scouts" for n, r in ratio.items()
+    )
+    if star is not None:
+        ours += "; star / HST: " + ", ".join(f"{r:.2f}" for r in star)
+    return Verdict(ours, bool((ratio > 1).all()), "HST sends fewer than FC and RING at every size")
+
+
+TESTS = {"C1": c1, "C2": c2, "C3": c3, "C4": c4, "C5": c5, "C6": c6, "C7": c7, "C8": c8,
+         "C9": c9, "C12": c12, "C14": c14}  # fmt: skip

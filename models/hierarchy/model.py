@@ -1,0 +1,416 @@
+"""HierarchyModel: a hierarchical swarm (queen, workers, scouts) mapping a room by bubble
+coverage (Alunni et al. 2011; spec ``hst.md``).
+
+The story of a run: the operator sends START to the queen; every director learns its children's
+bubble limits bottom-up (REQUEST_INFO / INFO); the queen then covers the whole world with its
+workers' bubbles, each worker covers its bubble with its scouts' bubbles, and the scouts scan
+with their IR sensors. Every message travels over the framework's comm network, whose tree
+policy refuses any link but parent/child, and is logged (kind, sender, receiver, items, bytes).
+Robots drive their smoothed paths at 0.3048 m/s through the framework's physics (one vectorised
+path-following controller for every body). The run ends when the queen's coverage call returns
+COMPLETE (or CANNOT_COMPLETE).
+
+The queen has no body (spec A26: "a laptop", no position in the arena): she is a comm node off
+the arena (a node without a position, whose radio reaches everyone, limited by the tree policy
+to her workers) and not a Mesa agent, so she is never drawn, never occupies a cell and never
+collides; she still counts in N = 1 + W + W S. Workers and scouts are :class:`abm.robot.Robot`
+bodies.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
+from abm.model import SwarmModel
+from abm.pathfollow import PathFollower, ground_robot
+from abm.robot import Robot
+from abm.styles import Layer, StateStyle
+from models.hierarchy import published
+from models.hierarchy.agents import Director, Node, Scout
+from models.hierarchy.coverage import Plan, Status
+from models.hierarchy.flat import HOLDER, FlatHolder, FlatScout, ring_order
+from models.hierarchy.params import HierarchyParams
+from models.hierarchy.planning import supercover
+from models.hierarchy.probmap import ProbMap, Rect
+from models.hierarchy.protocol import KINDS, StartMsg
+from models.hierarchy.world import build_world, start_layout
+
+__all__ = ["BODY_SIDE", "HierarchyModel"]
+
+#: Side of a scout's body (m): the 6-inch cube of the report ("Scout").
+BODY_SIDE = 0.1524
+CM = 100.0
+QUEEN = "queen"
+
+
+class HierarchyModel(SwarmModel):
+    """A queen, ``workers`` workers and ``scouts_per_worker`` scouts each map the world.
+
+    Every field of :class:`HierarchyParams` is a keyword of the constructor, e.g.
+    ``HierarchyModel(workers=3, scouts_per_worker=4, seed=1)``.
+
+    Args:
+        seed: seed of the model's random generator (start jitter, boxes, value ties).
+        **params: fields of :class:`HierarchyParams`.
+
+    """
+
+    Params = HierarchyParams
+    STATES = (
+        "scout_idle",
+        "scout_driving",
+        "scout_scanning",
+        "worker_idle",
+        "worker_driving",
+        "worker_directing",
+    )
+    STATE_STYLES = {
+        "scout_idle": StateStyle("#0072B2", marker="o", size=30.0, label="scout (idle)"),
+        "scout_driving": StateStyle("#56B4E9", marker="o", size=30.0, label="scout (driving)"),
+        "scout_scanning": StateStyle("#009E73", marker="o", size=40.0, label="scout (scanning)"),
+        "worker_idle": StateStyle("#E69F00", marker="s", size=60.0, layer=7.0,
+                                  label="worker (idle)"),
+        "worker_driving": StateStyle("#D55E00", marker="s", size=60.0, layer=7.0,
+                                     label="worker (driving)"),
+        "worker_directing": StateStyle("#CC79A7", marker="s", size=60.0, layer=7.0,
+                                       label="worker (directing its scouts)"),
+    }  # fmt: skip
+    PUBLISHED = published.PUBLISHED
+    CLAIMS = published.CLAIMS
+    REPORT = published.REPORT
+    APP = "models.hierarchy.app"
+    QUICK = {"workers": 2, "scouts_per_worker": 2, "world_size": 4.0, "worker_spacing": 1.6}
+
+    def __init__(self, *, seed: int | None = None, **params: object) -> None:
+        p = self.make_params(**params)
+        super().__init__(
+            p,
+            lambda rng: self._world(p, rng),
+            seed=seed,
+            comm_range=p.comm_range,
+            latency=p.latency,
+            message_loss=p.message_loss,
+            shadowing=Shadowing(sd=0.0, through_walls=True),
+            flight=ground_robot(p.speed, BODY_SIDE / 2, p.dt),
+        )
+        self.world_rect = Rect(0.0, 0.0, self.arena.width, self.arena.height)
+        self.follower = PathFollower(self.physics, p.speed)
+        self.physics.controller = self
+        self.tree = TreeLinks()
+        self.comms.policy = self.tree
+        self.comms.log = MessageLog()
+        self.director_maps: dict[object, ProbMap] = {}
+        self.wave_order_violations = 0
+        self.robot_proximity_events = 0
+        self.sibling_proximity_events = 0
+        self.plans: list[dict] = []
+        self.path_cells_blocked = 0
+        self.completion_status: str | None = None
+        self.completion_time: float | None = None
+        self._truth: np.ndarray | None = None  # free cells of the queen's grid (true world)
+        self._build_tree()
+        self._near: set[tuple[int, int]] = set()
+        self.env.process(self._operator())
+
+    # ------------------------------------------------------------------ set-up
+    def _world(self, p: HierarchyParams, rng: np.random.Generator):
+        size = p.world_size
+        workers, scouts = start_layout(p, size, size, rng)
+        self._starts = (workers, scouts)
+        arena = build_world(p, np.concatenate([workers, scouts.reshape(-1, 2)]), rng)
+        if arena.width != size or arena.height != size:
+            workers, scouts = start_layout(p, arena.width, arena.height, rng)
+            self._starts = (workers, scouts)
+        self._check_starts(arena, np.concatenate([workers, scouts.reshape(-1, 2)]))
+        return arena
+
+    @staticmethod
+    def _check_starts(arena, starts: np.ndarray) -> None:
+        """Every body must start on free ground with its whole footprint free."""
+        from abm.errors import ConfigError
+
+        half = BODY_SIDE / 2
+        corners = np.concatenate(
+            [starts + np.array([dx, dy]) for dx in (-half, half) for dy in (-half, half)]
+        )
+        if not (arena.is_free(starts).all() and arena.is_free(corners).all()):
+            raise ConfigError(
+                f"start_layout={arena.name!r}: a robot would start inside an obstacle or "
+                "outside the world (unreachable start); choose another start_layout or world"
+            )
+
+    def _build_tree(self) -> None:
+        p = self.params
+        workers, scouts = self._starts
+        self.workers: list[Director] = []
+        self.scouts: list[Scout] = []
+        self.nodes: dict[object, Node] = {}
+        if p.topology in ("fc", "ring"):
+            self._build_flat(scouts.reshape(-1, 2))
+        else:
+            self.queen = Director(self, QUEEN, None)
+            self.nodes[QUEEN] = self.queen
+            self.tree.attach(QUEEN, None)
+            self.comms.add(QUEEN, None)
+        if p.topology == "star":
+            for s, spos in enumerate(scouts.reshape(-1, 2)):
+                self._scout(spos, self.queen, s + 1)
+        if p.topology == "hst":
+            for w, wpos in enumerate(workers):
+                robot = Robot(self, wpos, "worker_idle", "drive")
+                node = Director(self, robot.unique_id, robot, p.worker_r_min_value, p.worker_r_max)
+                self._join(node, self.queen, w + 1)
+                self.workers.append(node)
+                for s, spos in enumerate(scouts[w]):
+                    self._scout(spos, node, s + 1)
+        ids = np.array([s.robot.unique_id for s in self.scouts], dtype=np.int64)
+        self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
+        self._scout_of[ids] = np.arange(len(ids))
+        self._scout_rows = self._row_of[ids]
+        self._parent_of = [s.links[0] for s in self.scouts]
+        for node in self.nodes.values():
+            node.process = self.env.process(node.run())
+
+    def _scout(self, position: np.ndarray, parent: Node | None, local: int) -> Scout:
+        body = Robot(self, position, "scout_idle", "drive")
+        kind = FlatScout if self.params.topology in ("fc", "ring") else Scout
+        scout = kind(self, body.unique_id, body)
+        if parent is not None:
+            self._join(scout, parent, local)
+        self.scouts.append(scout)
+        return scout
+
+    def _build_flat(self, scouts: np.ndarray) -> None:
+        """The map holder and the scouts on a complete graph (FC) or a ring (spec §5.3)."""
+        self.queen = FlatHolder(self, HOLDER, None)
+        self.nodes[HOLDER] = self.queen
+        nodes = [self._scout(spos, None, s + 1) for s, spos in enumerate(scouts)]
+        ids = [n.id for n in nodes]
+        if self.params.topology == "ring":
+            self.comms.policy = RingLinks(ring_order(HOLDER, ids, scouts))
+        else:
+            self.comms.policy = None
+        self.tree.attach(HOLDER, None)
+        self.comms.add(HOLDER, None)
+        for s, scout in enumerate(nodes):
+            self._join(scout, self.queen, s + 1)
+
+    def nodes_ids_max(self) -> int:
+        """The largest robot id."""
+        return max(n.robot.unique_id for n in self.nodes.values() if n.robot is not None)
+
+    def _join(self, child: Node, parent: Node, local: int) -> None:
+        self.tree.attach(child.id, parent.id)  # the simulator's record of who is whose child
+        self.comms.add(child.id, child.robot.position.copy())
+        self.nodes[child.id] = child
+        child.link(0, parent.id)
+        parent.link(local, child.id)
+
+    def _operator(self):
+        """M10: the operator starts the queen with the bounds of the area to map."""
+        yield self.env.timeout(0)
+        w = self.world_rect
+        start = StartMsg(w.x_min, w.y_min, w.x_max, w.y_max)
+        root = self.queen.id
+        self.comms.log.record(self.env.now, "operator", root, start.KIND, 0, start.nbytes)
+        self.queen.inbox.put((None, start))
+
+    # ------------------------------------------------------------------ plumbing for nodes
+    def deliver(self, src: object, dst: object, msg) -> None:
+        """The comm network delivered ``msg``: into the receiver's inbox."""
+        self.nodes[dst].receive(src, msg)
+
+    def has_children(self, node_id: object) -> bool:
+        """Whether a node directs others (the simulator's view; a parent learns it from the
+        INFO radii it gets, never the count).
+        """
+        return bool(self.tree.children(node_id))
+
+    def arrived(self, node: Node, end: np.ndarray) -> None:
+        """A body finished driving: its radio link moves with it."""
+        self.comms.move(node.id, node.robot.position.copy())
+
+    def sense(self, position: np.ndarray, r: float) -> np.ndarray:
+        """One IR sweep from ``position`` up to ``r``: hit points ``(k, 2)`` (m), one per ray
+        that meets an obstacle within ``r`` (one per hit cell with ``dedupe_points_per_cell``).
+        """
+        p = self.params
+        angles = np.deg2rad(np.arange(0.0, 360.0, p.scan_step))
+        dirs = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        origins = np.broadcast_to(position, dirs.shape)
+        dist = self.arena.raycast(origins, dirs, r)
+        hit = dist < r - 1e-9
+        points = origins[hit] + dirs[hit] * (dist[hit] + 1e-6)[:, None]
+        if p.dedupe_points_per_cell and len(points):
+            cells = np.floor(points / p.cell_size).astype(np.int64)
+            _, first = np.unique(cells, axis=0, return_index=True)
+            points = points[np.sort(first)]
+        return points
+
+    def control(self, physics) -> tuple[np.ndarray, np.ndarray]:
+        """The physics' controller: the path follower, plus the proximity diagnostic."""
+        desired, done = self.follower.control(physics)
+        self._proximity(physics)
+        return desired, done
+
+    def _proximity(self, physics) -> None:
+        """Count scout pairs whose centres come closer than one body width while one moves
+        (``robot_proximity_events``, spec §3.5; a pair counts once per approach).
+        """
+        moving = self._scout_of[physics.ids]
+        moving = moving[moving >= 0]
+        if moving.size == 0:
+            self._near = set()
+            return
+        pos = self.space.agent_positions[self._scout_rows]
+        i, j = _close_to(pos, moving, BODY_SIDE)
+        if i.size == 0:
+            self._near = set()
+            return
+        now = {(min(a, b), max(a, b)) for a, b in zip(i.tolist(), j.tolist(), strict=True)}
+        for a, b in now - self._near:
+            self.robot_proximity_events += 1
+            self.sibling_proximity_events += int(self._parent_of[a] == self._parent_of[b])
+        self._near = now
+
+    def log_plan(self, director: Director, m: ProbMap, plan: Plan) -> None:
+        """Record a round's bubbles and paths (the invariant tests read them)."""
+        h = self.params.cell_size
+        for k, (x, y) in plan.centres.items():
+            self.recorder.log(
+                "bubble", director.robot.unique_id if director.robot else None,
+                director=str(director.id), child=str(director.links[k]), x=x, y=y,
+                r=plan.radius, round=director.iterations, known_free=m.known_free(x, y),
+                in_bounds=m.in_bounds(x, y),
+            )  # fmt: skip
+        for k, path in {**plan.idle_moves, **plan.paths}.items():
+            cells = np.concatenate(
+                [supercover(path[i], path[i + 1], h) for i in range(len(path) - 1)]
+                or [np.floor(path[:1] / h).astype(np.int64)]
+            )
+            centres = (cells + 0.5) * h
+            blocked = int(m.known_blocked_at(centres).sum())
+            self.path_cells_blocked += blocked
+            self.plans.append(
+                {"director": director.id, "child": director.links[k], "path": path,
+                 "round": director.iterations, "r": plan.radius}
+            )  # fmt: skip
+
+    def queen_done(self, status: Status) -> None:
+        """The queen's coverage call returned COMPLETE or CANNOT_COMPLETE: the run is over."""
+        self.completion_status = status.value
+        self.completion_time = float(self.env.now)
+        self.finish(status.value)
+
+    # ------------------------------------------------------------------ results
+    def metrics(self) -> dict:
+        """Per-level scan area and drive distance (cm^2, cm), iterations, completion time,
+        message counts and diagnostics (spec §4.2).
+        """
+        p = self.params
+        scouts, workers = self.scouts, self.workers
+        log = self.comms.log.frame()
+        task = log[log["phase"] == "task"]
+        load = self.comms.log.load()
+        out = {
+            "topology": p.topology,
+            "N": len(self.nodes),
+            "links": self.comms.graph.number_of_edges(),
+            "W": p.workers,
+            "S": p.scouts_per_worker,
+            "scouts": len(scouts),
+            "complete": float(self.completion_status == Status.COMPLETE.value),
+            "completion_time": self.completion_time if self.completion_time else math.nan,
+            "scout_scan_area": CM**2 * float(np.mean([s.scan_area for s in scouts])),
+            "worker_scan_area": CM**2 * _mean([w.scan_area for w in workers]),
+            "queen_scan_area": CM**2 * self.arena.width * self.arena.height,
+            "scout_drive": CM * float(np.mean([s.drive_distance for s in scouts])),
+            "worker_drive": CM * _mean([w.drive_distance for w in workers]),
+            "queen_iterations": self.queen.iterations,
+            "worker_iterations": _mean([w.iterations for w in workers]),
+            "known_free_fraction": self.known_free_fraction(),
+            "wave_order_violations": self.wave_order_violations,
+            "robot_proximity_events": self.robot_proximity_events,
+            "sibling_proximity_events": self.sibling_proximity_events,
+            "path_cells_blocked": self.path_cells_blocked,
+            "stalled_moves": self.follower.stalled,
+            "messages": len(log),
+            "messages_task": len(task),
+            "messages_startup": int((log["phase"] == "startup").sum()),
+            "bytes": int(log["bytes"].sum()),
+            "max_node_load": int(load.max()) if len(load) else 0,
+            "queen_load": int(load.get(self.queen.id, 0)),
+            "worker_load_max": int(max((load.get(w.id, 0) for w in workers), default=0)),
+            "scout_load_max": int(max((load.get(s.id, 0) for s in scouts), default=0)),
+        }
+        counts = log["kind"].value_counts()
+        for kind in KINDS:
+            out[f"msg_{kind}"] = int(counts.get(kind, 0))
+        return out
+
+    def known_free_fraction(self) -> float:
+        """Share of the world's free cells that the queen's map knows to be free."""
+        m = self.queen.map
+        if m is None:
+            return 0.0
+        raster, box = m.raster()
+        if self._truth is None:
+            h = self.params.cell_size
+            ny, nx = raster.shape
+            gx, gy = np.meshgrid(box.x_min + (np.arange(nx) + 0.5) * h,
+                                 box.y_min + (np.arange(ny) + 0.5) * h)  # fmt: skip
+            free = self.arena.is_free(np.stack([gx.ravel(), gy.ravel()], 1)).reshape(ny, nx)
+            self._truth = free & ~np.isnan(raster)
+        return float((self._truth & (raster == 0)).sum() / max(self._truth.sum(), 1))
+
+    def reporters(self) -> dict:
+        """Robots per state and ``known``: % of the free cells the queen's map knows."""
+        return {**super().reporters(), "known": lambda m: 100.0 * m.known_free_fraction()}
+
+    def layers(self) -> list[Layer]:
+        """The queen's known map (free, obstacles) and every director's current bubbles."""
+        out: list[Layer] = []
+        m = self.queen.map
+        if m is not None:
+            raster, box = m.raster()
+            extent = (box.x_min, box.x_max, box.y_min, box.y_max)
+            out.append(Layer("known free (queen's map)", raster=(raster == 0).astype(float) * 0.5,
+                             extent=extent, colour="#009E73"))  # fmt: skip
+            out.append(Layer("known obstacle", raster=(raster == 1).astype(float),
+                             extent=extent, colour="#000000"))  # fmt: skip
+        rings = []
+        angle = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
+        for director in [self.queen, *self.workers]:
+            if director.map is None or director.id not in self.director_maps:
+                continue
+            for b in director.bubble.values():
+                if b.r < 50:
+                    rings.append(
+                        np.stack([b.x + b.r * np.cos(angle), b.y + b.r * np.sin(angle)], 1)
+                    )
+        if rings:
+            out.append(Layer("bubbles", points=np.concatenate(rings), colour="#CC79A7", size=2.0))
+        return out
+
+
+@njit(cache=True)
+def _close_to(pos, moving, reach):
+    """Pairs (moving scout, other scout) whose centres are closer than ``reach``."""
+    first = []
+    second = []
+    for a in moving:
+        for b in range(pos.shape[0]):
+            if b != a:
+                dx = pos[a, 0] - pos[b, 0]
+                dy = pos[a, 1] - pos[b, 1]
+                if dx * dx + dy * dy < reach * reach:
+                    first.append(a)
+                    second.append(b)
+    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+
+
+def _mean(values: list[float]) -> float:
+    """The mean, NaN for no values (an arm without workers)."""
+    return float(np.mean(values)) if values else math.nan

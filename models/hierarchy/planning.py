@@ -1,0 +1,688 @@
+"""Path planning on a director's ProbMap (spec §3): drivability, BFS/Dijkstra, supercover ray
+trace, path smoothing and the wave generator.
+
+- Drivability (§3.1, OURS resolution): a cell is drivable if it is known, not blocked, not
+  occupied, and no cell within ``padding`` (8-neighbourhood for 1) is known-blocked or occupied.
+  Unknown neighbours are allowed; the source cell of a search is always expandable.
+- Dijkstra (§3.2): 4-connected, unit cost, from one source to all cells, so it is a BFS;
+  neighbours in the order N, E, S, W decide predecessor ties.
+- Supercover (§3.3): every cell a segment passes through plus, where it passes exactly through a
+  cell corner, both cells beside the corner (Amanatides-Woo with the tie rule).
+- Smoothing (§3.4): drop a waypoint while the supercover of the segment that skips it is
+  drivable (the start cell exempt); first and last points always stay.
+- Waves (§3.5): padded path cells, conflict = shared cell, Welsh-Powell greedy colouring.
+
+Paths are ``(n, 2)`` arrays of points in metres. The kernels are compiled with numba (house
+style of ``abm/gridkernels.py``) because a coverage call runs one BFS per child on a grid of up to
+200 x 200 cells and smooths every placed child's path.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+if TYPE_CHECKING:
+    from models.hierarchy.probmap import ProbMap
+
+__all__ = [
+    "DistanceField",
+    "padded_cells",
+    "path_length",
+    "shortest_paths",
+    "smooth",
+    "supercover",
+    "wave_order_violations",
+    "waves",
+]
+
+_EPS = 1e-9
+_NO_TARGET = np.zeros((0, 0), dtype=np.bool_)
+_DR = np.array([1, 0, -1, 0], dtype=np.int64)
+"""Row step of the neighbours N, E, S, W (north = +y = next row)."""
+_DC = np.array([0, 1, 0, -1], dtype=np.int64)
+"""Column step of the neighbours N, E, S, W."""
+
+
+# ---------------------------------------------------------------------------- kernels
+@njit(cache=True)
+def _supercover_cells(x0, y0, x1, y1):
+    """Cells ``(k, 2)`` as (col, row) in cell units met by the segment (x0, y0) -> (x1, y1).
+
+    Cell ``(i, j)`` covers ``[i, i+1) x [j, j+1)``. Where the segment crosses a cell corner
+    exactly, the two cells beside the corner are listed before the diagonal cell.
+    """
+    ix = int(math.floor(x0 + _EPS))
+    iy = int(math.floor(y0 + _EPS))
+    dx = x1 - x0
+    dy = y1 - y0
+    limit = 3 * (int(abs(dx)) + int(abs(dy)) + 3)
+    out = np.empty((limit, 2), dtype=np.int64)
+    out[0, 0] = ix
+    out[0, 1] = iy
+    n = 1
+    step_x = 1 if dx > 0 else -1
+    step_y = 1 if dy > 0 else -1
+    if dx > 0:
+        t_max_x = (ix + 1 - x0) / dx
+    elif dx < 0:
+        t_max_x = (x0 - ix) / -dx
+    else:
+        t_max_x = math.inf
+    if dy > 0:
+        t_max_y = (iy + 1 - y0) / dy
+    elif dy < 0:
+        t_max_y = (y0 - iy) / -dy
+    else:
+        t_max_y = math.inf
+    t_dx = 1.0 / abs(dx) if dx != 0 else math.inf
+    t_dy = 1.0 / abs(dy) if dy != 0 else math.inf
+    while n + 3 <= limit:
+        t = min(t_max_x, t_max_y)
+        if t >= 1.0 - _EPS:
+            break
+        if abs(t_max_x - t_max_y) <= _EPS:
+            out[n, 0] = ix + step_x
+            out[n, 1] = iy
+            out[n + 1, 0] = ix
+            out[n + 1, 1] = iy + step_y
+            n += 2
+            ix += step_x
+            iy += step_y
+            t_max_x += t_dx
+            t_max_y += t_dy
+        elif t_max_x < t_max_y:
+            ix += step_x
+            t_max_x += t_dx
+        else:
+            iy += step_y
+            t_max_y += t_dy
+        out[n, 0] = ix
+        out[n, 1] = iy
+        n += 1
+    return out[:n]
+
+
+@njit(cache=True)
+def _bfs(free, goal, sr, sc, n_target):
+    """Unit-cost 4-connected search from local cell (sr, sc) over the drivable cells.
+
+    ``free`` and ``goal`` are framed grids (one ring of False around the map, so neighbours need
+    no bounds checks): ``free[r + 1, c + 1]`` tells whether local cell (r, c) is drivable. The
+    search stops early once ``n_target`` cells of ``goal`` have been reached (``-1``: search
+    everything); distances of cells reached are final either way. Returns framed ``dist``
+    (int32, -1 where not reached), framed ``pred`` (int8, the direction N/E/S/W = 0..3 taken
+    into the cell, -1 for the source and cells not reached) and whether the search ran to
+    exhaustion.
+    """
+    fy, w = free.shape
+    flat_free = free.ravel()
+    flat_goal = goal.ravel()
+    dist = np.full(fy * w, -1, dtype=np.int32)
+    pred = np.full(fy * w, -1, dtype=np.int8)
+    queue = np.empty(fy * w, dtype=np.int32)
+    start = (sr + 1) * w + sc + 1
+    dist[start] = 0
+    queue[0] = start
+    head = 0
+    tail = 1
+    found = 1 if flat_goal[start] else 0
+    while head < tail and found != n_target:
+        k = queue[head]
+        head += 1
+        d0 = dist[k] + 1
+        j = k + w  # N
+        if dist[j] < 0 and flat_free[j]:
+            dist[j] = d0
+            pred[j] = 0
+            queue[tail] = j
+            tail += 1
+            if flat_goal[j]:
+                found += 1
+        j = k + 1  # E
+        if dist[j] < 0 and flat_free[j]:
+            dist[j] = d0
+            pred[j] = 1
+            queue[tail] = j
+            tail += 1
+            if flat_goal[j]:
+                found += 1
+        j = k + -w  # S
+        if dist[j] < 0 and flat_free[j]:
+            dist[j] = d0
+            pred[j] = 2
+            queue[tail] = j
+            tail += 1
+            if flat_goal[j]:
+                found += 1
+        j = k + -1  # W
+        if dist[j] < 0 and flat_free[j]:
+            dist[j] = d0
+            pred[j] = 3
+            queue[tail] = j
+            tail += 1
+            if flat_goal[j]:
+                found += 1
+    return dist.reshape(fy, w), pred.reshape(fy, w), head >= tail
+
+
+@njit(cache=True)
+def _segment_clear(drivable, x0, y0, x1, y1, sr, sc):
+    """Whether every supercover cell of the segment (local cell units) is drivable, the start
+    cell (sr, sc) exempt.
+    """
+    cells = _supercover_cells(x0, y0, x1, y1)
+    ny, nx = drivable.shape
+    for k in range(cells.shape[0]):
+        c = cells[k, 0]
+        r = cells[k, 1]
+        if r == sr and c == sc:
+            continue
+        if r < 0 or r >= ny or c < 0 or c >= nx or not drivable[r, c]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _smooth_keep(drivable, pts, sr, sc):
+    """Keep-mask of the waypoints ``pts`` (local cell units) after §3.4's smoothing."""
+    n = pts.shape[0]
+    keep = np.zeros(n, dtype=np.bool_)
+    keep[0] = True
+    if n <= 2:
+        keep[:] = True
+        return keep
+    a = 0
+    c = 1
+    for k in range(2, n):
+        if _segment_clear(drivable, pts[a, 0], pts[a, 1], pts[k, 0], pts[k, 1], sr, sc):
+            c = k
+        else:
+            keep[c] = True
+            a = c
+            c = k
+    keep[c] = True
+    return keep
+
+
+@njit(cache=True)
+def _los_mark(scanned, blocked, tau, in_bounds, ox, oy, radius):
+    """Mark scanned the in-bounds cells seen from (ox, oy) (local cell units) within ``radius``
+    cells; return how many were new (spec §2.8 step 2).
+
+    Rays go to points on the circle with an angular step of at most ``1 / (2 radius)`` (half a
+    cell at the rim). A ray stops at the first known-blocked cell, which is itself seen; at an
+    exact corner crossing both side cells are seen and either one stops the ray.
+    """
+    ny, nx = scanned.shape
+    r2 = radius * radius + 1e-9
+    new = 0
+    n_rays = max(8, int(math.ceil(4.0 * math.pi * radius)) + 1)
+    for k in range(n_rays):
+        theta = 2.0 * math.pi * k / n_rays
+        cells = _supercover_cells(
+            ox, oy, ox + radius * math.cos(theta), oy + radius * math.sin(theta)
+        )
+        m = cells.shape[0]
+        for j in range(m):
+            c = cells[j, 0]
+            r = cells[j, 1]
+            if r < 0 or r >= ny or c < 0 or c >= nx:
+                break
+            hit = scanned[r, c] and blocked[r, c] >= tau
+            if not scanned[r, c] and in_bounds[r, c]:
+                if (c + 0.5 - ox) ** 2 + (r + 0.5 - oy) ** 2 <= r2:
+                    scanned[r, c] = True
+                    new += 1
+            if hit:
+                # the first side cell of a corner crossing: its sibling (diagonal to it in the
+                # list) touches the same corner point, so it is seen too
+                if j + 1 < m:
+                    nc = cells[j + 1, 0]
+                    nr = cells[j + 1, 1]
+                    if abs(nc - c) == 1 and abs(nr - r) == 1 and 0 <= nr < ny and 0 <= nc < nx:
+                        if not scanned[nr, nc] and in_bounds[nr, nc]:
+                            if (nc + 0.5 - ox) ** 2 + (nr + 0.5 - oy) ** 2 <= r2:
+                                scanned[nr, nc] = True
+                                new += 1
+                break
+    return new
+
+
+@njit(cache=True)
+def _walk(pred, sr, sc, tr, tc):
+    """Local cells ``(n, 2)`` as (row, col) from the source (sr, sc) to (tr, tc) along ``pred``."""
+    n = 1
+    r = tr
+    c = tc
+    while r != sr or c != sc:
+        d = pred[r, c]
+        r -= _DR[d]
+        c -= _DC[d]
+        n += 1
+    out = np.empty((n, 2), dtype=np.int64)
+    r = tr
+    c = tc
+    for k in range(n - 1, -1, -1):
+        out[k, 0] = r
+        out[k, 1] = c
+        if k > 0:
+            d = pred[r, c]
+            r -= _DR[d]
+            c -= _DC[d]
+    return out
+
+
+_KEY = 1 << 21
+"""Cell key ``(ix + 2^20) * 2^21 + (iy + 2^20)``: unique for |ix|, |iy| < 2^20."""
+
+
+@njit(cache=True)
+def _padded_keys(pts, padding):
+    """Sorted keys of the cells swept by the polyline ``pts`` (cell units), dilated by
+    ``padding`` cells (spec §3.5 step 1).
+    """
+    n = pts.shape[0]
+    parts = []
+    total = 0
+    if n == 1:
+        parts.append(_supercover_cells(pts[0, 0], pts[0, 1], pts[0, 0], pts[0, 1]))
+        total = parts[0].shape[0]
+    else:
+        for k in range(n - 1):
+            cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[k + 1, 0], pts[k + 1, 1])
+            parts.append(cells)
+            total += cells.shape[0]
+    lo_x = 1 << 40
+    lo_y = 1 << 40
+    hi_x = -(1 << 40)
+    hi_y = -(1 << 40)
+    for cells in parts:
+        for j in range(cells.shape[0]):
+            lo_x = min(lo_x, cells[j, 0])
+            hi_x = max(hi_x, cells[j, 0])
+            lo_y = min(lo_y, cells[j, 1])
+            hi_y = max(hi_y, cells[j, 1])
+    lo_x -= padding
+    lo_y -= padding
+    w = hi_x + padding - lo_x + 1
+    hgt = hi_y + padding - lo_y + 1
+    grid = np.zeros((w, hgt), dtype=np.bool_)
+    for cells in parts:
+        for j in range(cells.shape[0]):
+            cx = cells[j, 0] - lo_x
+            cy = cells[j, 1] - lo_y
+            grid[cx - padding : cx + padding + 1, cy - padding : cy + padding + 1] = True
+    count = 0
+    for i in range(w):
+        for j in range(hgt):
+            if grid[i, j]:
+                count += 1
+    keys = np.empty(count, dtype=np.int64)
+    count = 0
+    half = _KEY // 2
+    for i in range(w):
+        for j in range(hgt):
+            if grid[i, j]:
+                keys[count] = (i + lo_x + half) * _KEY + (j + lo_y + half)
+                count += 1
+    return keys
+
+
+@njit(cache=True)
+def _overlap(a, b):
+    """Whether the sorted key arrays ``a`` and ``b`` share an element."""
+    i = 0
+    j = 0
+    while i < a.shape[0] and j < b.shape[0]:
+        if a[i] == b[j]:
+            return True
+        if a[i] < b[j]:
+            i += 1
+        else:
+            j += 1
+    return False
+
+
+def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
+    """Bool dilation of ``mask`` by a (2k+1)-square (k = 1: the cell and its 8 neighbours)."""
+    if k <= 0:
+        return mask.copy()
+    out = mask.copy()
+    ny, nx = mask.shape
+    for dr in range(-k, k + 1):
+        for dc in range(-k, k + 1):
+            if dr == 0 and dc == 0:
+                continue
+            dst_r = slice(max(dr, 0), ny + min(dr, 0))
+            src_r = slice(max(-dr, 0), ny + min(-dr, 0))
+            dst_c = slice(max(dc, 0), nx + min(dc, 0))
+            src_c = slice(max(-dc, 0), nx + min(-dc, 0))
+            out[dst_r, dst_c] |= mask[src_r, src_c]
+    return out
+
+
+def _framed_base(pmap: ProbMap, padding: int = 1) -> np.ndarray:
+    """Drivability of §3.1 before robots are added, framed by one ring of False (the layout
+    :func:`_bfs` reads): known, and no known-blocked cell (nor the world's wall) within
+    ``padding`` cells.
+
+    The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
+    ring of world cells); the edge of a routing region inside the world is not.
+    """
+    known_blocked = pmap._scanned & (pmap._blocked >= pmap.tau)
+    k = max(padding, 0)
+    out = np.zeros((known_blocked.shape[0] + 2, known_blocked.shape[1] + 2), dtype=np.bool_)
+    if k == 0:
+        out[1:-1, 1:-1] = pmap._scanned & ~known_blocked
+        return out
+    wall = np.pad(known_blocked, k, constant_values=False)
+    west, south, east, north = pmap._world_edges
+    if west:
+        wall[:, :k] = True
+    if south:
+        wall[:k, :] = True
+    if east:
+        wall[:, -k:] = True
+    if north:
+        wall[-k:, :] = True
+    out[1:-1, 1:-1] = pmap._scanned & ~_dilate(wall, k)[k:-k, k:-k]
+    return out
+
+
+def _without(
+    framed: np.ndarray, pmap: ProbMap, occupied: Sequence[Sequence[float]], padding: int = 1
+) -> np.ndarray:
+    """A copy of the framed grid with every cell within ``padding`` of an occupied cell made
+    undrivable.
+    """
+    grid = framed.copy()
+    k = max(padding, 0)
+    h = pmap.cell_size
+    ny, nx = pmap._scanned.shape
+    for x, y in occupied:
+        r = math.floor(y / h + _EPS) - pmap._iy0
+        c = math.floor(x / h + _EPS) - pmap._ix0
+        if 0 <= r < ny and 0 <= c < nx:
+            grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+    return grid
+
+
+def _frame(grid: np.ndarray) -> np.ndarray:
+    """``grid`` inside one ring of False."""
+    return np.pad(grid, 1, constant_values=False)
+
+
+def _drivable(
+    pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
+) -> np.ndarray:
+    """Drivability grid of §3.1 over the map's routing region, robots at ``occupied``."""
+    return _without(_framed_base(pmap, padding), pmap, occupied, padding)[1:-1, 1:-1].copy()
+
+
+# ---------------------------------------------------------------------------- public API
+class DistanceField:
+    """Dijkstra (BFS) distances from one robot to every cell of a map (spec §3.2).
+
+    Built by :func:`shortest_paths`. Distances are in cells (4-connected steps).
+
+    Args:
+        pmap: the map.
+        source: the robot's position (metres); its cell is always expandable.
+        drivable: the drivability grid for this robot (§3.1).
+        target: optional bool grid; the search may stop once every drivable target cell is
+            reached (an exact shortcut: it resumes in full if any other cell is queried).
+
+    """
+
+    def __init__(
+        self,
+        pmap: ProbMap,
+        source: Sequence[float],
+        drivable: np.ndarray,
+        target: np.ndarray | None = None,
+    ) -> None:
+        self._start(pmap, source, _frame(drivable), None if target is None else _frame(target))
+
+    @classmethod
+    def _from_framed(cls, pmap, source, free, goal) -> DistanceField:
+        """Build from framed grids (see :func:`_bfs`) without copying them."""
+        field = cls.__new__(cls)
+        field._start(pmap, source, free, goal)
+        return field
+
+    def _start(self, pmap, source, free, goal) -> None:
+        cell = pmap._local(*source)
+        if cell is None:
+            raise ValueError(f"source {tuple(source)} lies outside the map's routing region")
+        self._map = pmap
+        self.source = (float(source[0]), float(source[1]))
+        self._cell = cell
+        self._free = free
+        if goal is None:
+            goal, n_target = np.zeros_like(free), -1
+        else:
+            fr, fc = cell[0] + 1, cell[1] + 1
+            n_target = int(np.count_nonzero(goal & free)) + int(goal[fr, fc] and not free[fr, fc])
+        self._dist_f, self._pred_f, self._complete = _bfs(free, goal, cell[0], cell[1], n_target)
+
+    @property
+    def _drivable(self) -> np.ndarray:
+        """The robot's drivability grid (a view)."""
+        return self._free[1:-1, 1:-1]
+
+    @property
+    def _dist(self) -> np.ndarray:
+        """Steps to each cell, -1 where not (yet) reached (a view)."""
+        return self._dist_f[1:-1, 1:-1]
+
+    @property
+    def _pred(self) -> np.ndarray:
+        """Direction into each reached cell (a view)."""
+        return self._pred_f[1:-1, 1:-1]
+
+    def _finish(self) -> None:
+        """Run the search to exhaustion (after an early stop)."""
+        if not self._complete:
+            self._dist_f, self._pred_f, self._complete = _bfs(
+                self._free, np.zeros_like(self._free), self._cell[0], self._cell[1], -1
+            )
+
+    @property
+    def dist(self) -> np.ndarray:
+        """Steps to every cell of the stored grid (-1 where unreachable), searched in full."""
+        self._finish()
+        return self._dist
+
+    def distance(self, x: float, y: float) -> float:
+        """Steps (cells) from the source cell to the cell holding ``(x, y)``; inf if unreachable."""
+        cell = self._map._local(x, y)
+        if cell is None:
+            return math.inf
+        if self._dist[cell] < 0:
+            self._finish()
+        return math.inf if self._dist[cell] < 0 else float(self._dist[cell])
+
+    def reachable(self, x: float, y: float) -> bool:
+        """Whether the cell holding ``(x, y)`` can be reached through drivable cells."""
+        return math.isfinite(self.distance(x, y))
+
+    def path_to(self, x: float, y: float) -> np.ndarray:
+        """Unsmoothed path ``(n, 2)`` in metres: the source position, then the centres of the
+        cells after the source cell, ending at the centre of the cell holding ``(x, y)``. When
+        the source already stands on that cell centre the path is just the source point.
+
+        Raises:
+            ValueError: the target is unreachable.
+
+        """
+        if not self.reachable(x, y):
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
+        cell = self._map._local(x, y)
+        cells = _walk(self._pred, self._cell[0], self._cell[1], cell[0], cell[1])
+        h = self._map.cell_size
+        centres = np.column_stack(
+            ((self._map._ix0 + cells[:, 1] + 0.5) * h, (self._map._iy0 + cells[:, 0] + 0.5) * h)
+        )
+        if np.hypot(*(centres[0] - self.source)) <= 1e-9 * h:
+            return np.vstack((np.asarray([self.source]), centres[1:]))
+        return np.vstack((np.asarray([self.source]), centres))
+
+
+def shortest_paths(
+    pmap: ProbMap,
+    source: Sequence[float],
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+) -> DistanceField:
+    """BFS from the robot at ``source`` (metres) over ``pmap``'s drivable cells (spec §3.1-3.2).
+
+    Args:
+        pmap: the director's map.
+        source: the robot's position; its cell is always expandable.
+        occupied: positions of the other robots the director knows (treated as obstacles).
+        padding: robot padding in cells (1 = the 8-neighbourhood, spec §3.1).
+
+    """
+    return DistanceField(pmap, source, _drivable(pmap, occupied, padding))
+
+
+def _smooth_on(pmap: ProbMap, path: np.ndarray, drivable: np.ndarray) -> np.ndarray:
+    """Smooth ``path`` with a precomputed drivability grid."""
+    path = np.asarray(path, dtype=np.float64)
+    if path.shape[0] <= 2:
+        return path.copy()
+    h = pmap.cell_size
+    local = np.column_stack((path[:, 0] / h - pmap._ix0, path[:, 1] / h - pmap._iy0))
+    start = pmap._local(path[0, 0], path[0, 1])
+    sr, sc = start if start is not None else (-1, -1)
+    keep = _smooth_keep(drivable, local, sr, sc)
+    return path[keep]
+
+
+def smooth(
+    pmap: ProbMap,
+    path: np.ndarray,
+    occupied: Sequence[Sequence[float]] = (),
+    padding: int = 1,
+) -> np.ndarray:
+    """Path optimisation by ray tracing (spec §3.4): remove a waypoint while the straight
+    segment skipping it crosses only drivable cells (the start cell exempt). The first and last
+    points are never removed.
+
+    Args:
+        pmap: the director's map.
+        path: ``(n, 2)`` waypoints in metres (e.g. ``DistanceField.path_to``).
+        occupied: positions of the other robots (obstacles, as for the search).
+        padding: robot padding in cells.
+
+    """
+    return _smooth_on(pmap, path, _drivable(pmap, occupied, padding))
+
+
+def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.ndarray:
+    """Global lattice cells ``(k, 2)`` as ``(ix, iy)`` met by the segment a -> b (spec §3.3).
+
+    Includes both cells beside any cell corner the segment passes exactly through.
+    """
+    h = float(cell_size)
+    return _supercover_cells(a[0] / h, a[1] / h, b[0] / h, b[1] / h).copy()
+
+
+def _path_keys(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
+    """Sorted cell keys swept by ``path`` (metres), dilated by ``padding``."""
+    pts = np.asarray(path, dtype=np.float64) / float(cell_size)
+    return _padded_keys(pts, int(padding))
+
+
+def _decode(keys: np.ndarray) -> np.ndarray:
+    """Global cells ``(k, 2)`` as ``(ix, iy)`` of cell keys."""
+    half = _KEY // 2
+    return np.column_stack((keys // _KEY - half, keys % _KEY - half))
+
+
+def padded_cells(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
+    """Global cells ``(k, 2)`` as ``(ix, iy)`` swept by a robot following ``path``: the
+    supercover of every segment, dilated by ``padding`` cells (spec §3.5 step 1). A one-point
+    path gives its cell (dilated).
+    """
+    return _decode(_path_keys(path, cell_size, padding))
+
+
+def path_length(path: np.ndarray) -> float:
+    """Length (metres) of the polyline ``path`` (the drive distance, spec A6)."""
+    path = np.asarray(path, dtype=np.float64)
+    if path.shape[0] < 2:
+        return 0.0
+    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+
+
+def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
+    """Group moves into waves so that no two moves of a wave share a padded path cell (§3.5).
+
+    Welsh-Powell: moves in descending conflict degree (ties: ascending key, the local number),
+    each into the first wave holding no conflicting move, else a new wave. Disjoint paths give a
+    single wave ("all the children will be told to move simultaneously").
+
+    Args:
+        paths: local number -> smoothed path (metres). Pass only robots that actually move.
+        cell_size: lattice cell size (metres).
+        padding: robot padding in cells.
+
+    Returns:
+        Waves in dispatch order, each a list of local numbers in ascending order.
+
+    """
+    keys = sorted(paths)
+    cells = {k: _path_keys(paths[k], cell_size, padding) for k in keys}
+    conflict: dict[int, set[int]] = {k: set() for k in keys}
+    for i, a in enumerate(keys):
+        for b in keys[i + 1 :]:
+            if _overlap(cells[a], cells[b]):
+                conflict[a].add(b)
+                conflict[b].add(a)
+    order = sorted(keys, key=lambda k: (-len(conflict[k]), k))
+    result: list[list[int]] = []
+    for k in order:
+        for wave in result:
+            if not conflict[k] & set(wave):
+                wave.append(k)
+                break
+        else:
+            result.append([k])
+    return [sorted(w) for w in result]
+
+
+def wave_order_violations(
+    wave_list: Sequence[Sequence[int]],
+    paths: Mapping[int, np.ndarray],
+    cell_size: float,
+    padding: int = 1,
+) -> int:
+    """Count ordered pairs the symmetric conflict rule cannot protect (spec §3.5 diagnostic):
+    a later wave's padded path crossing an earlier wave's end cell, or an earlier wave's padded
+    path crossing a later wave's start cell.
+    """
+    h = float(cell_size)
+
+    def cell_key(point: np.ndarray) -> int:
+        half = _KEY // 2
+        ix = math.floor(point[0] / h + _EPS)
+        iy = math.floor(point[1] / h + _EPS)
+        return (ix + half) * _KEY + (iy + half)
+
+    cells = {k: set(_path_keys(paths[k], cell_size, padding).tolist()) for k in paths}
+    count = 0
+    for i, early in enumerate(wave_list):
+        for late in wave_list[i + 1 :]:
+            for a in early:
+                for b in late:
+                    end_a = cell_key(np.asarray(paths[a])[-1])
+                    start_b = cell_key(np.asarray(paths[b])[0])
+                    if end_a in cells[b] or start_b in cells[a]:
+                        count += 1
+    return count

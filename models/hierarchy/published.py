@@ -1,0 +1,151 @@
+"""What Alunni et al. (2011) publish about the hierarchical swarm: no number (spec §4.3: the
+result figures are images whose values did not survive), every checkable claim C1-C14 of spec
+§4.4 with its test, and the paper-style figure layout (Figs. 36-38: mean scan area and drive
+distance per scout and per worker against the total number of robots N, one line per W).
+"""
+
+from abm.published import Claim, ReportLayout
+from models.hierarchy.claims import TESTS
+
+__all__ = ["CLAIMS", "PUBLISHED", "REPORT"]
+
+#: The report publishes no numeric result value (spec §4.3), so there is nothing to list here.
+PUBLISHED: list = []
+
+_GRID = "the 42 configurations W = 2-7 x S = 2-8 on the empty 20 m room (hierarchy_scaling)"
+
+#: (id, source, statement, kind, set-up); the test is TESTS[id] where one exists.
+_CLAIMS = [
+    (
+        "C1",
+        "Data Collection; Conclusion",
+        "for every configuration the swarm maps the 20 m x 20 m area to completion",
+        "QL",
+        _GRID,
+    ),
+    (
+        "C2",
+        "Figs. 36-37",
+        "the mean level-2 (scout) scan area decreases smoothly as the total "
+        "number of robots N grows",
+        "QL",
+        _GRID,
+    ),
+    (
+        "C3",
+        "Fig. 37",
+        "the scout scan area depends on the total N, not on the number of "
+        "mediating workers W (the six W-series fall on one curve)",
+        "QL",
+        _GRID + ", plus the equal-scout control (hierarchy_equal_scouts)",
+    ),
+    (
+        "C4",
+        "Fig. 36",
+        "the mean level-1 (worker) scan area also decreases with N, but is "
+        "'slightly more sporadic' than level 2",
+        "QL",
+        _GRID,
+    ),
+    ("C5", "Fig. 36", "the level-0 (queen) scan area equals the map area", "Q", _GRID),
+    (
+        "C6",
+        "Figs. 37-38",
+        "the mean level-2 drive distance decreases rapidly with N, mirroring the scan area",
+        "QL",
+        _GRID,
+    ),
+    (
+        "C7",
+        "Fig. 38",
+        "the mean level-1 drive distance goes down only slightly with N",
+        "QL",
+        _GRID,
+    ),
+    (
+        "C8",
+        "Software Results",
+        "almost no increase in the queen's coverage iterations for two "
+        "workers instead of seven on a 20 m x 20 m map",
+        "QL",
+        _GRID,
+    ),
+    (
+        "C9",
+        "Abstract",
+        "adding robots reduces the overall runtime",
+        "QL",
+        _GRID + " (our timed model: completion time)",
+    ),
+    (
+        "C12",
+        "Software Results",
+        "with the wave generator and idle moves the robots move without colliding",
+        "QL",
+        _GRID + "; the counterfactual wave_generator=false (hierarchy_no_waves)",
+    ),
+    (
+        "C14",
+        "Introduction; Structure",
+        "an HST needs significantly fewer communications than fully connected or ring "
+        "topologies (argued, never measured in the report)",
+        "QL",
+        "topology = hst, star, fc, ring at 4-32 scouts (hierarchy_topology; paired seeds: "
+        "benchmarks/bench_hierarchy_topology.py)",
+    ),
+]
+
+_UNTESTABLE = [
+    (
+        "C10",
+        "Executive Summary",
+        "the work of any member is directly related to the total number of robots",
+        "QL",
+        "-",
+        "the same statement as C2, C3 and C6 made in general; judged there",
+    ),
+    (
+        "C11",
+        "Software Results",
+        "a mediator can be added at any level without increasing the swarm's overall workload",
+        "QL",
+        "-",
+        "a corollary of C3; judged there",
+    ),
+    (
+        "C13",
+        "Exponential Decay; Fail-fast; Greedy",
+        "radius decay, fail-fast and greedy placement cut the coverage algorithm's run time",
+        "QL",
+        "-",
+        "claims about the algorithm's CPU time, not the swarm; the coverage call's time is "
+        "measured by benchmarks/bench_hierarchy_coverage.py, the alternatives are not "
+        "implemented",
+    ),
+]
+
+CLAIMS = [
+    *(Claim(i, src, text, kind, setup, test=TESTS[i]) for i, src, text, kind, setup in _CLAIMS),
+    *(Claim(i, src, text, kind, setup, untestable=why)
+      for i, src, text, kind, setup, why in _UNTESTABLE),
+]  # fmt: skip
+
+REPORT = ReportLayout(
+    x="N",
+    hue="W",
+    metrics=("scout_scan_area", "worker_scan_area", "scout_drive", "worker_drive"),
+    labels={
+        "N": "Number of robots N = 1 + W + W S",
+        "W": "Workers W",
+        "scout_scan_area": "Scout scan area (cm²)",
+        "worker_scan_area": "Worker scan area (cm²)",
+        "scout_drive": "Scout drive distance (cm)",
+        "worker_drive": "Worker drive distance (cm)",
+    },
+    notes={
+        "scout_scan_area": "Σ π r² over every SCAN a scout received (spec A5), mean per scout",
+        "worker_scan_area": "Σ π r² of the bubbles the queen gave a worker, mean per worker",
+        "scout_drive": "Σ smoothed path lengths (spec A6), mean per scout",
+        "worker_drive": "Σ smoothed path lengths, mean per worker",
+    },
+)

@@ -1,0 +1,280 @@
+"""Planning on the director's map (spec §2.2, §2.8, §3): ProbMap merging, shadow inference,
+supercover, smoothing, BFS and the wave generator. Unit tests from hand-made maps (spec §8)
+plus hypothesis properties."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from abm.errors import ConfigError
+from models.hierarchy.planning import (
+    _drivable,
+    padded_cells,
+    path_length,
+    shortest_paths,
+    smooth,
+    supercover,
+    wave_order_violations,
+    waves,
+)
+from models.hierarchy.probmap import Bubble, ProbMap, Rect
+
+H = 0.10
+WORLD = Rect(0.0, 0.0, 3.0, 3.0)
+
+
+def known_map(world: Rect = WORLD, unknown=()) -> ProbMap:
+    """A map of ``world`` with every cell known and free except the cells of ``unknown``."""
+    pmap = ProbMap(world, world, cell_size=H)
+    pmap.mark_bubble(world.x_max / 2, world.y_max / 2, 10 * world.x_max, unknown)
+    return pmap
+
+
+def cells_of(points) -> set[tuple[int, int]]:
+    return {(math.floor(x / H + 1e-9), math.floor(y / H + 1e-9)) for x, y in points}
+
+
+# ------------------------------------------------------------------ ProbMap (§2.2, §2.8)
+def test_point_outside_the_bubble_is_discarded():
+    pmap = ProbMap(Bubble(1.0, 1.0, 0.5), WORLD, cell_size=H)
+    assert not pmap.stamp_point(1.8, 1.0)
+    assert pmap.n_scanned == 0 and pmap.points == []
+    assert pmap.stamp_point(1.32, 1.04)
+    assert pmap.known_blocked(1.32, 1.04) and pmap.points == [(1.32, 1.04, 0.0)]
+
+
+def test_point_stamp_noisy_or_and_mass():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    pmap.stamp_point(1.05, 1.05, sigma=0.05)
+    once = pmap.blocked(1.05, 1.05)
+    # mass of N(0, 0.05^2) over a 0.1 m square centred on the mean: (2 Phi(1) - 1)^2
+    assert once == pytest.approx(0.6827**2, abs=1e-3)
+    pmap.stamp_point(1.05, 1.05, sigma=0.05)
+    assert pmap.blocked(1.05, 1.05) == pytest.approx(1 - (1 - once) ** 2)
+    assert pmap.known_blocked(1.05, 1.05) and not pmap.known_blocked(1.25, 1.05)
+    probe = np.array([(1.05, 1.05), (1.25, 1.05), (9.0, 9.0)])
+    assert pmap.known_blocked_at(probe).tolist() == [True, False, False]
+    assert pmap.scanned(1.25, 1.05)  # within 3 sigma: known, mostly free
+
+
+def test_blocked_cell_shadows_the_cells_behind_it():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    pmap.stamp_point(1.55, 1.05)
+    pmap.infer_scan(1.05, 1.05, 0.8)
+    assert pmap.known_free(1.35, 1.05)  # in front of the obstacle
+    assert not pmap.scanned(1.75, 1.05) and not pmap.scanned(1.85, 1.05)  # behind it
+    assert pmap.known_free(1.05, 1.65)  # beside the scout, clear line of sight
+    assert not pmap.scanned(1.05, 1.95)  # beyond the radius
+
+
+def test_worker_bubble_marks_all_but_the_listed_cells():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    new = pmap.mark_bubble(1.5, 1.5, 0.3, unscanned=[(1.55, 1.55)])
+    assert not pmap.scanned(1.55, 1.55) and pmap.scanned(1.45, 1.45)
+    inside = sum(
+        (ix + 0.5) ** 2 + (iy + 0.5) ** 2 <= 9.0 + 1e-9
+        for ix in range(-4, 4)
+        for iy in range(-4, 4)
+    )
+    assert new == inside - 1
+    assert not pmap.scanned(1.5, 1.85)
+
+
+def test_map_down_window_merges_into_a_worker_map():
+    queen = ProbMap(WORLD, WORLD, cell_size=H)
+    queen.stamp_point(1.25, 1.25)
+    queen.mark_bubble(1.0, 1.0, 0.5)
+    box = Rect(0.5, 0.5, 1.5, 1.5)
+    window = queen.window(box)
+    worker = ProbMap(Bubble(2.0, 2.0, 0.5), WORLD, cell_size=H, cover=[box])
+    assert worker.merge(window) == window.known_cells > 0
+    assert worker.known_blocked(1.25, 1.25) and worker.known_free(1.0, 1.0)
+    assert not worker.in_bounds(1.0, 1.0) and worker.in_routing(1.0, 1.0)
+    assert worker.merge(window) == 0  # idempotent
+
+
+def test_bad_map_arguments_raise():
+    with pytest.raises(ConfigError, match="cell_size"):
+        ProbMap(WORLD, WORLD, cell_size=0)
+    with pytest.raises(ConfigError, match="tau"):
+        ProbMap(WORLD, WORLD, tau=1.5)
+    with pytest.raises(ConfigError, match="stamp"):
+        ProbMap(WORLD, WORLD, stamp="gauss")
+    with pytest.raises(ConfigError, match="does not intersect"):
+        ProbMap(Bubble(50.0, 50.0, 1.0), WORLD)
+
+
+# ------------------------------------------------------------------ supercover (§3.3)
+def test_supercover_through_a_corner_includes_the_vertex_sharing_cells():
+    cells = {tuple(c) for c in supercover((0.05, 0.05), (0.25, 0.25), H)}
+    assert cells == {(0, 0), (1, 0), (0, 1), (1, 1), (2, 1), (1, 2), (2, 2)}
+    off_corner = {tuple(c) for c in supercover((0.05, 0.05), (0.25, 0.15), H)}
+    assert off_corner == {(0, 0), (1, 0), (1, 1), (2, 1)}
+
+
+half_cells = st.integers(0, 40).map(lambda k: (k + 0.5) * H)
+
+
+@settings(max_examples=200, deadline=None)
+@given(half_cells, half_cells, half_cells, half_cells)
+def test_supercover_is_symmetric_and_connected(x0, y0, x1, y1):
+    forward = {tuple(c) for c in supercover((x0, y0), (x1, y1), H)}
+    backward = {tuple(c) for c in supercover((x1, y1), (x0, y0), H)}
+    assert forward == backward
+    assert cells_of([(x0, y0), (x1, y1)]) <= forward
+    # 4-connected as a set
+    start = next(iter(forward))
+    seen, todo = {start}, [start]
+    while todo:
+        cx, cy = todo.pop()
+        for nxt in ((cx + 1, cy), (cx - 1, cy), (cx, cy + 1), (cx, cy - 1)):
+            if nxt in forward and nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    assert seen == forward
+
+
+# ------------------------------------------------------------------ BFS and smoothing (§3.1-3.4)
+def test_manhattan_staircase_with_clear_sight_smooths_to_two_points():
+    pmap = known_map()
+    stairs = [(0.55 + 0.1 * (k // 2 + k % 2), 0.55 + 0.1 * (k // 2)) for k in range(11)]
+    assert path_length(stairs) == pytest.approx(1.0)
+    smoothed = smooth(pmap, np.array(stairs))
+    assert smoothed.tolist() == [list(stairs[0]), list(stairs[-1])]
+
+
+def test_smoothing_keeps_a_corner_around_an_obstacle():
+    pmap = known_map()
+    for y in np.arange(0.55, 2.0, 0.1):
+        pmap.stamp_point(1.55, y)
+    field = shortest_paths(pmap, (1.05, 1.05))
+    raw = field.path_to(2.05, 1.05)
+    assert field.distance(2.05, 1.05) == len(raw) - 1
+    smoothed = smooth(pmap, raw)
+    assert 2 < smoothed.shape[0] < raw.shape[0]
+    drivable = _drivable(pmap)
+    for a, b in zip(smoothed[:-1], smoothed[1:], strict=True):
+        for ix, iy in supercover(a, b, H):
+            assert drivable[iy, ix]
+
+
+def test_bfs_routes_around_occupied_cells_and_not_through_unknown():
+    pmap = known_map(unknown=[(1.55, y) for y in np.arange(0.05, 3.0, 0.1)])
+    field = shortest_paths(pmap, (1.05, 1.05))
+    assert not field.reachable(2.05, 1.05)  # a wall of unknown cells
+    open_map = known_map()
+    blocked = shortest_paths(open_map, (1.05, 1.05), occupied=[(1.25, 1.05)])
+    free = shortest_paths(open_map, (1.05, 1.05))
+    assert free.distance(1.45, 1.05) == 4
+    assert blocked.distance(1.45, 1.05) > 4  # detours around the other robot and its padding
+    assert not blocked.reachable(1.25, 1.05)
+
+
+def test_bfs_ties_follow_the_neighbour_order_north_east_south_west():
+    field = shortest_paths(known_map(), (1.05, 1.05))
+    north_first = [[1.05, 1.05], [1.05, 1.15], [1.05, 1.25], [1.15, 1.25], [1.25, 1.25]]
+    assert field.path_to(1.25, 1.25) == pytest.approx(np.array(north_first))
+    east_first = [[1.05, 1.05], [1.15, 1.05], [1.25, 1.05], [1.25, 0.95], [1.25, 0.85]]
+    assert field.path_to(1.25, 0.85) == pytest.approx(np.array(east_first))
+
+
+def test_the_world_boundary_is_a_wall_for_the_padding():
+    pmap = known_map()
+    field = shortest_paths(pmap, (1.05, 1.05))
+    assert not field.reachable(0.05, 1.05) and field.reachable(0.15, 1.05)
+
+
+# ------------------------------------------------------------------ waves (§3.5)
+def test_crossing_paths_give_two_waves_disjoint_paths_one():
+    across = np.array([(0.55, 1.05), (1.55, 1.05)])
+    down = np.array([(1.05, 0.55), (1.05, 1.55)])
+    far = np.array([(2.55, 0.55), (2.55, 1.55)])
+    assert waves({1: across, 2: down}, H) == [[1], [2]]
+    assert waves({1: across, 2: far}, H) == [[1, 2]]
+
+
+paths_strategy = st.dictionaries(
+    st.integers(1, 8),
+    st.lists(st.tuples(half_cells, half_cells), min_size=1, max_size=4).map(np.array),
+    min_size=1,
+    max_size=8,
+)
+
+
+@settings(max_examples=100, deadline=None)
+@given(paths_strategy)
+def test_no_conflict_inside_a_wave_and_every_move_in_one_wave(paths):
+    result = waves(paths, H)
+    assert sorted(k for w in result for k in w) == sorted(paths)
+    cells = {k: {tuple(c) for c in padded_cells(p, H)} for k, p in paths.items()}
+    for wave in result:
+        for i, a in enumerate(wave):
+            for b in wave[i + 1 :]:
+                assert not cells[a] & cells[b]
+    for later, wave in enumerate(result[1:], start=1):  # greedy: each clashes with every earlier
+        for k in wave:
+            for earlier in result[:later]:
+                assert any(cells[k] & cells[j] for j in earlier)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.9, 2.1), st.floats(0.9, 2.1), st.floats(0.10, 0.80))
+def test_a_clear_scan_leaves_no_gap_between_rays(x, y, r):
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    new = pmap.infer_scan(x, y, r)
+    inside = [
+        ((ix + 0.5) * H, (iy + 0.5) * H)
+        for ix in range(30)
+        for iy in range(30)
+        if ((ix + 0.5) * H - x) ** 2 + ((iy + 0.5) * H - y) ** 2 <= r * r - 1e-9
+    ]
+    assert all(pmap.scanned(cx, cy) for cx, cy in inside)
+    assert new == pmap.n_scanned >= len(inside)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(0.0, 3.0), st.floats(0.0, 3.0), st.sampled_from([0.0, 0.03])),
+             max_size=15),
+    st.lists(st.tuples(st.floats(0.5, 2.5), st.floats(0.5, 2.5), st.floats(0.1, 0.8)), max_size=4),
+    st.sampled_from(["mass", "peak"]),
+)  # fmt: skip
+def test_reports_never_add_knowledge_outside_the_bubble(points, scans, stamp):
+    pmap = ProbMap(Bubble(1.5, 1.5, 0.6), WORLD, cell_size=H, stamp=stamp)
+    for px, py, sigma in points:
+        accepted = pmap.stamp_point(px, py, sigma)
+        assert accepted == pmap.in_bounds(px, py)
+    for sx, sy, sr in scans:
+        pmap.infer_scan(sx, sy, sr)
+    assert not (pmap._scanned & ~pmap._in).any()  # spec §8 invariant 7
+    assert ((pmap._blocked >= 0) & (pmap._blocked <= 1)).all()
+
+
+def test_peak_stamp_gives_the_containing_cell_full_weight():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H, stamp="peak")
+    pmap.stamp_point(1.02, 1.02, sigma=0.05)
+    assert pmap.blocked(1.02, 1.02) == 1.0
+    assert pmap.blocked(1.15, 1.05) == pytest.approx(math.exp(-(0.13**2 + 0.03**2) / 0.005))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(half_cells, half_cells), min_size=2, max_size=12))
+def test_smoothing_keeps_the_ends_and_never_lengthens(points):
+    pmap = known_map(Rect(0.0, 0.0, 4.2, 4.2))
+    raw = np.array(points)
+    smoothed = smooth(pmap, raw)
+    assert smoothed[0].tolist() == raw[0].tolist() and smoothed[-1].tolist() == raw[-1].tolist()
+    assert path_length(smoothed) <= path_length(raw) + 1e-9
+    assert all(any(np.array_equal(p, q) for q in raw) for p in smoothed)  # a subsequence
+
+
+def test_wave_order_violation_counts_a_later_path_over_an_earlier_end():
+    first = np.array([(0.55, 1.05), (1.05, 1.05)])  # ends where the second path passes
+    second = np.array([(1.05, 0.55), (1.05, 1.55)])
+    assert waves({1: first, 2: second}, H) == [[1], [2]]
+    assert wave_order_violations([[1], [2]], {1: first, 2: second}, H) == 1
+    apart = np.array([(2.55, 0.55), (2.55, 1.55)])
+    assert wave_order_violations([[1], [3]], {1: first, 3: apart}, H) == 0
