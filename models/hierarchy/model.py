@@ -32,7 +32,7 @@ from models.hierarchy.agents import Director, Node, Scout
 from models.hierarchy.coverage import Plan, Status
 from models.hierarchy.flat import HOLDER, FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
-from models.hierarchy.planning import supercover
+from models.hierarchy.planning import padded_cells
 from models.hierarchy.probmap import ProbMap, Rect
 from models.hierarchy.protocol import KINDS, StartMsg
 from models.hierarchy.world import build_world, start_layout
@@ -286,11 +286,7 @@ class HierarchyModel(SwarmModel):
                 in_bounds=m.in_bounds(x, y),
             )  # fmt: skip
         for k, path in {**plan.idle_moves, **plan.paths}.items():
-            cells = np.concatenate(
-                [supercover(path[i], path[i + 1], h) for i in range(len(path) - 1)]
-                or [np.floor(path[:1] / h).astype(np.int64)]
-            )
-            centres = (cells + 0.5) * h
+            centres = (padded_cells(path, h, padding=0) + 0.5) * h  # the path's own cells
             blocked = int(m.known_blocked_at(centres).sum())
             self.path_cells_blocked += blocked
             self.plans.append(
