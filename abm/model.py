@@ -259,6 +259,11 @@ class SwarmModel(mesa.Model):
         return out
 
     # ------------------------------------------------------------------ data
+    @property
+    def collisions(self) -> int:
+        """Collisions so far: wall contacts plus two per robot-robot contact."""
+        return self.wall_collisions + self.robot_collisions
+
     def common_summary(self) -> dict:
         """The keys every model's summary has.
 
@@ -270,7 +275,7 @@ class SwarmModel(mesa.Model):
         out = {
             "time": float(self.env.now),
             "end_reason": self.end_reason or "running",
-            "collisions": self.wall_collisions + self.robot_collisions,
+            "collisions": self.collisions,
             "wall_collisions": self.wall_collisions,
             "robot_collisions": self.robot_collisions,
         }

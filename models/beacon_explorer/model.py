@@ -179,7 +179,7 @@ class BeaconExplorerModel(SwarmModel):
             robot.set_state("beacon")
             robot.set_mode(self._beacon_mode())
             self.recorder.log("attach", robot.unique_id, x=position[0], y=position[1])
-            self._stall_mark = (self.env.now, self._collisions())
+            self._stall_mark = (self.env.now, self.collisions)
             self.beacons.attach(robot.unique_id, position)
             self.coverage.stamp(position, self.env.now)
             yield from self._beacon_until_detach(robot)
@@ -258,9 +258,6 @@ class BeaconExplorerModel(SwarmModel):
                 self.finish("stuck: every robot is a beacon and none can redeploy")
                 return
 
-    def _collisions(self) -> int:
-        return self.wall_collisions + self.robot_collisions
-
     def _stall_watch(self):
         """End a run whose explorers fly on without any beacon attaching, colliding.
 
@@ -272,7 +269,7 @@ class BeaconExplorerModel(SwarmModel):
         p = self.params
         while True:
             yield self.env.timeout(p.monitor_period)
-            now, collisions = self.env.now, self._collisions()
+            now, collisions = self.env.now, self.collisions
             if self.physics.n_flying == 0:
                 self._stall_mark = (now, collisions)
                 continue
