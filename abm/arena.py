@@ -197,6 +197,19 @@ class Arena:
             float(max_range),
         )
 
+    def wall_lengths(self, points: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """``(n, m)``: metres of wall on the straight line from each point to each target.
+
+        Exact for grid walls (the segment is walked cell boundary by cell boundary); what a
+        radio model that attenuates per metre of wall crossed needs.
+        """
+        return gridkernels.wall_lengths(
+            self.padded,
+            self.resolution,
+            _points(points),
+            _points(np.asarray(targets, dtype=float).reshape(-1, 2)),
+        )
+
     def line_of_sight(self, start: np.ndarray, end: np.ndarray) -> np.ndarray:
         """True for each pair of points that see each other (no wall cell between them)."""
         return ~self.segment_crosses_wall(start, end)

@@ -23,6 +23,7 @@ __all__ = [
     "nearest_visible",
     "raycasts",
     "segments_cross",
+    "wall_lengths",
 ]
 
 
@@ -141,6 +142,50 @@ def segments_cross(padded, sat, res, starts, ends):
         out[k] = segment_crosses(
             padded, sat, res, starts[k, 0], starts[k, 1], ends[k, 0], ends[k, 1]
         )
+    return out
+
+
+@njit(cache=True)
+def _wall_length(padded, res, x0, y0, x1, y1):
+    """Length (m) of the segment (x0, y0) -> (x1, y1) that lies inside wall cells."""
+    length = math.hypot(x1 - x0, y1 - y0)
+    if length == 0.0:
+        return 0.0
+    dx = (x1 - x0) / length
+    dy = (y1 - y0) / length
+    ix = int(math.floor(x0 / res))
+    iy = int(math.floor(y0 / res))
+    step_x = 1 if dx > 0.0 else -1
+    step_y = 1 if dy > 0.0 else -1
+    t_max_x, t_delta_x = _first_boundary(x0, dx, ix, res)
+    t_max_y, t_delta_y = _first_boundary(y0, dy, iy, res)
+    inside = 0.0
+    t_here = 0.0
+    while t_here < length:
+        t_next = min(t_max_x, t_max_y, length)
+        if not _free(padded, ix, iy):
+            inside += t_next - t_here
+        t_here = t_next
+        if t_max_x < t_max_y:
+            ix += step_x
+            t_max_x += t_delta_x
+        else:
+            iy += step_y
+            t_max_y += t_delta_y
+    return inside
+
+
+@njit(cache=True)
+def wall_lengths(padded, res, points, targets):
+    """``(n, m)``: length (m) of wall cells on the segment from point k to target j."""
+    n = points.shape[0]
+    m = targets.shape[0]
+    out = np.zeros((n, m))
+    for k in range(n):
+        for j in range(m):
+            out[k, j] = _wall_length(
+                padded, res, points[k, 0], points[k, 1], targets[j, 0], targets[j, 1]
+            )
     return out
 
 

@@ -156,6 +156,8 @@ class MacroSpec:
             numbers for it (e.g. w, b, w_hat, b_hat, t, rmsd_w, rmsd_b).
         condition_keys: the parameters a published condition names.
         published_summary: the paper's overall figures, name -> (mean, std), e.g. mean RMSDs.
+        published_label: where the per-condition numbers are published (e.g. "Table 1").
+        summary_label: where the overall figures are published (e.g. "Table 2, 10 maps").
         lambdas: the paper's fitted l0..l5, if any.
         source: the paper.
 
@@ -170,6 +172,8 @@ class MacroSpec:
     published: Mapping[tuple, Mapping[str, float]] = field(default_factory=dict)
     condition_keys: tuple[str, ...] = ()
     published_summary: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    published_label: str = ""
+    summary_label: str = ""
     lambdas: Mapping[str, float] | None = None
     source: str = ""
 

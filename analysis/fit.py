@@ -20,10 +20,39 @@ from abm.errors import ConfigError
 from abm.published import MacroSpec
 from abm.registry import model_class
 from analysis.html import figure_data, render_page, table
-from analysis.macro import fit_lambdas, fit_recurrence, predict_from_lambdas, refine_lambdas, rmsd
+from analysis.macro import (
+    a0_from_lambdas,
+    alpha6_from_lambdas,
+    fit_lambdas,
+    fit_recurrence,
+    predict_from_lambdas,
+    recurrence,
+    refine_lambdas,
+    rmsd,
+)
 from analysis.sweep import load_results, run_sweep, swept_keys
 
-__all__ = ["analyse", "fit_runs", "macro_spec", "read_runs", "write_fit_report"]
+__all__ = [
+    "METHODS",
+    "analyse",
+    "fit_runs",
+    "macro_spec",
+    "methods",
+    "read_runs",
+    "write_fit_report",
+]
+
+#: The ways of getting a0 and alpha6 per condition that :func:`methods` compares, as
+#: (RMSD column suffix, description); "" is the joint refinement, the headline figure.
+METHODS = (
+    ("_reg", "the paper's method: a0, alpha6 fitted per curve, then the two regressions "
+             "(alpha6 on the radius, a0 on entropy and size)"),
+    ("", "joint refinement: the six lambdas fitted to all curves at once, minimising the "
+         "mean RMSD"),
+    ("_fit", "a0, alpha6 fitted per curve (no lambda model)"),
+    ("_reg_alpha6", "diagnosis: alpha6 from the regression, a0 per curve"),
+    ("_reg_a0", "diagnosis: a0 from the regression, alpha6 per curve"),
+)  # fmt: skip
 
 
 def macro_spec(model: str | type) -> MacroSpec:
@@ -106,14 +135,35 @@ def _shown(value: object) -> str:
 
 
 def analyse(
-    summaries: pd.DataFrame, counts: pd.DataFrame, spec: MacroSpec, conditions: Sequence[str]
+    summaries: pd.DataFrame,
+    counts: pd.DataFrame,
+    spec: MacroSpec,
+    conditions: Sequence[str],
+    heldout: bool = True,
 ) -> dict:
     """Fit the recurrence per condition; regress and check the lambdas where the spec says.
 
-    Returns a dict: ``fits`` (per condition: a0, alpha6 +- stderr, RMSDs of the direct fit, the
-    final mean counts and time), ``table`` (``fits`` plus, with a regression, the predictions
-    w_hat, b_hat and RMSDs of the lambda model), ``curves`` (observed mean +- se and
-    predictions over time), ``lambdas`` (or None), ``heldout`` (or None) and ``notes``.
+    With a regression, every condition is predicted two ways (see :data:`METHODS`): from the
+    lambdas of the paper's method (per-curve fits, then the two regressions in parameter
+    space; columns ``*_reg``) and from the joint refinement of the same six lambdas against
+    all curves (the columns without suffix); ``*_reg_alpha6`` and ``*_reg_a0`` replace only
+    one of the two per-curve parameters by its regressed value, to show which regression
+    costs the RMSD.
+
+    Args:
+        summaries: one row per run.
+        counts: the runs' counts over time with ``run_id`` and the condition columns.
+        spec: the model's MACRO.
+        conditions: the columns that tell conditions apart.
+        heldout: also refit the lambdas with each value of the other condition left out.
+
+    Returns:
+        A dict: ``fits`` (per condition: a0, alpha6 +- stderr, RMSDs of the direct fit, the
+        final mean counts and time), ``table`` (``fits`` plus, with a regression, the
+        predictions w_hat, b_hat, the a0 and alpha6 of each method and their RMSDs),
+        ``curves`` (observed mean +- se and predictions over time), ``lambdas`` (or None),
+        ``lambdas_regressed``, ``heldout`` (or None) and ``notes``.
+
     """
     notes: list[str] = []
     conditions = list(conditions)
@@ -200,10 +250,16 @@ def analyse(
         obs = curves[sel]
         idx = np.round(obs["time"].to_numpy() / spec.step).astype(int)
         got = {}
-        for name, lam in (("", lambdas), ("_reg", regressed)):
-            pred = predict_from_lambdas(
-                lam, row["radius"], row["entropy"], row["envsize"], row["steps"], alpha5, spec.step
-            )
+        for name, lam in (("_lam", lambdas), ("_reg", regressed)):
+            got[f"a0{name}"] = _clip(a0_from_lambdas(lam, row["entropy"], row["envsize"]))
+            got[f"alpha6{name}"] = _clip(alpha6_from_lambdas(lam, row["radius"]))
+        for name, a0, alpha6 in (
+            ("", got["a0_lam"], got["alpha6_lam"]),
+            ("_reg", got["a0_reg"], got["alpha6_reg"]),
+            ("_reg_alpha6", row["a0"], got["alpha6_reg"]),
+            ("_reg_a0", got["a0_reg"], row["alpha6"]),
+        ):
+            pred = recurrence(a0, alpha6, alpha5, row["steps"], 0.0, 1.0, spec.step)
             pw, pb = pred["wander"].to_numpy()[idx], pred["beacon"].to_numpy()[idx]
             got[f"rmsd_w{name}"] = rmsd(pw, obs["wander"])
             got[f"rmsd_b{name}"] = rmsd(pb, obs["beacon"])
@@ -213,8 +269,60 @@ def analyse(
                 got.update(w_hat=pw[-1], b_hat=pb[-1])
         rows.append({**row, **got})
     out["table"] = pd.DataFrame(rows).rename(columns={"radius": radius})
-    out["heldout"] = _heldout(reg, curves, conditions, radius, alpha5, spec, notes)
+    if heldout:
+        out["heldout"] = _heldout(reg, curves, conditions, radius, alpha5, spec, notes)
     return out
+
+
+def _clip(value: float) -> float:
+    """a0 and alpha6 are fractions: the lambda model's value clipped to [0, 1]."""
+    return min(1.0, max(0.0, float(value)))
+
+
+def methods(table: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
+    """Mean (std) RMSD of w and b over the conditions for each fitting method, and the paper's.
+
+    Args:
+        table: ``analyse(...)["table"]``.
+        spec: the model's MACRO (the paper's per-condition RMSDs and overall figures).
+
+    Returns:
+        One row per method present in ``table`` (see :data:`METHODS`), then the paper's mean
+        over the same conditions (where it publishes per-condition RMSDs) and its overall
+        figures: ``method``, ``conditions``, ``rmsd_w``, ``rmsd_b`` (means), ``rmsd_w_std``,
+        ``rmsd_b_std``.
+
+    """
+    rows = []
+    for suffix, text in METHODS:
+        w, b = f"rmsd_w{suffix}", f"rmsd_b{suffix}"
+        if w in table and b in table and table[w].notna().any():
+            rows.append(_method_row(text, table[w], table[b]))
+    matched = _published_columns(table, spec)
+    if {"paper rmsd_w", "paper rmsd_b"} <= set(matched):
+        keep = matched["paper rmsd_w"].notna() & matched["paper rmsd_b"].notna()
+        if keep.any():
+            where = f" ({spec.published_label})" if spec.published_label else ""
+            rows.append(
+                _method_row(
+                    f"paper{where}, the same conditions",
+                    matched.loc[keep, "paper rmsd_w"],
+                    matched.loc[keep, "paper rmsd_b"],
+                )
+            )
+    if {"rmsd_w", "rmsd_b"} <= set(spec.published_summary):
+        (w, w_sd), (b, b_sd) = spec.published_summary["rmsd_w"], spec.published_summary["rmsd_b"]
+        where = f" ({spec.summary_label})" if spec.summary_label else ""
+        rows.append(
+            {"method": f"paper{where}", "conditions": np.nan, "rmsd_w": w, "rmsd_b": b,
+             "rmsd_w_std": w_sd, "rmsd_b_std": b_sd}
+        )  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def _method_row(text: str, w: pd.Series, b: pd.Series) -> dict:
+    return {"method": text, "conditions": len(w), "rmsd_w": w.mean(), "rmsd_b": b.mean(),
+            "rmsd_w_std": w.std(), "rmsd_b_std": b.std()}  # fmt: skip
 
 
 def _curves(reg: pd.DataFrame, curves: pd.DataFrame) -> list:
@@ -297,9 +405,9 @@ def _draw_curves(ax, obs: pd.DataFrame, spec: MacroSpec, title: str) -> None:
     ax.figure.tight_layout()
 
 
-def _published_columns(result: dict, spec: MacroSpec) -> pd.DataFrame:
+def _published_columns(table: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
     """The fit table with the paper's numbers of the same condition beside ours."""
-    t = result["table"].copy()
+    t = table.copy()
     keys = spec.condition_keys
     names = sorted({n for values in spec.published.values() for n in values})
     for name in names:
@@ -317,26 +425,17 @@ def write_fit_report(
 ) -> Path:
     """Write ``out/fit_report.html``; returns its path."""
     out = Path(out)
-    t = _published_columns(result, spec)
-    rmsd_columns = [c for c in t.columns if c.startswith("rmsd_") and not c.startswith("paper")]
-    overall = pd.DataFrame(
-        {
-            "metric": rmsd_columns,
-            "mean": [t[c].mean() for c in rmsd_columns],
-            "std": [t[c].std() for c in rmsd_columns],
-            "paper mean": [spec.published_summary.get(c, (np.nan,))[0] for c in rmsd_columns],
-            "paper std": [spec.published_summary.get(c, (np.nan, np.nan))[1] for c in rmsd_columns],
-        }
-    )
+    t = _published_columns(result["table"], spec)
+    overall = methods(result["table"], spec)
     lambdas = None
     if result["lambdas"] is not None:
         lam, se = result["lambdas"]
         lambdas = pd.DataFrame(
             {
                 "lambda": list(lam),
-                "ours": list(lam.values()),
+                "joint refinement": list(lam.values()),
                 "stderr": [se[k] for k in lam],
-                "regressions alone": [result["lambdas_regressed"][k] for k in lam],
+                "paper's method (regressions)": [result["lambdas_regressed"][k] for k in lam],
                 "paper": [(spec.lambdas or {}).get(k, np.nan) for k in lam],
             }
         )

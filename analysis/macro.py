@@ -30,6 +30,7 @@ __all__ = [
     "alpha6_from_lambdas",
     "a0_from_lambdas",
     "fit_lambdas",
+    "final_counts",
     "fit_recurrence",
     "mean_counts",
     "predict_from_lambdas",
@@ -65,6 +66,18 @@ def recurrence(
     w, b = _iterate(a, float(alpha5), float(w0), float(b0), float(supply))
     idx = np.arange(steps + 1)
     return pd.DataFrame({"step": idx, "time": idx * step, "wander": w, "beacon": b, "a": a})
+
+
+def final_counts(
+    a0: float, alpha6: float, alpha5: float, steps: int, w0: float = 0.0, b0: float = 1.0
+) -> tuple[float, float]:
+    """(w, b) after ``steps`` steps of the recurrence, without building its table (for
+    fits that only compare end points, e.g. against a paper's final counts).
+    """
+    check_range("steps", steps, 0, integer=True)
+    a = a0 * np.power(alpha6, np.arange(steps + 1, dtype=float))
+    w, b = _iterate(a, float(alpha5), float(w0), float(b0))
+    return float(w[-1]), float(b[-1])
 
 
 @njit(cache=True)

@@ -159,8 +159,12 @@ def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
     written = _wrote(printed)
     assert written and all(p.exists() for p in written)
     assert "w_hat" in printed and "rmsd_w" in printed
+    # both fitting methods side by side, with the paper's figures
+    assert "[6 conditions, the paper's method" in printed
+    assert "[6 conditions, joint refinement" in printed and "[paper (Table 2" in printed
     html = (out / "fit_report.html").read_text()
     assert "Fitted lambdas" in html and "Held-out conditions" in html
+    assert "Fitting methods side by side" in html
     assert main(["fit", "stigmergy", "--read", str(out), "--out", str(tmp_path / "again")]) == 0
     assert capsys.readouterr().out.splitlines()[:8] == printed.splitlines()[:8]
 

@@ -48,10 +48,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     """Run (or read), fit, write the report."""
+    import pandas as pd
+
     from abm.errors import ConfigError
     from abm.registry import model_class, name_of
     from analysis.cli.flags import parse_assignment
-    from analysis.fit import analyse, fit_runs, macro_spec, read_runs, write_fit_report
+    from analysis.fit import analyse, fit_runs, macro_spec, methods, read_runs, write_fit_report
 
     cls = model_class(args.model)
     name = name_of(cls) or args.model
@@ -86,10 +88,16 @@ def main(args: argparse.Namespace) -> int:
     report = write_fit_report(result, summaries, spec, out, meta)
     table = result["table"]
     shown = [c for c in ("condition", "runs", "w", "b", "w_hat", "b_hat", "t", "a0", "alpha6",
-                         "rmsd_w", "rmsd_b", "rmsd_w_fit", "rmsd_b_fit") if c in table]  # fmt: skip
+                         "rmsd_w", "rmsd_b", "rmsd_w_reg", "rmsd_b_reg", "rmsd_w_fit",
+                         "rmsd_b_fit") if c in table]  # fmt: skip
     print(table[shown].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
-    rmsd = [c for c in ("rmsd_w", "rmsd_b", "rmsd_w_fit", "rmsd_b_fit") if c in table]
-    print("\nmean RMSD: " + ", ".join(f"{c} {table[c].mean():.3g}" for c in rmsd))
+    print("\nmean RMSD over conditions, by fitting method (std in brackets):")
+    for row in methods(table, spec).to_dict("records"):
+        n = "" if pd.isna(row["conditions"]) else f"{row['conditions']:.0f} conditions, "
+        print(
+            f"  w {row['rmsd_w']:.3g} ({row['rmsd_w_std']:.3g})  b {row['rmsd_b']:.3g} "
+            f"({row['rmsd_b_std']:.3g})  [{n}{row['method']}]"
+        )
     (out / "fit.json").write_text(
         json.dumps({"model": name, "conditions": conditions, "runs": len(summaries)}, indent=2)
     )

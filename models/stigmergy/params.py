@@ -24,9 +24,15 @@ from pathlib import Path
 import numpy as np
 
 from abm.arena import Arena
+from abm.errors import ConfigError
 from abm.params import SwarmParams, param
 
-__all__ = ["DEFAULTS", "P0", "StigmergyParams"]
+__all__ = ["DEFAULTS", "LINK_MODELS", "P0", "StigmergyParams"]
+
+#: How a wander reads "its link quality to the swarm" (see ``link_model``).
+LINK_MODELS = ("distance", "radio")
+#: The radio reading's parameters and their defaults (accepted only with ``link_model="radio"``).
+_RADIO_DEFAULTS = {"link_exponent": 2.0, "link_wall_loss": 0.0, "link_fading_sd": 0.0}
 
 #: p0 of Gamma: the launch point (m) on every map of the paper.
 P0 = (5.0, 80.0)
@@ -44,6 +50,17 @@ class StigmergyParams(SwarmParams):
         wander_intensity: C_dw, pheromone a flying robot deposits per model step.
         decay: C_eps, exponential pheromone decay rate (1/s).
         link_threshold: l_i: a wander lands when no beacon is closer (m); None: C_rb.
+        link_model: how a wander reads its link quality to the swarm (ours; the paper says
+            only that it lands when "its quality of communication with the swarm decreases
+            from the established thresholds", l_i = C_rb). ``"distance"``: the nearest
+            beacon's Euclidean distance reaches l_i. ``"radio"``: a received-power margin
+            over the threshold, ``q = max_j [10 n log10(l_i / d_j) - L w_j] + X`` (d_j: the
+            distance to beacon j, w_j: metres of wall on the line to it, X ~ N(0, sd^2) dB
+            drawn per robot and check); it lands when q <= 0. With L = 0 and sd = 0 it is
+            the distance rule.
+        link_exponent: n, the radio's path-loss exponent (ours; ``link_model="radio"``).
+        link_wall_loss: L, attenuation per metre of wall crossed (dB/m; ours, radio only).
+        link_fading_sd: sd of the radio's log-normal fading (dB; ours, radio only).
         obstacle_range: r_u, obstacle detection radius (m).
         obstacle_beams: range sensors in f2's ring (ours); 0: every wall pixel within r_u
             pushes.
@@ -91,6 +108,10 @@ class StigmergyParams(SwarmParams):
     wander_intensity: float = param(0.03, low=0.0)
     decay: float = param(0.0001, low=0.0)
     link_threshold: float | None = param(None, low=0.0, low_open=True)
+    link_model: str = param("distance", choices=LINK_MODELS)
+    link_exponent: float = param(_RADIO_DEFAULTS["link_exponent"], low=0.0, low_open=True)
+    link_wall_loss: float = param(_RADIO_DEFAULTS["link_wall_loss"], low=0.0)
+    link_fading_sd: float = param(_RADIO_DEFAULTS["link_fading_sd"], low=0.0)
     obstacle_range: float = param(5.0, low=0.0, low_open=True)
     obstacle_beams: int = param(8, low=0, integer=True)
     launch_rate: float = param(0.01, low=0.0, high=1.0, low_open=True)
@@ -117,6 +138,17 @@ class StigmergyParams(SwarmParams):
     step_duration: float = param(0.5, low=0.0, low_open=True)
     dt: float = param(0.25, low=0.0, low_open=True)
     trace_interval: float | None = param(None, low=0.0, low_open=True)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.link_model != "radio":
+            for name, default in _RADIO_DEFAULTS.items():
+                if getattr(self, name) != default:
+                    raise ConfigError(
+                        f"{name} applies to link_model='radio' only; with "
+                        f"link_model={self.link_model!r} it must stay {default!r}, "
+                        f"got {getattr(self, name)!r}"
+                    )
 
     @property
     def launch_period(self) -> float:

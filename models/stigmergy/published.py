@@ -126,6 +126,8 @@ MACRO = MacroSpec(
     },
     condition_keys=("map", "pheromone_radius"),
     published_summary=TABLE2,
+    published_label="Table 1",
+    summary_label="Table 2, its 10 maps",
     lambdas=LAMBDAS,
     source="Arnaldo et al. (2018), Tables 1 and 2",
 )

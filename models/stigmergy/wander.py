@@ -3,7 +3,9 @@
 At every model step (0.5 s, a SimPy process of the model) each wander robot:
 
 1. checks its link to the swarm: when the nearest beacon is ``l_i`` away or farther, it lands
-   (its flight ends at once; its SimPy process then turns it into a beacon);
+   (its flight ends at once; its SimPy process then turns it into a beacon); with
+   ``link_model="radio"`` the link is a received-power margin (:func:`radio_margin`) and it
+   lands when the margin falls to 0;
 2. picks its heading ``f_hat = f / |f|`` with ``f = a1 f1 + a2 f2 + a3 f3``:
    f1 towards less pheromone within C_rb (:meth:`PheromoneField.lower_direction`), every
    pixel of the disc read, a reading's importance falling as 1 / distance^2 (``f1_falloff``),
@@ -27,7 +29,14 @@ from abm.errors import check_range
 from abm.pheromone import PheromoneField
 from abm.physics import Physics
 
-__all__ = ["WanderController", "nearest_distance", "repulsion_grid", "sonar_grid", "unit"]
+__all__ = [
+    "WanderController",
+    "nearest_distance",
+    "radio_margin",
+    "repulsion_grid",
+    "sonar_grid",
+    "unit",
+]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -115,7 +124,7 @@ class WanderController:
         p = self.params
         heading = physics.flyer_state["heading"]
         heading[:] = self._headings(physics.pos, heading)
-        landing = self.link(physics.pos) >= p.l_i
+        landing = self.landing(physics.pos)
         self.field.deposit(
             physics.pos[~landing],
             p.c_rw,
@@ -126,9 +135,23 @@ class WanderController:
         if landing.any():
             physics.finish(physics.ids[landing])
 
-    def link(self, pos: np.ndarray) -> np.ndarray:
-        """Distance (m) from each flyer to the nearest beacon."""
-        return nearest_distance(pos, self.model.beacon_positions)
+    def landing(self, pos: np.ndarray) -> np.ndarray:
+        """Which flyers at ``pos`` find their link to the swarm at the threshold (land now)."""
+        p = self.params
+        beacons = self.model.beacon_positions
+        if p.link_model == "distance":
+            return nearest_distance(pos, beacons) >= p.l_i
+        margin = radio_margin(
+            pos,
+            beacons,
+            self.arena.wall_lengths(pos, beacons),
+            p.l_i,
+            p.link_exponent,
+            p.link_wall_loss,
+        )
+        if p.link_fading_sd > 0:
+            margin = margin + self.rng.normal(0.0, p.link_fading_sd, size=margin.shape)
+        return margin <= 0.0
 
     def _headings(self, pos: np.ndarray, previous: np.ndarray) -> np.ndarray:
         p = self.params
@@ -173,6 +196,37 @@ def _steer(f1, pos, previous, noise, repulsion, res, a1, a2, a3, a4):
         f3x, f3y = _unit(previous[i, 0] + a4 * noise[i, 0], previous[i, 1] + a4 * noise[i, 1])
         out[i, 0], out[i, 1] = _unit(a1 * f1x + a2 * f2x + a3 * f3x, a1 * f1y + a2 * f2y + a3 * f3y)
     return out
+
+
+def radio_margin(
+    points: np.ndarray,
+    beacons: np.ndarray,
+    walls: np.ndarray,
+    threshold: float,
+    exponent: float,
+    wall_loss: float,
+) -> np.ndarray:
+    """Received-power margin (dB) of each point's best link over the landing threshold.
+
+    ``max_j [10 n log10(l_i / d_j) - L w_j]``: log-distance path loss relative to the power
+    at l_i in the open, minus L dB per metre of wall on the line to beacon j (a multi-wall
+    radio model). Positive: the link is better than at l_i in the open; -inf without beacons.
+
+    Args:
+        points: ``(n, 2)`` positions (m).
+        beacons: ``(m, 2)`` beacon positions (m).
+        walls: ``(n, m)`` metres of wall between them (:meth:`Arena.wall_lengths`).
+        threshold: l_i (m).
+        exponent: n, the path-loss exponent.
+        wall_loss: L (dB per metre of wall).
+
+    """
+    if beacons.shape[0] == 0:
+        return np.full(points.shape[0], -np.inf)
+    d = np.hypot(*(points[:, None, :] - beacons[None, :, :]).transpose(2, 0, 1))
+    with np.errstate(divide="ignore"):
+        power = 10.0 * exponent * np.log10(threshold / np.maximum(d, 1e-9)) - wall_loss * walls
+    return power.max(axis=1)
 
 
 @njit(cache=True)
