@@ -102,3 +102,38 @@ def test_bad_maps_raise_map_errors(tmp_path):
         Arena(np.ones((3, 3)))
     with pytest.raises(ConfigError, match="resolution"):
         Arena(np.ones((3, 3), dtype=bool), resolution=-1.0)
+
+
+@given(
+    seed=st.integers(0, 10_000),
+    resolution=st.sampled_from([0.5, 1.0]),
+)
+@settings(max_examples=25, deadline=None)
+def test_wall_lengths_match_fine_sampling(seed, resolution):
+    """Metres of wall on a segment: exact cell walk vs a 1 mm sampling of the segment."""
+    rng = np.random.default_rng(seed)
+    free = rng.random((12, 16)) > 0.3
+    arena = Arena(free, resolution)
+    a = rng.uniform(0, [arena.width, arena.height], size=(3, 2))
+    b = rng.uniform(0, [arena.width, arena.height], size=(4, 2))
+    got = arena.wall_lengths(a, b)
+    assert got.shape == (3, 4)
+    for i in range(3):
+        for j in range(4):
+            length = float(np.hypot(*(b[j] - a[i])))
+            n = max(2, int(length / 1e-3))
+            s = (np.arange(n) + 0.5) / n
+            samples = a[i] + s[:, None] * (b[j] - a[i])
+            want = length * float(np.mean(~arena.is_free(samples)))
+            assert got[i, j] == pytest.approx(want, abs=5e-3 * resolution + 1e-9)
+
+
+def test_wall_lengths_across_one_wall():
+    free = np.ones((5, 9), dtype=bool)
+    free[:, 4] = False  # a 1 m wall at x in [4, 5)
+    arena = Arena(free)
+    got = arena.wall_lengths(np.array([[1.5, 2.5]]), np.array([[7.5, 2.5], [3.5, 0.5]]))
+    assert got[0, 0] == pytest.approx(1.0)  # straight across
+    assert got[0, 1] == 0.0  # same side
+    diagonal = arena.wall_lengths(np.array([[1.5, 0.5]]), np.array([[7.5, 3.5]]))
+    assert diagonal[0, 0] == pytest.approx(np.hypot(6, 3) / 6)  # 1 m of x at slope 1/2

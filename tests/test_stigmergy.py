@@ -151,3 +151,85 @@ def test_complex_map_covered_at_40m():
         m.run()
         assert m.end_reason == "coverage", (seed, m.ca)
         assert m.coverage.covered[71:99, 86:99].mean() > 0.9  # the north-east room
+
+
+def _walled(**kw):
+    """A 40 x 60 m room split by a wall at x = 30 with a 6 m door (so links cross walls)."""
+    free = np.zeros((40, 60), dtype=bool)
+    free[1:-1, 1:-1] = True
+    free[1:-1, 30] = False
+    free[17:23, 30] = True
+    kw.setdefault("time_limit", 1200.0)
+    return StigmergyModel(map=free, pheromone_radius=10.0, start=(5, 20), **kw)
+
+
+def _margin_by_sampling(model, points, beacons):
+    """The radio margin from first principles: path loss from the straight-line distance and
+    wall loss from the share of 500 points along each line that fall in walls."""
+    p = model.params
+    s = (np.arange(500) + 0.5) / 500
+    out = np.full(len(points), -np.inf)
+    for i, x in enumerate(points):
+        for b in beacons:
+            d = np.hypot(*(b - x))
+            walls = d * np.mean(~model.arena.is_free(x + s[:, None] * (b - x)))
+            q = 10 * p.link_exponent * np.log10(p.l_i / max(d, 1e-9)) - p.link_wall_loss * walls
+            out[i] = max(out[i], q)
+    return out
+
+
+def test_radio_landing_happens_exactly_when_the_margin_reaches_zero():
+    """link_model="radio" without fading: at every model step the wanders that land are
+    exactly those whose best link margin (path loss and wall loss) has fallen to 0 dB."""
+    m = _walled(
+        seed=21, time_limit=800.0, link_model="radio", link_exponent=3.0, link_wall_loss=4.0
+    )
+    physics, controller = m.physics, m.controller
+    original = controller.model_step
+    checked = {"landed": 0, "stayed": 0}
+
+    def watched():
+        pos, ids = physics.pos.copy(), physics.ids.copy()
+        beacons = m.beacon_positions.copy()
+        original()
+        if len(ids) == 0:
+            return
+        margin = _margin_by_sampling(m, pos, beacons)
+        landed = ~np.isin(ids, physics.ids)
+        clear = np.abs(margin) > 0.3  # sampling error of the wall share
+        assert np.array_equal(landed[clear], margin[clear] <= 0), (m.time, margin, landed)
+        checked["landed"] += int(landed.sum())
+        checked["stayed"] += int((~landed).sum())
+
+    controller.model_step = watched
+    m.run()
+    assert checked["landed"] >= 5 and checked["stayed"] > 100
+
+
+def test_radio_without_loss_or_fading_is_the_distance_rule():
+    a = _walled(seed=22, time_limit=600.0).run()
+    b = _walled(seed=22, time_limit=600.0, link_model="radio", link_exponent=3.0).run()
+    pd.testing.assert_frame_equal(a.events(), b.events())
+
+
+def test_radio_fading_lands_wanders_sooner():
+    """Fading (dB, drawn per robot and check) lets a link look weaker than it is: wanders land
+    nearer the swarm, so the same time gives more beacons than the distance rule."""
+    n = {}
+    for sd in (0.0, 4.0):
+        n[sd] = [
+            len(_walled(seed=s, link_model="radio", link_fading_sd=sd).run().beacon_positions)
+            for s in (31, 32)
+        ]
+    assert sum(n[4.0]) > sum(n[0.0])
+
+
+def test_bad_link_parameters():
+    with pytest.raises(ConfigError, match="link_model must be one of"):
+        StigmergyModel(link_model="sonar")
+    with pytest.raises(ConfigError, match="link_wall_loss applies to link_model='radio'"):
+        StigmergyModel(link_wall_loss=3.0)
+    with pytest.raises(ConfigError, match="link_fading_sd"):
+        StigmergyModel(link_model="radio", link_fading_sd=-1.0)
+    with pytest.raises(ConfigError, match="link_exponent"):
+        StigmergyModel(link_model="radio", link_exponent=0.0)
