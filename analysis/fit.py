@@ -459,7 +459,7 @@ def write_fit_report(
         meta=meta,
         notes=result["notes"],
         fits=table(t, digits=4),
-        overall=table(overall, digits=4),
+        overall=table(overall, digits=4, text_columns=("method",)),
         lambdas=None if lambdas is None else table(lambdas, digits=4),
         heldout=None if heldout is None else table(heldout, digits=4),
         held_text=held_text,

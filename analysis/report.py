@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from abm.errors import ABMError
+from abm.errors import ABMError, ConfigError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from analysis import stats
@@ -176,10 +176,36 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         "figures": shown,
         "anova": _anova(runs, layout) if len(runs) else [],
         "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
+        "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
         if len(failed)
         else None,
         "n_failed": len(failed),
+    }
+
+
+def _macro(sweep: _Sweep, cls: type | None) -> dict | None:
+    """The paper's macroscopic-model fit of a sweep that kept its counts over time, when the
+    model declares the lambda regressions (``MACRO.regression``): the fitting methods side by
+    side with the paper's figures, and the per-condition fits. None otherwise.
+    """
+    from analysis.fit import analyse, methods, read_runs
+
+    spec = None if cls is None else cls.MACRO
+    if spec is None or spec.regression is None or not (sweep.folder / "series").is_dir():
+        return None
+    try:
+        summaries, counts, conditions = read_runs(sweep.folder)
+        result = analyse(summaries, counts, spec, conditions, heldout=False)
+    except ConfigError as err:
+        return {"note": f"not fitted: {err}", "methods": None, "fits": None}
+    shown = [c for c in ("condition", "runs", "w", "b", "a0", "alpha6", "a0_reg", "alpha6_reg",
+                         "rmsd_w_reg", "rmsd_b_reg", "rmsd_w", "rmsd_b", "rmsd_w_fit",
+                         "rmsd_b_fit") if c in result["table"]]  # fmt: skip
+    return {
+        "note": " ".join(result["notes"]),
+        "methods": table(methods(result["table"], spec), digits=3, text_columns=("method",)),
+        "fits": table(result["table"][shown], digits=4, text_columns=("condition",)),
     }
 
 

@@ -167,6 +167,10 @@ def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
     assert "Fitting methods side by side" in html
     assert main(["fit", "stigmergy", "--read", str(out), "--out", str(tmp_path / "again")]) == 0
     assert capsys.readouterr().out.splitlines()[:8] == printed.splitlines()[:8]
+    # the sweep report of the same runs shows the fitting methods side by side too
+    assert main(["report", str(out), "--out", str(tmp_path / "report.html")]) == 0
+    page = (tmp_path / "report.html").read_text()
+    assert "fitting methods side by side" in page and "joint refinement: the six" in page
 
 
 def test_fit_assignments_read_each_parameter_type():
