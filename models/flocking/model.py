@@ -51,9 +51,10 @@ class FlockingModel(SwarmModel):
     Params = FlockingParams
     STATES = ("flying",)
     STATE_STYLES = {"flying": StateStyle("#0072B2", marker="o", size=18.0, label="bird")}
-    ARROWS_LABEL = "velocity (one step)"
+    ARROWS_LABEL = "heading (as long as the visual distance)"
     PUBLISHED = PUBLISHED
     REPORT = REPORT
+    APP = "models.flocking.app"
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
@@ -112,9 +113,14 @@ class FlockingModel(SwarmModel):
         return {"polarisation": polarisation, "mean_neighbours": mean_neighbours}
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray]:
-        """Each bird's next move: its position and velocity x ``speed * dt`` (m)."""
-        p = self.params
-        return self.space.agent_positions.copy(), self.velocity * (p.speed * p.dt)
+        """Each bird's heading: its position and unit velocity x the visual distance (m), long
+        enough to see at the scale of the whole square.
+        """
+        return self.space.agent_positions.copy(), self.velocity * self.params.visual_distance
+
+    def reporters(self) -> dict:
+        """The state count and the flock's polarisation (the page plots it live)."""
+        return {**super().reporters(), "polarisation": lambda m: m._order()["polarisation"]}
 
     def metrics(self) -> dict:
         """Update steps run, the flock's polarisation |mean unit velocity| (0: headings at
