@@ -51,7 +51,7 @@ class FlockingModel(SwarmModel):
     Params = FlockingParams
     STATES = ("flying",)
     STATE_STYLES = {"flying": StateStyle("#0072B2", marker="o", size=18.0, label="bird")}
-    ARROWS_LABEL = "heading (as long as the visual distance)"
+    ARROWS_LABEL = "heading (half the visual distance long)"
     PUBLISHED = PUBLISHED
     REPORT = REPORT
     APP = "models.flocking.app"
@@ -113,10 +113,10 @@ class FlockingModel(SwarmModel):
         return {"polarisation": polarisation, "mean_neighbours": mean_neighbours}
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray]:
-        """Each bird's heading: its position and unit velocity x the visual distance (m), long
-        enough to see at the scale of the whole square.
+        """Each bird's heading: its position and unit velocity x half the visual distance (m),
+        long enough to see at the scale of the whole square.
         """
-        return self.space.agent_positions.copy(), self.velocity * self.params.visual_distance
+        return self.space.agent_positions.copy(), self.velocity * (self.params.visual_distance / 2)
 
     def reporters(self) -> dict:
         """The state count and the flock's polarisation (the page plots it live)."""
