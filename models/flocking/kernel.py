@@ -171,12 +171,11 @@ def flock_step(
 
     """
     half = 0.5 * extent
-    reach = visual * visual * (1.0 + 1e-9)  # above every squared distance whose root is <= visual
     cohere_factor, separate_factor, match_factor = factors[0], factors[1], factors[2]
     for k in range(order.shape[0]):
         i = order[k]
         px, py = pos[i, 0], pos[i, 1]
-        seen_i = 0
+        seen_i = 0.0
         cohere_x = cohere_y = separate_x = separate_y = match_x = match_y = 0.0
         c = cell[i]
         for q in range(around.shape[1]):
@@ -193,22 +192,20 @@ def flock_step(
                         dy -= extent
                     elif dy < -half:
                         dy += extent
-                    squared = dx * dx + dy * dy
-                    # sqrt only near or inside the radius: the test itself is on the
-                    # distance, exactly as declared (distance <= visual distance)
-                    if squared <= reach:
-                        distance = math.sqrt(squared)
-                        if distance <= visual:
-                            seen_i += 1
-                            cohere_x += dx
-                            cohere_y += dy
-                            if distance < separation:
-                                separate_x -= dx
-                                separate_y -= dy
-                            match_x += vel[j, 0]
-                            match_y += vel[j, 1]
+                    distance = math.sqrt(dx * dx + dy * dy)
+                    # weights 1 or 0 instead of branches: whether a candidate is a neighbour
+                    # is a coin toss the processor cannot predict
+                    near = 1.0 if distance <= visual else 0.0
+                    close = near if distance < separation else 0.0
+                    seen_i += near
+                    cohere_x += near * dx
+                    cohere_y += near * dy
+                    separate_x -= close * dx
+                    separate_y -= close * dy
+                    match_x += near * vel[j, 0]
+                    match_y += near * vel[j, 1]
                 j = after[j]
-        count = max(seen_i, 1)
+        count = max(seen_i, 1.0)
         vx = (
             vel[i, 0]
             + cohere_x / count * cohere_factor
@@ -229,7 +226,7 @@ def flock_step(
         y = wrap(py + vel[i, 1] * move, extent)
         pos[i, 0] = x
         pos[i, 1] = y
-        seen[i] = seen_i
+        seen[i] = int(seen_i)
         c_new = _cell_index(x, y, cells, side)
         if c_new != c:
             _unlink(i, head, after, before, cell)
