@@ -77,6 +77,8 @@ class SwarmModel(mesa.Model):
             move by whole steps, :mod:`abm.kinematics`): ``self.physics`` is then None.
         controller: the vectorised flight controller (may be set later as
             ``physics.controller``).
+        torus: True for a periodic world: the Mesa space wraps at the arena's edges (for a
+            wall-free arena and robots that move by whole steps, ``physics=False``).
 
     """
 
@@ -109,12 +111,18 @@ class SwarmModel(mesa.Model):
         flight: FlightParams | None = None,
         physics: bool = True,
         controller: Controller | None = None,
+        torus: bool = False,
     ) -> None:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
             raise ConfigError(f"seed must be an integer or None, got {seed!r}")
         if not isinstance(params, self.Params):
             raise ConfigError(
                 f"params must be a {self.Params.__name__}, got {type(params).__name__}"
+            )
+        if torus and physics:
+            raise ConfigError(
+                "torus=True needs physics=False: the flight physics bounces off the arena's "
+                "edges instead of wrapping"
             )
         super().__init__(rng=seed)
         # Mesa replaces ``self.step`` by its own scheduler wrapper; our clock is SimPy, so the
@@ -129,7 +137,7 @@ class SwarmModel(mesa.Model):
         self.step_duration = params.step_duration
         self.time_limit = params.time_limit
         self.space = ContinuousSpace(
-            [[0.0, arena.width], [0.0, arena.height]], torus=False, random=self.random
+            [[0.0, arena.width], [0.0, arena.height]], torus=torus, random=self.random
         )
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
         self.comms = CommNetwork(

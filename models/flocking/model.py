@@ -1,0 +1,139 @@
+"""The flocking model of the ABMFrameworksComparison suite on the framework.
+
+Birds are Mesa agents (continuous-space agents) on a periodic Mesa space; the flock's clock
+is SimPy: one process ticks once per update step, draws a new random activation order from
+``model.rng`` and runs the compiled sequential update
+(:func:`models.flocking.kernel.flock_step`) on the space's own position array, so every
+agent's ``position`` is current after each step.
+"""
+
+import numpy as np
+from mesa.experimental.continuous_space import ContinuousSpaceAgent
+
+from abm.arena import Arena
+from abm.model import SwarmModel
+from abm.styles import StateStyle
+from models.flocking.kernel import CellList, flock_step, order_parameters
+from models.flocking.params import FlockingParams
+from models.flocking.published import PUBLISHED, REPORT
+
+__all__ = ["Bird", "FlockingModel"]
+
+
+class Bird(ContinuousSpaceAgent):
+    """One bird: a Mesa continuous-space agent whose unit velocity is a row of the flock's.
+
+    A bird has one state ("flying"), draws no power and has no SimPy process of its own (the
+    flock's update moves every bird), so it is a plain Mesa agent rather than an
+    :class:`abm.robot.Robot`, whose power-mode ledger and state log it would not use. It is
+    counted in its state like a robot, and the model places all birds at once
+    (:meth:`~abm.model.SwarmModel.place`).
+
+    Args:
+        model: the flocking model.
+        row: its row in the space's position array and the flock's velocity array.
+
+    """
+
+    state = "flying"
+
+    def __init__(self, model: "FlockingModel", row: int) -> None:
+        super().__init__(model.space, model)
+        model._robot_added(self.unique_id)
+        model.recorder.move(None, self.state)
+        self.row = row
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """The bird's unit velocity (a view: the flock's update writes it)."""
+        return self.model.velocity[self.row]
+
+
+class FlockingModel(SwarmModel):
+    """Boids on a periodic square, updated one by one in a new random order each step.
+
+    Each step every bird, in turn, finds its neighbours within the visual distance, steers by
+    cohesion, separation and alignment, normalises its velocity and moves ``speed * dt``
+    (the ABMFrameworksComparison Flocking declaration; ``models/flocking/README.md``).
+    """
+
+    Params = FlockingParams
+    STATES = ("flying",)
+    STATE_STYLES = {"flying": StateStyle("#0072B2", marker="o", size=18.0, label="bird")}
+    ARROWS_LABEL = "heading (half the visual distance long)"
+    PUBLISHED = PUBLISHED
+    REPORT = REPORT
+    APP = "models.flocking.app"
+
+    def __init__(self, *, seed: int | None = None, **params: object) -> None:
+        p = self.make_params(**params)
+        super().__init__(
+            p,
+            Arena(np.ones((1, 1), dtype=bool), p.extent, name="periodic square"),
+            seed=seed,
+            physics=False,
+            torus=True,
+        )
+        positions = self.rng.random((p.birds, 2)) * p.extent
+        heading = self.rng.uniform(-1.0, 1.0, (p.birds, 2))
+        #: Unit velocity of every bird, one row per bird (the rows of the Mesa space).
+        self.velocity = heading / np.linalg.norm(heading, axis=1)[:, None]
+        self.birds = [Bird(self, row) for row in range(p.birds)]
+        self.place(np.array([bird.unique_id for bird in self.birds]), positions)
+        self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
+        self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
+        #: Neighbours each bird saw at its last update.
+        self.seen = np.zeros(p.birds, dtype=np.int64)
+        self.updates = 0
+        self.env.process(self._flock())
+
+    def _flock(self):
+        """The flock's clock: one update step per tick of ``dt`` seconds, ``steps`` of them."""
+        for _ in range(self.params.steps):
+            yield self.env.timeout(self.params.dt)
+            self.update()
+        self.finish(f"{self.params.steps} steps")
+
+    def update(self) -> None:
+        """One update step: every bird in a new random order, each seeing those moved before."""
+        p, cells = self.params, self.cells
+        flock_step(
+            self.space.agent_positions,
+            self.velocity,
+            self.rng.permutation(p.birds),
+            p.extent,
+            p.visual_distance,
+            p.separation,
+            self._factors,
+            p.speed * p.dt,
+            cells.cells,
+            cells.side,
+            cells.around,
+            cells.head,
+            cells.after,
+            cells.before,
+            cells.cell,
+            self.seen,
+        )
+        self.updates += 1
+        self.recorder.sample(**self._order())
+
+    def _order(self) -> dict:
+        polarisation, mean_neighbours = order_parameters(self.velocity, self.seen)
+        return {"polarisation": polarisation, "mean_neighbours": mean_neighbours}
+
+    def arrows(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each bird's heading: its position and unit velocity x half the visual distance (m),
+        long enough to see at the scale of the whole square.
+        """
+        return self.space.agent_positions.copy(), self.velocity * (self.params.visual_distance / 2)
+
+    def reporters(self) -> dict:
+        """The state count and the flock's polarisation (the page plots it live)."""
+        return {**super().reporters(), "polarisation": lambda m: m._order()["polarisation"]}
+
+    def metrics(self) -> dict:
+        """Update steps run, the flock's polarisation |mean unit velocity| (0: headings at
+        random, 1: all birds aligned) and the mean neighbour count at the last step.
+        """
+        return {"updates": self.updates, **self._order()}
