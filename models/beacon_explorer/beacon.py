@@ -135,9 +135,17 @@ class BeaconNetwork:
                     other.searched.add(d)
         if beacon.frontier:
             self.reverse.set_sources(self.reverse.sources - {robot})
-        self.comms.remove(robot)
+        if robot in self.comms.graph:  # a failed robot has left it already
+            self.comms.remove(robot)
         self.forwards.forget(robot)
         self.reverse.forget(robot)
+        self._topology_changed()
+        self.version += 1
+
+    def links_changed(self) -> None:
+        """A link between beacons went down or came back (an outage): the lattice is drawn
+        again and the hop counts re-flood over it.
+        """
         self._topology_changed()
         self.version += 1
 
