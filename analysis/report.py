@@ -56,12 +56,22 @@ def _derived(runs: pd.DataFrame, column: str | None) -> bool:
 
 
 def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame) -> ReportLayout:
-    """The layout for these runs: the model's, with ``x`` and ``hue`` kept only where they
-    vary (a swept parameter, or a numeric summary column derived from them); otherwise the
-    first numeric swept parameter as ``x`` and another as ``hue``.
+    """The layout for these runs: the model's (or the first of its ``alternatives`` whose
+    ``x`` the sweep varies), with ``x`` and ``hue`` kept only where they vary (a swept
+    parameter, or a numeric summary column derived from them); otherwise the first numeric
+    swept parameter as ``x`` and another as ``hue``.
     """
     swept = swept_keys(manifest, runs)
     numeric = [k for k in swept if _numeric(runs, k)]
+    if declared is not None:
+        declared = next(
+            (
+                layout
+                for layout in (declared, *declared.alternatives)
+                if layout.x in swept or _derived(runs, layout.x)
+            ),
+            declared,
+        )
     layout = declared or ReportLayout(metrics=tuple(m for m in COMMON_METRICS if m in runs))
     varies = set(swept) | {c for c in (layout.x, layout.hue) if _derived(runs, c)}
     x = layout.x if layout.x in varies else (numeric[0] if numeric else None)

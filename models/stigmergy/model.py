@@ -206,6 +206,12 @@ class StigmergyModel(SwarmModel):
         """Robots per state after every change: columns ``time``, ``wander``, ``beacon``."""
         return super().state_counts()
 
+    def samples(self) -> pd.DataFrame:
+        """The area seen, ca (%), every ``ca_sample_period`` s from 0 to the end of the run."""
+        step = self.params.ca_sample_period
+        times = np.append(np.arange(0.0, self.env.now, step), self.env.now)
+        return pd.DataFrame({"time": times, "ca": 100.0 * self.coverage.fraction_at(times)})
+
     def metrics(self) -> dict:
         """The run's Table 1 row: final w, b, ca, cb (%), and the map's figures."""
         counts = self.recorder.counts
