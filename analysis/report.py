@@ -22,7 +22,7 @@ from abm.errors import ABMError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from analysis import stats
-from analysis.compare import NOT_IN_SWEEP, compare_published
+from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
 from analysis.sweep import load_results, swept_keys
@@ -200,10 +200,11 @@ def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
 
 
 def _claims(sweeps: list[_Sweep], claims: list[Claim]) -> list[dict] | None:
-    """Every claim with ours and its verdict on all the sweeps' runs."""
+    """Every claim with ours and its verdict on all the sweeps' fault-free runs."""
     if not claims:
         return None
-    runs = stats.ok_runs(pd.concat([s.runs for s in sweeps], ignore_index=True))
+    # the papers' claims are about swarms without injected faults
+    runs = fault_free(stats.ok_runs(pd.concat([s.runs for s in sweeps], ignore_index=True)))
     frames = [s.samples for s in sweeps if not s.samples.empty]
     samples = None
     if frames:

@@ -207,9 +207,11 @@ class StigmergyModel(SwarmModel):
         return super().state_counts()
 
     def samples(self) -> pd.DataFrame:
-        """The area seen, ca (%), every ``ca_sample_period`` s from 0 to the end of the run."""
+        """The area seen, ca (%), every ``ca_sample_period`` s from 0 until the first sample
+        at or after the end of the run (which holds the final ca).
+        """
         step = self.params.ca_sample_period
-        times = np.append(np.arange(0.0, self.env.now, step), self.env.now)
+        times = step * np.arange(int(np.ceil(self.env.now / step)) + 1)
         return pd.DataFrame({"time": times, "ca": 100.0 * self.coverage.fraction_at(times)})
 
     def metrics(self) -> dict:

@@ -112,7 +112,7 @@ FAULT_REPORT = ReportLayout(
     curves=("ca",),
     labels={
         "fault_rate": "Beacon failure rate lambda (1/s)",
-        "time": "Time to cover 95 % (s)",
+        "time": "Time (s); a run ends when ca reaches 95 %",
         "failed": "Beacons failed per run",
         "beacon": "Live beacons at the end",
         "robots": "Robots launched",
