@@ -112,7 +112,7 @@ class BeaconNetwork:
     def attach(self, robot: int, position: np.ndarray, is_base: bool = False) -> Beacon:
         """A robot attached at ``position``: sense, join the network, start signalling."""
         position = np.asarray(position, dtype=float)
-        walls, corridor = self._sense_walls(robot, position)
+        walls, corridor = self._sense_walls(position, robot)
         beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
         self.beacons[robot] = beacon
         if is_base:
@@ -189,7 +189,9 @@ class BeaconNetwork:
         return list(self.lattice.neighbors(robot)) if robot in self.lattice else []
 
     # ------------------------------------------------------------------ sensing
-    def _sense_walls(self, robot: int, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
+    def _sense_walls(
+        self, position: np.ndarray, robot: int | None = None
+    ) -> tuple[tuple[bool, ...], bool]:
         """Obstacle labels N/E/S/W and the corridor/open-space classification.
 
         Corridor beacon (paper): two opposing walls closer than 3 m. A corridor junction senses
@@ -204,7 +206,9 @@ class BeaconNetwork:
         reading = distance_sensors(
             self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise
         )
-        reading = self.sensed("walls", [robot], reading)[0]
+        if robot is not None:  # the readings of this robot's (possibly faulty) sensors
+            reading = self.sensed("walls", [robot], reading)
+        reading = reading[0]
         walls = tuple(bool(r < p.obstacle_threshold) for r in reading)
         # Five rays into each quadrant (NE, SE, SW, NW; 15 to 75 degrees from its first
         # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
@@ -212,7 +216,8 @@ class BeaconNetwork:
         reach = ray_sensors(
             self.arena, position, QUADRANT_RAYS, self.rng, p.sensor_range, p.sensor_noise
         )
-        reach = self.sensed("rays", [robot], reach[None])[0]
+        if robot is not None:
+            reach = self.sensed("rays", [robot], reach[None])[0]
         quadrant_clear = (reach > p.open_diagonal).reshape(4, -1).all(axis=1)
         open_quadrant = any(
             not walls[d] and not walls[(d + 1) % 4] and quadrant_clear[d] for d in DIRECTIONS
