@@ -10,6 +10,11 @@ probability ``loss`` each attempt may be lost; because the papers' robots re-sen
 a lost message arrives on a later attempt, so loss shows up as extra delay (a geometric number
 of periods), never as a silent gap.
 
+Faults (:mod:`abm.faults`) act here too: :meth:`CommNetwork.block` takes a link down until
+:meth:`CommNetwork.unblock` (the pair cannot link meanwhile, whatever the radio reaches), and
+during a loss burst (:meth:`CommNetwork.start_burst`) each transmission is lost with the
+burst's probability: it is dropped (``on_drop``), not delayed.
+
 A :class:`LinkPolicy` (e.g. :class:`TreeLinks`, a rooted tree's parent/child edges) says which
 links may carry messages at all: the graph holds only links the radio reaches *and* the policy
 allows, and sending over a pair the policy forbids raises :class:`~abm.errors.LinkError`. A
@@ -260,7 +265,11 @@ class CommNetwork:
         self.log = log
         self.graph = nx.Graph()
         self.messages_sent = 0
+        self.messages_lost = 0  # dropped by loss bursts
         self._listeners: list[Callable[[str, Node, Node], None]] = []
+        self._blocked: set[frozenset] = set()
+        self._burst: tuple[float, np.random.Generator] | None = None
+        self._burst_listeners: list[Callable[[], None]] = []
 
     def on_link_change(self, listener: Callable[[str, Node, Node], None]) -> None:
         """Call ``listener("up"|"down", a, b)`` whenever a link appears or disappears."""
@@ -305,6 +314,8 @@ class CommNetwork:
         """The nodes among ``others`` that ``node`` at ``position`` is linked to."""
         if self.policy is not None:
             others = [o for o in others if self.policy.allows(node, o)]
+        if self._blocked:
+            others = [o for o in others if frozenset((node, o)) not in self._blocked]
         unplaced = [o for o in others if self.graph.nodes[o]["pos"] is None]
         if position is None or len(unplaced) == len(others):
             return others if position is None else unplaced
@@ -334,6 +345,47 @@ class CommNetwork:
         for other in neighbours:
             self._notify("down", node, other)
         return neighbours
+
+    def block(self, a: Node, b: Node) -> None:
+        """A link outage: ``a`` and ``b`` cannot link until :meth:`unblock` (their link, if
+        up, goes down now and messages in flight over it are dropped).
+        """
+        self._blocked.add(frozenset((a, b)))
+        if self.graph.has_edge(a, b):
+            self.graph.remove_edge(a, b)
+            self._notify("down", a, b)
+
+    def unblock(self, a: Node, b: Node) -> bool:
+        """The outage of ``a``-``b`` ended: the link is drawn again (both nodes still in the
+        network and reachable); returns True if it came back up.
+        """
+        self._blocked.discard(frozenset((a, b)))
+        if a not in self.graph or b not in self.graph or self.graph.has_edge(a, b):
+            return False
+        if not self._reachable(self.graph.nodes[a]["pos"], [b], a):
+            return False
+        self.graph.add_edge(a, b)
+        self._notify("up", a, b)
+        return True
+
+    def start_burst(self, loss: float, rng: np.random.Generator) -> None:
+        """A message-loss burst begins: each transmission from now on is lost with
+        probability ``loss`` (drawn from ``rng``) until :meth:`end_burst`.
+        """
+        check_range("loss_burst_loss", loss, 0.0, 1.0, low_open=True)
+        self._burst = (float(loss), rng)
+
+    def end_burst(self) -> None:
+        """The loss burst is over; listeners of :meth:`on_burst_end` are told."""
+        self._burst = None
+        for listener in self._burst_listeners:
+            listener()
+
+    def on_burst_end(self, listener: Callable[[], None]) -> None:
+        """Call ``listener()`` when a loss burst ends (senders that re-send continually
+        repeat what was lost).
+        """
+        self._burst_listeners.append(listener)
 
     def _notify(self, kind: str, a: Node, b: Node) -> None:
         for listener in self._listeners:
@@ -372,7 +424,8 @@ class CommNetwork:
 
         On arrival ``handler(src, dst, payload)`` runs; if a node left the network or the link
         broke while the message was in flight, ``on_drop(src, dst, payload)`` runs instead.
-        ``kind``, ``items``, ``nbytes``, ``phase``, ``origin`` and ``hop`` describe the message
+        A message lost in a loss burst is dropped the same way. ``kind``, ``items``,
+        ``nbytes``, ``phase``, ``origin`` and ``hop`` describe the message
         for the log (see :class:`MessageLog`).
 
         Raises:
@@ -384,10 +437,15 @@ class CommNetwork:
         if self.log is not None:
             self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
         self.messages_sent += 1
+        lost = False
+        if self._burst is not None:
+            loss, rng = self._burst
+            lost = bool(rng.random() < loss)
+            self.messages_lost += lost
         event = self.env.timeout(self.delivery_delay(), value=payload)
 
         def deliver(_event: simpy.Event) -> None:
-            if self.graph.has_edge(src, dst):
+            if not lost and self.graph.has_edge(src, dst):
                 handler(src, dst, payload)
             elif on_drop is not None:
                 on_drop(src, dst, payload)
@@ -443,7 +501,9 @@ class GradientFlood:
         self.epoch = 0
         self.restarted_at = network.env.now
         self.in_flight = 0
+        self._lost_since_restart = False
         self._listeners: list[Callable[[Node, int, int], None]] = []
+        network.on_burst_end(self._after_burst)
 
     def on_change(self, listener: Callable[[Node, int, int], None]) -> None:
         """Call ``listener(node, old, new)`` whenever a node's value changes."""
@@ -483,6 +543,7 @@ class GradientFlood:
         """Start a new wave from the current sources (call after the topology changed)."""
         self.epoch += 1
         self.restarted_at = self.network.env.now
+        self._lost_since_restart = False
         epoch = self.epoch
         for source in self.sources:
             if source in self.network.graph:
@@ -523,6 +584,14 @@ class GradientFlood:
 
     def _dropped(self, _src: Node, _dst: Node, _payload: tuple[int, int]) -> None:
         self.in_flight -= 1
+        self._lost_since_restart = True
+
+    def _after_burst(self) -> None:
+        """The sources re-emit continually: what a loss burst dropped arrives with the next
+        emission, i.e. a new wave once the burst is over.
+        """
+        if self._lost_since_restart:
+            self.restart()
 
     def _expire(self, epoch: int) -> None:
         for node in list(self.network.graph.nodes):

@@ -11,6 +11,7 @@ import inspect
 from functools import cache
 
 from abm.errors import ContractError
+from abm.faults import FAULT_KINDS
 from abm.params import SwarmParams, field_help
 from abm.published import Claim, MacroSpec, Published, ReportLayout
 from abm.styles import StateStyle
@@ -25,7 +26,8 @@ def check_model(cls: type) -> None:
     subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
     docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
     fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
-    ``MACRO``, ``PUBLISHED``, ``REPORT``, ``APP`` and ``QUICK`` of the documented types.
+    ``MACRO``, ``PUBLISHED``, ``REPORT``, ``APP``, ``QUICK`` and ``FAULTS`` of the documented
+    types.
     """
     _check(cls)
 
@@ -76,6 +78,11 @@ def _check(cls: type) -> None:
         raise ContractError(f"{name}.REPORT must be an abm.published.ReportLayout or None")
     if cls.APP is not None and not isinstance(cls.APP, str):
         raise ContractError(f"{name}.APP must be a module name (str) or None")
+    if not (isinstance(cls.FAULTS, frozenset) and cls.FAULTS <= FAULT_KINDS):
+        raise ContractError(
+            f"{name}.FAULTS must be a frozenset of fault kinds among "
+            f"{', '.join(sorted(FAULT_KINDS))}, got {cls.FAULTS!r}"
+        )
     unknown = set(cls.QUICK) - {f.name for f in dataclasses.fields(cls.Params)}
     if unknown:
         raise ContractError(f"{name}.QUICK names no parameter: {', '.join(sorted(unknown))}")

@@ -26,11 +26,16 @@ from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError
+from abm.faults import FAILED, FaultInjector
 from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
+from abm.robot import Robot
 from abm.styles import Layer, StateStyle, resolve_styles
+
+#: How a failed robot is drawn unless the model says otherwise.
+FAILED_STYLE = StateStyle("#000000", marker="X", size=45.0, layer=6.0)
 
 __all__ = ["SwarmModel"]
 
@@ -55,6 +60,11 @@ class SwarmModel(mesa.Model):
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
       already shows every part of the model (empty when the defaults do); the contract tests
       run every model with them.
+    - ``FAULTS``: the kinds of fault the model handles ("robot", "link", "sensor"; see
+      :mod:`abm.faults`): the fault keywords of other kinds must stay at their defaults. A
+      model declares "robot" once its behaviour copes with :meth:`on_robot_failed`, "link"
+      once its messages travel on ``self.comms``, "sensor" once it reads its sensors through
+      ``self.faults.sensed``.
 
     What every model instance offers the tools: ``params``, ``coverage`` (a
     :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
@@ -79,6 +89,8 @@ class SwarmModel(mesa.Model):
             ``physics.controller``).
         torus: True for a periodic world: the Mesa space wraps at the arena's edges (for a
             wall-free arena and robots that move by whole steps, ``physics=False``).
+        failures: the model's robots can fail although no fault keyword asks for it (e.g.
+            batteries): the state ``failed`` is counted.
 
     """
 
@@ -92,6 +104,7 @@ class SwarmModel(mesa.Model):
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}
+    FAULTS: ClassVar[frozenset[str]] = frozenset()
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
@@ -112,6 +125,7 @@ class SwarmModel(mesa.Model):
         physics: bool = True,
         controller: Controller | None = None,
         torus: bool = False,
+        failures: bool = False,
     ) -> None:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
             raise ConfigError(f"seed must be an integer or None, got {seed!r}")
@@ -144,7 +158,10 @@ class SwarmModel(mesa.Model):
             self.env, arena, self.rng, comm_range, latency, message_loss, shadowing
         )
         self.ledger = EnergyLedger(self.env, PowerModes(powers))
+        if (failures or params.fault_kinds & {"robot"}) and FAILED not in self.STATES:
+            self.STATES = (*self.STATES, FAILED)
         self.recorder = Recorder(self.env, self.STATES)
+        self.faults = FaultInjector(self)
         self.coverage: CoverageRaster | None = None
         self.wall_collisions = 0
         self.robot_collisions = 0
@@ -190,7 +207,7 @@ class SwarmModel(mesa.Model):
     @property
     def state_styles(self) -> dict[str, StateStyle]:
         """A style for every state of this run (declared or from the palette)."""
-        return resolve_styles(self.STATES, self.STATE_STYLES)
+        return resolve_styles(self.STATES, {FAILED: FAILED_STYLE, **self.STATE_STYLES})
 
     # ------------------------------------------------------------------ time
     @property
@@ -247,6 +264,21 @@ class SwarmModel(mesa.Model):
         """The model's own results, added to the common summary keys (override)."""
         return {}
 
+    def on_robot_failed(self, robot: Robot) -> None:
+        """A robot failed (override for the model's own structures and repair).
+
+        When this runs the framework has already done its part: the fault is in the event
+        log, the robot is out of the air and the comm network, its state is ``failed``, its
+        energy ledger is closed, its process interrupted, and ``robot.failure`` says when, why
+        and in what state. The model drops it from its own structures (a beacon network, a
+        tree, particle arrays) and may start a repair.
+        """
+
+    def on_link_fault(self, a: object, b: object, up: bool) -> None:
+        """A link outage took the link ``a``-``b`` down (``up`` False) or it came back up
+        (override when the model keeps structures built on the comm graph's links).
+        """
+
     def arrows(self) -> tuple[np.ndarray, np.ndarray] | None:
         """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
         return None
@@ -278,7 +310,7 @@ class SwarmModel(mesa.Model):
         ``time`` (s) and ``end_reason`` always; ``collisions`` (wall contacts plus two per
         robot-robot contact), ``wall_collisions`` and ``robot_collisions``; ``coverage_area``
         (% of the free area) when the model covers; ``energy_total`` (J) when it has an energy
-        model.
+        model; ``failed`` (robots failed so far) when its robots can fail (:mod:`abm.faults`).
         """
         out = {
             "time": float(self.env.now),
@@ -291,6 +323,8 @@ class SwarmModel(mesa.Model):
             out["coverage_area"] = 100.0 * self.coverage.fraction
         if self.ledger.has_powers:
             out["energy_total"] = self.ledger.energy()
+        if FAILED in self.STATES:
+            out["failed"] = len(self.faults.failures)
         return out
 
     def summary(self) -> dict:

@@ -24,6 +24,8 @@ import numpy as np
 from abm.errors import ConfigError, check_choice, check_range
 
 __all__ = [
+    "FAULT_KEYWORDS",
+    "FaultParams",
     "SwarmParams",
     "check_value",
     "field_help",
@@ -73,8 +75,100 @@ def field_rule(f: dataclasses.Field) -> dict:
 
 
 @dataclasses.dataclass(frozen=True)
-class SwarmParams:
-    """What every swarm model has, with neutral defaults (a model overrides what it needs).
+class _RunParams:
+    """The fields every run has (described in :class:`SwarmParams`); declared apart so they
+    come before the fault keywords in every listing.
+    """
+
+    time_limit: float = param(3600.0, low=0.0, low_open=True)
+    step_duration: float = param(1.0, low=0.0, low_open=True)
+    dt: float = param(0.1, low=0.0, low_open=True)
+    trace_interval: float | None = param(1.0, low=0.0, low_open=True)
+
+
+@dataclasses.dataclass(frozen=True)
+class FaultParams:
+    """The fault injector's keywords (:mod:`abm.faults`), which every model's params inherit
+    through :class:`SwarmParams`. The defaults inject nothing. A model accepts the keywords of
+    the fault kinds it declares in ``SwarmModel.FAULTS``; a non-default keyword of another kind
+    is a ConfigError (checked when the model is built).
+
+    A secondary keyword (shape, states, duration, loss, kind, noise) qualifies its rate: with
+    the rate 0 there is no fault to shape, so sweeps may run a rate down to 0 with the others
+    fixed.
+
+    Attributes:
+        fault_rate: lambda, each robot's failure hazard (1/s; "robot" faults): its time to
+            failure is Weibull with shape ``fault_shape`` and scale 1/lambda (exponential
+            with mean 1/lambda at shape 1), counted only while it is in ``fault_states``
+            (ours; 0: no random failures).
+        fault_shape: k, the Weibull shape of the time to failure (1: exponential, a constant
+            hazard; > 1: wear-out; < 1: infant mortality) (ours).
+        fault_times: simulated times (s) at which one robot, drawn uniformly among those
+            in ``fault_states`` that have not failed, fails ("robot" faults; ours).
+        fault_states: the states in which a robot can fail (empty: any state) (ours).
+        link_outage_rate: outages per second over the whole comm network ("link" faults):
+            each takes one link, drawn uniformly among the links up, down for
+            ``link_outage_duration`` (ours; 0: none).
+        link_outage_duration: how long one link outage lasts (s) (ours).
+        loss_burst_rate: message-loss bursts per second ("link" faults): during a burst each
+            transmission is lost with probability ``loss_burst_loss`` (ours; 0: none).
+        loss_burst_duration: how long one loss burst lasts (s) (ours).
+        loss_burst_loss: probability that a transmission sent during a burst is lost (ours).
+        sensor_fault_rate: each robot's hazard of a sensor fault (1/s; "sensor" faults): from
+            then on its readings are stuck at the first faulty reading or noisy (ours; 0: none).
+        sensor_fault_kind: "stuck" (the reading never changes again) or "noisy" (Gaussian
+            noise of sd ``sensor_fault_noise`` added to every reading) (ours).
+        sensor_fault_noise: sd of the extra noise of a "noisy" sensor, in the reading's unit
+            (m for distance sensors) (ours).
+
+    """
+
+    fault_rate: float = param(0.0, low=0.0)
+    fault_shape: float = param(1.0, low=0.0, low_open=True)
+    fault_times: tuple[float, ...] = param(())
+    fault_states: tuple[str, ...] = param(())
+    link_outage_rate: float = param(0.0, low=0.0)
+    link_outage_duration: float = param(10.0, low=0.0, low_open=True)
+    loss_burst_rate: float = param(0.0, low=0.0)
+    loss_burst_duration: float = param(5.0, low=0.0, low_open=True)
+    loss_burst_loss: float = param(1.0, low=0.0, high=1.0, low_open=True)
+    sensor_fault_rate: float = param(0.0, low=0.0)
+    sensor_fault_kind: str = param("stuck", choices=("stuck", "noisy"))
+    sensor_fault_noise: float = param(0.5, low=0.0)
+
+    @property
+    def fault_kinds(self) -> frozenset[str]:
+        """The kinds of fault these keywords inject: "robot", "link" and/or "sensor"."""
+        kinds = set()
+        if self.fault_rate > 0 or self.fault_times:
+            kinds.add("robot")
+        if self.link_outage_rate > 0 or self.loss_burst_rate > 0:
+            kinds.add("link")
+        if self.sensor_fault_rate > 0:
+            kinds.add("sensor")
+        return frozenset(kinds)
+
+    def _check_faults(self) -> None:
+        """Cross-field and finiteness rules of the fault keywords."""
+        for name in FAULT_KEYWORDS:
+            value = getattr(self, name)
+            if isinstance(value, float) and not np.isfinite(value):
+                raise ConfigError(f"{name} must be finite, got {value!r}")
+        for t in self.fault_times:
+            if not np.isfinite(t) or t < 0:
+                raise ConfigError(
+                    f"fault_times must hold finite times >= 0 s, got {self.fault_times!r}"
+                )
+        bad = [s for s in self.fault_states if not isinstance(s, str) or not s]
+        if bad or len(set(self.fault_states)) != len(self.fault_states):
+            raise ConfigError(f"fault_states must name distinct states, got {self.fault_states!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class SwarmParams(FaultParams, _RunParams):
+    """What every swarm model has, with neutral defaults (a model overrides what it needs):
+    the run's clock settings below and the fault keywords of :class:`FaultParams`.
 
     Attributes:
         time_limit: the run ends at this simulated time at the latest (s).
@@ -85,15 +179,11 @@ class SwarmParams:
 
     """
 
-    time_limit: float = param(3600.0, low=0.0, low_open=True)
-    step_duration: float = param(1.0, low=0.0, low_open=True)
-    dt: float = param(0.1, low=0.0, low_open=True)
-    trace_interval: float | None = param(1.0, low=0.0, low_open=True)
-
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             value = _checked(f, getattr(self, f.name))
             object.__setattr__(self, f.name, value)
+        self._check_faults()
 
     def replace(self, **changes: object) -> "SwarmParams":
         """A copy with some fields changed (validated like a new instance)."""
@@ -106,6 +196,10 @@ class SwarmParams:
     def plain(self) -> dict:
         """Field name -> a JSON-friendly value (others, such as arrays, as their repr)."""
         return {name: plain_value(value) for name, value in self.as_dict().items()}
+
+
+#: The fault injector's keywords (fields of :class:`FaultParams`), in declaration order.
+FAULT_KEYWORDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(FaultParams))
 
 
 def param_fields(params_cls: type[SwarmParams]) -> list[dataclasses.Field]:

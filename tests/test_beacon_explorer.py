@@ -284,7 +284,9 @@ def test_a_flat_battery_fails_the_robot_after_exactly_its_charge(seed, world, ca
         counts[["ground", "explorer", "beacon", "failed"]].sum(axis=1) == model.n_robots + 1
     ).all()
     assert model.summary()["n_failed"] == len(failed)
-    logged = model.events().query("event == 'battery_empty'")
+    events = model.events()
+    logged = events[events.event == "fault"]
+    assert set(logged.get("cause", [])) <= {"battery"}
     assert sorted(logged.robot.astype(int)) == sorted(failed)
 
 

@@ -58,7 +58,8 @@ def _flag(f: dataclasses.Field) -> dict:
     tuple_args = next((typing.get_args(k) for k in kinds if typing.get_origin(k) is tuple), None)
     if tuple_args:
         item = tuple_args[0] if tuple_args[0] in (int, float) else str
-        return {"nargs": len(tuple_args), "type": _maybe_none(item, optional), "metavar": "V"}
+        nargs = "*" if Ellipsis in tuple_args else len(tuple_args)
+        return {"nargs": nargs, "type": _maybe_none(item, optional), "metavar": "V"}
     if float in kinds and len(kinds) == 1:
         return {"type": _maybe_none(float, optional), "metavar": "X"}
     if int in kinds and len(kinds) == 1:

@@ -23,6 +23,7 @@ from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
 from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
+from models.beacon_explorer.repair import link_fault, robot_failed
 
 __all__ = ["BeaconExplorerModel"]
 
@@ -53,11 +54,10 @@ class BeaconExplorerModel(SwarmModel):
     PUBLISHED = published.PUBLISHED
     REPORT = published.REPORT
     APP = "models.beacon_explorer.app"
+    FAULTS = frozenset({"robot", "link", "sensor"})
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
-        if p.battery_capacity is not None:
-            self.STATES = (*type(self).STATES, "failed")
         self.world: World | None = None
 
         def build_world(rng: np.random.Generator) -> Arena:
@@ -68,6 +68,7 @@ class BeaconExplorerModel(SwarmModel):
             p,
             build_world,
             seed=seed,
+            failures=p.battery_capacity is not None,
             comm_range=p.comm_range,
             latency=p.latency,
             message_loss=p.message_loss,
@@ -91,6 +92,7 @@ class BeaconExplorerModel(SwarmModel):
         self.beacons = BeaconNetwork(
             self.env, self.arena, self.comms, self.rng, p, self.physics.dt, self._may_detach
         )
+        self.beacons.sensed = self.faults.sensed  # a beacon's distance sensors may be faulty
         self.physics.controller = ExplorerController(
             self.arena, self.beacons, self.rng, p, self.physics
         )
@@ -132,6 +134,7 @@ class BeaconExplorerModel(SwarmModel):
         base = Robot(self, start, "beacon", self._beacon_mode())
         if self.battery is not None:
             self.battery.exempt(base.unique_id)  # see ``battery_capacity``
+        self.faults.exempt(base)  # the powered, pre-deployed base station
         self.base = base
         self.robots[base.unique_id] = base
         self.recorder.log("attach", base.unique_id, x=start[0], y=start[1])
@@ -205,17 +208,15 @@ class BeaconExplorerModel(SwarmModel):
 
     def _battery_empty(self, robot_id: int) -> None:
         """A battery ran flat: the robot fails where it is, whatever it was doing."""
-        robot = self.robots[robot_id]
-        if robot_id in self.physics.ids:
-            self.physics.stop(robot_id)
-        if robot_id in self.beacons.beacons:
-            self.beacons.detach(robot_id, searched=False)
-        self._detach_wanted.pop(robot_id, None)
-        if robot.process is not None and robot.process.is_alive:
-            robot.process.interrupt("battery empty")
-        robot.set_state("failed")
-        robot.set_mode("off")
-        self.recorder.log("battery_empty", robot_id)
+        self.faults.fail(self.robots[robot_id], "battery")
+
+    def on_robot_failed(self, robot: Robot) -> None:
+        """A robot failed (a fault or a flat battery): see :func:`repair.robot_failed`."""
+        robot_failed(self, robot)
+
+    def on_link_fault(self, a: object, b: object, up: bool) -> None:
+        """A link outage began or ended: see :func:`repair.link_fault`."""
+        link_fault(self, a, b)
 
     def _may_detach(self, robot: int) -> None:
         wanted = self._detach_wanted.get(robot)

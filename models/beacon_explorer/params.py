@@ -56,6 +56,12 @@ class BeaconExplorerParams(SwarmParams):
             out of the air, a beacon leaves the network without its neighbours taking the area
             beyond it as searched, and the robot is counted in the extra state "failed". The
             pre-deployed base is not battery-limited.
+        repair: the beacons tell a failed neighbour (a fault of :mod:`abm.faults`, a flat
+            battery) from one that detached after its search: they advertise its spot as
+            empty again, so explorers and redeploying beacons fill the hole and the hop counts
+            beyond it heal (ours: the paper has no failures). Off, a failed beacon looks like
+            one that detached -- the paper's controller knows no other way to lose a
+            neighbour -- and the area beyond it counts as searched.
         start: base position (m) in a map world; None: a built-in map's own start point, or
             the centre of a map file's first free pixel. Generated worlds place the base in a
             random start cell, and a World carries its own start, so giving start for them is
@@ -170,6 +176,7 @@ class BeaconExplorerParams(SwarmParams):
     launch_period: float = param(6.0, low=0.0, low_open=True)
     hover_beacons: bool = False
     battery_capacity: float | None = param(None, low=0.0, low_open=True)
+    repair: bool = True
     start: tuple[float, float] | None = None
     map_resolution: float | None = param(None, low=0.0, low_open=True)
     interspace: float = param(3.0, low=0.0, low_open=True)

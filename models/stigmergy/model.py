@@ -58,6 +58,7 @@ class StigmergyModel(SwarmModel):
     PUBLISHED = published.PUBLISHED
     REPORT = published.REPORT
     APP = "models.stigmergy.app"
+    FAULTS = frozenset({"robot"})
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
@@ -92,8 +93,10 @@ class StigmergyModel(SwarmModel):
         self.controller = WanderController(self)
         self.physics.controller = self.controller
         self.beacon_positions = np.empty((0, 2))
+        self.beacon_ids: list[int] = []  # the robot of each row of beacon_positions
         self.robots: list[Robot] = []
         first = Robot(self, start, "beacon", "beacon")
+        self.faults.exempt(first)  # p0's beacon stands for the launch site
         self.robots.append(first)
         self._land(first, 0, start)
         self.env.process(self._launcher())
@@ -164,7 +167,18 @@ class StigmergyModel(SwarmModel):
             line_of_sight=self.params.deposit_line_of_sight,
         )
         self.beacon_positions = np.vstack([self.beacon_positions, position[None]])
+        self.beacon_ids.append(robot.unique_id)
         self.stamp_coverage(position[None])
+
+    def on_robot_failed(self, robot: Robot) -> None:
+        """A failed beacon stops relaying: wanders no longer link to it (so they fly on until
+        the next live beacon is l_i away). Its footprint stays and decays like every deposit
+        (C_eps); a failed wander has left the air already.
+        """
+        if robot.unique_id in self.beacon_ids:
+            row = self.beacon_ids.index(robot.unique_id)
+            del self.beacon_ids[row]
+            self.beacon_positions = np.delete(self.beacon_positions, row, axis=0)
 
     # ------------------------------------------------------------------ sensing
     def link_distance(self, points: np.ndarray) -> np.ndarray:
@@ -184,12 +198,21 @@ class StigmergyModel(SwarmModel):
 
     def cb(self) -> float:
         """Fraction of free area seen by the robots where they are now (all states)."""
-        return self.coverage.seen_fraction(np.array([r.position for r in self.robots]))
+        live = [r.position for r in self.robots if not r.failed]
+        return self.coverage.seen_fraction(np.array(live).reshape(-1, 2))
 
     # ------------------------------------------------------------------ data
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: columns ``time``, ``wander``, ``beacon``."""
         return super().state_counts()
+
+    def samples(self) -> pd.DataFrame:
+        """The area seen, ca (%), every ``ca_sample_period`` s from 0 until the first sample
+        at or after the end of the run (which holds the final ca).
+        """
+        step = self.params.ca_sample_period
+        times = step * np.arange(int(np.ceil(self.env.now / step)) + 1)
+        return pd.DataFrame({"time": times, "ca": 100.0 * self.coverage.fraction_at(times)})
 
     def metrics(self) -> dict:
         """The run's Table 1 row: final w, b, ca, cb (%), and the map's figures."""

@@ -1,0 +1,35 @@
+"""What the beacon/explorer swarm does when a robot fails or a link goes down (issue 13).
+
+The framework (:mod:`abm.faults`) has already taken a failed robot out of the air, the comm
+network and the counts; here the swarm's own structures follow. A failed beacon leaves the
+beacon network, whose hop-count gradients re-flood over the surviving lattice (the paper's
+self-healing, App. A). With ``repair`` on, its neighbours advertise its spot as empty again
+(it is not searched: the beacon did not leave because its area was done), so the next
+explorer -- one still on the ground, or a beacon redeploying from a searched area -- fills the
+hole; off, the neighbours take the area beyond it as searched, as for any neighbour that
+leaves in the paper's controller.
+"""
+
+from typing import TYPE_CHECKING
+
+from abm.robot import Robot
+
+if TYPE_CHECKING:
+    from models.beacon_explorer.model import BeaconExplorerModel
+
+__all__ = ["link_fault", "robot_failed"]
+
+
+def robot_failed(model: "BeaconExplorerModel", robot: Robot) -> None:
+    """Drop a failed robot from the beacon network (a beacon) and forget its pending detach."""
+    rid = robot.unique_id
+    model._detach_wanted.pop(rid, None)
+    if rid in model.beacons.beacons:
+        model.beacons.detach(rid, searched=not model.params.repair)
+
+
+def link_fault(model: "BeaconExplorerModel", a: object, b: object) -> None:
+    """A link between two beacons went down or came back: the lattice follows the radio."""
+    beacons = model.beacons.beacons
+    if a in beacons and b in beacons:
+        model.beacons.links_changed()
