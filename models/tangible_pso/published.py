@@ -89,7 +89,16 @@ CLAIMS = [
 REPORT = ReportLayout(
     x="neighbours",
     hue="motion_planning",
-    metrics=("collision", "deadlock", "best_cost", "collision_proposal", "deadlock_frozen"),
+    metrics=(
+        "collision",
+        "deadlock",
+        "best_cost",
+        "collision_proposal",
+        "deadlock_frozen",
+        "deployed_cost_ratio",
+        "survivors_localised",
+        "mavs_failed",
+    ),  # fmt: skip
     curves=("best_cost",),
     curve_x="iteration",
     curve_spread="sd",
@@ -102,10 +111,18 @@ REPORT = ReportLayout(
         "collision_proposal": "Runs with a proposal in a zone (share)",
         "deadlock_frozen": "Runs with every particle frozen (share)",
         "iteration": "PSO iteration",
+        "fault_rate": "Failure hazard of a deploying MAV (1/s)",
+        "deployed_cost_ratio": "Deployed cost (share of CF with nothing seen)",
+        "survivors_localised": "Survivors stayed localised (share)",
+        "mavs_failed": "MAVs failed in the deployment",
     },
     notes={
         "collision": "a run counts when the feasibility check stopped an MAV at a no-fly zone",
         "deadlock": "a run counts when, in each of its last 10 iterations, at least half the "
         "particles had an MAV stopped at a no-fly zone",
+        "deployed_cost_ratio": "with deploy: eq. 1 over the MAVs alive at the end, divided by "
+        "the cost with nothing observed",
+        "survivors_localised": "with deploy: after the first failure every survivor kept k "
+        "neighbours at every realised state",
     },
 )
