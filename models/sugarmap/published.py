@@ -115,6 +115,6 @@ REPORT = ReportLayout(
         "n_anchors": "Anchors",
         "n_explorers": "Explorers",
         "n_particles": "Particles",
-        "fault_rate": "Failure hazard of a landed anchor (1/s)",
+        "fault_rate": "Failure hazard of an anchor (1/s)",
     },
 )
