@@ -133,7 +133,10 @@ CLAIMS = [
 REPORT = ReportLayout(
     x="N",
     hue="W",
-    metrics=("scout_scan_area", "worker_scan_area", "scout_drive", "worker_drive"),
+    metrics=(
+        "scout_scan_area", "worker_scan_area", "scout_drive", "worker_drive",
+        "completion_time", "queen_iterations",
+    ),  # fmt: skip
     labels={
         "N": "Number of robots N = 1 + W + W S",
         "W": "Workers W",
@@ -141,6 +144,9 @@ REPORT = ReportLayout(
         "worker_scan_area": "Worker scan area (cm²)",
         "scout_drive": "Scout drive distance (cm)",
         "worker_drive": "Worker drive distance (cm)",
+        "completion_time": "Completion time (s)",
+        "queen_iterations": "Queen's coverage rounds",
+        "fault_rate": "Failure hazard of a worker (1/s)",
     },
     notes={
         "scout_scan_area": "Σ π r² over every SCAN a scout received (spec A5), mean per scout",
