@@ -129,6 +129,11 @@ class CoverageRaster:
         """Boolean raster of the pixels covered at or before ``time`` (s)."""
         return self.first_covered <= time
 
+    def fraction_at(self, times: np.ndarray) -> np.ndarray:
+        """Fraction of the free area covered at or before each of ``times`` (s)."""
+        first = np.sort(self.first_covered[np.isfinite(self.first_covered)])
+        return np.searchsorted(first, np.asarray(times, dtype=float), side="right") / self._n_free
+
 
 @njit(cache=True)
 def _disc_pixels(free, skip, points, pixel, dy, dx, radius, around_point):

@@ -112,6 +112,9 @@ class ReportLayout:
         curve_spread: "sd" (standard deviation over runs, as the papers' error bars) or "se".
         labels: column -> axis label with unit.
         notes: column -> how to read it (shown under the figure).
+        alternatives: layouts for other kinds of sweep of the same model (e.g. against a fault
+            rate); a sweep is drawn with the first of this layout and its alternatives whose
+            ``x`` it varies.
 
     """
 
@@ -130,6 +133,7 @@ class ReportLayout:
     curve_spread: str = "sd"
     labels: Mapping[str, str] = field(default_factory=dict)
     notes: Mapping[str, str] = field(default_factory=dict)
+    alternatives: tuple["ReportLayout", ...] = ()
 
 
 @dataclass(frozen=True)

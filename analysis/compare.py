@@ -10,7 +10,7 @@ import pandas as pd
 from abm.published import Published
 from analysis import stats
 
-__all__ = ["NOT_IN_SWEEP", "compare_published"]
+__all__ = ["NOT_IN_SWEEP", "compare_published", "fault_free"]
 
 NOT_IN_SWEEP = "not in this sweep"
 _TEXT = {
@@ -63,13 +63,40 @@ def compare_published(df: pd.DataFrame, records: Sequence[Published]) -> pd.Data
     return pd.DataFrame(rows)
 
 
+#: The keywords whose non-default values inject faults (the papers' numbers have none).
+_FAULT_SWITCHES = ("fault_rate", "fault_times", "link_outage_rate", "loss_burst_rate",
+                   "sensor_fault_rate")  # fmt: skip
+
+
 def _select(df: pd.DataFrame, condition: dict) -> pd.DataFrame:
-    runs = stats.ok_runs(df)
+    """The finished runs of ``condition``; runs with faults injected only if the condition
+    itself names a fault keyword (a paper's number is compared with fault-free runs).
+    """
+    runs = fault_free(stats.ok_runs(df), keep=condition)
     for key, value in condition.items():
         if key not in runs:
             return runs.iloc[0:0]
         runs = runs[_equal(runs[key], value)]
     return runs
+
+
+def fault_free(runs: pd.DataFrame, keep: Sequence[str] = ()) -> pd.DataFrame:
+    """The runs without injected faults (:mod:`abm.faults`), judged on every fault keyword
+    except those in ``keep`` (e.g. a condition that names one itself).
+    """
+    for key in _FAULT_SWITCHES:
+        if key in runs and key not in keep:
+            runs = runs[~runs[key].map(_injects)]
+    return runs
+
+
+def _injects(value: object) -> bool:
+    """True for a fault keyword's value that injects faults (a rate > 0, some times)."""
+    if value is None or (isinstance(value, float) and np.isnan(value)):
+        return False
+    if isinstance(value, int | float | np.number):
+        return value > 0
+    return len(value) > 0
 
 
 def _equal(column: pd.Series, value) -> pd.Series:

@@ -86,8 +86,13 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
         )
         xs = sorted(runs[layout.x].unique())
         if len(xs) <= MAX_TICKS:  # a tick per condition; beyond that matplotlib's own ticks
+            ticks = [f"{x:g}" for x in xs]
             ax.set_xticks(xs)
-            ax.set_xticklabels([f"{x:g}" for x in xs])
+            # long labels (small rates such as 0.0005) would run into each other: slant them
+            crowded = sum(len(t) for t in ticks) > 24
+            ax.set_xticklabels(
+                ticks, rotation=40 if crowded else 0, ha="right" if crowded else "center"
+            )
         ax.set_xlabel(label(layout, layout.x))
         ax.set_ylabel(label(layout, metric))
         ax.set_ylim(bottom=0)

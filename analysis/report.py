@@ -22,7 +22,7 @@ from abm.errors import ABMError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from analysis import stats
-from analysis.compare import NOT_IN_SWEEP, compare_published
+from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
 from analysis.sweep import load_results, swept_keys
@@ -56,12 +56,22 @@ def _derived(runs: pd.DataFrame, column: str | None) -> bool:
 
 
 def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame) -> ReportLayout:
-    """The layout for these runs: the model's, with ``x`` and ``hue`` kept only where they
-    vary (a swept parameter, or a numeric summary column derived from them); otherwise the
-    first numeric swept parameter as ``x`` and another as ``hue``.
+    """The layout for these runs: the model's (or the first of its ``alternatives`` whose
+    ``x`` the sweep varies), with ``x`` and ``hue`` kept only where they vary (a swept
+    parameter, or a numeric summary column derived from them); otherwise the first numeric
+    swept parameter as ``x`` and another as ``hue``.
     """
     swept = swept_keys(manifest, runs)
     numeric = [k for k in swept if _numeric(runs, k)]
+    if declared is not None:
+        declared = next(
+            (
+                layout
+                for layout in (declared, *declared.alternatives)
+                if layout.x in swept or _derived(runs, layout.x)
+            ),
+            declared,
+        )
     layout = declared or ReportLayout(metrics=tuple(m for m in COMMON_METRICS if m in runs))
     varies = set(swept) | {c for c in (layout.x, layout.hue) if _derived(runs, c)}
     x = layout.x if layout.x in varies else (numeric[0] if numeric else None)
@@ -190,10 +200,11 @@ def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
 
 
 def _claims(sweeps: list[_Sweep], claims: list[Claim]) -> list[dict] | None:
-    """Every claim with ours and its verdict on all the sweeps' runs."""
+    """Every claim with ours and its verdict on all the sweeps' fault-free runs."""
     if not claims:
         return None
-    runs = stats.ok_runs(pd.concat([s.runs for s in sweeps], ignore_index=True))
+    # the papers' claims are about swarms without injected faults
+    runs = fault_free(stats.ok_runs(pd.concat([s.runs for s in sweeps], ignore_index=True)))
     frames = [s.samples for s in sweeps if not s.samples.empty]
     samples = None
     if frames:

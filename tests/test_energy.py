@@ -79,3 +79,41 @@ def test_a_retired_robot_draws_no_more_power():
     ledger.retire(3)
     env.run(until=10.0)
     assert ledger.energy(3) == pytest.approx(240.0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.integers(0, 3), st.sampled_from(MODES), st.floats(0.0, 50.0)), max_size=30
+    ),
+    st.lists(st.floats(0.0, 400.0), min_size=4, max_size=4),
+)
+def test_a_failed_robots_energy_stops_exactly_when_it_fails(changes, fail_at):
+    """The fault path closes a robot's ledger whichever comes first, a fault or a flat battery
+    (abm.faults): its energy is the integral of its power up to that moment, never more than
+    the battery's charge, and it fails once."""
+    env = simpy.Environment()
+    ledger = EnergyLedger(env, PowerModes(POWER))
+    failed: dict[int, float] = {}
+
+    def fail(robot: int) -> None:
+        if robot not in failed:
+            failed[robot] = env.now
+            ledger.retire(robot)
+
+    battery = Battery(ledger, capacity=5_000.0, on_empty=fail)
+    for robot, when in enumerate(fail_at):
+        ledger.set_mode(robot, "ground")
+        env.timeout(when).callbacks.append(lambda _ev, robot=robot: fail(robot))
+    for robot, mode, wait in changes:
+        env.run(until=env.now + wait + 1e-9)
+        if robot not in failed:
+            ledger.set_mode(robot, mode)
+    env.run(until=env.now + 500.0)
+    assert sorted(failed) == [0, 1, 2, 3]
+    for robot, when in failed.items():
+        assert when <= fail_at[robot]
+        segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(when, None)]
+        expected = sum(POWER[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
+        assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12, abs=1e-9)
+        assert ledger.energy(robot) <= battery.capacity + 1e-6

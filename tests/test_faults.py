@@ -138,7 +138,7 @@ def test_scheduled_faults_fail_one_eligible_robot_at_each_time():
         ({"fault_shape": 0.0}, r"fault_shape must be in \(0"),
         ({"fault_times": (-5.0,)}, "fault_times must hold finite times >= 0"),
         ({"fault_times": ("soon",)}, "fault_times must hold numbers"),
-        ({"fault_states": ("walking",)}, "fault_states=.*none are injected"),
+        ({"fault_states": ("walking", "walking")}, "fault_states must name distinct states"),
         ({"fault_rate": 0.1, "fault_states": ("flying",)}, "fault_states names 'flying'"),
         ({"link_outage_duration": 0.0}, r"link_outage_duration must be in \(0"),
         ({"loss_burst_loss": 1.5}, r"loss_burst_loss must be in \(0, 1\]"),

@@ -3,8 +3,11 @@ in step (no cached row of Mesa's private index), and its counts and energy stop.
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from models.beacon_explorer import BeaconExplorerModel
+from models.stigmergy import StigmergyModel
 
 
 def test_removing_robots_keeps_positions_right_and_the_run_going():
@@ -28,3 +31,21 @@ def test_removing_robots_keeps_positions_right_and_the_run_going():
     assert total.iloc[-1] == model.n_robots + 1 - 2
     removed = model.events().query("event == 'removed'")
     assert sorted(removed["robot"].astype(int)) == sorted(energy)
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.integers(0, 1000), st.floats(60.0, 400.0))
+def test_a_robot_failed_in_flight_leaves_the_air_and_its_behaviour_ends(seed, when):
+    """Stigmergy's wander behaviour does not catch interrupts: a failure still ends it cleanly
+    (Robot.start), the robot leaves the physics, and nothing of it happens after."""
+    model = StigmergyModel(seed=seed, fault_times=(when,), fault_states=("wander",))
+    model.run(until=when + 100.0)
+    assume(model.faults.failed)  # else no wander was in the air at that moment
+    (rid,) = model.faults.failed
+    robot = next(r for r in model.robots if r.unique_id == rid)
+    assert robot.failure.state == "wander" and not robot.process.is_alive
+    assert rid not in model.physics.ids and rid not in model.beacon_ids
+    events = model.events()
+    assert events[(events.robot == rid) & (events.time > when)].empty
+    counts = model.state_counts().iloc[-1]
+    assert counts[list(model.STATES)].sum() == len(model.robots) and counts.failed == 1

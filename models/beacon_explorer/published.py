@@ -11,6 +11,7 @@ __all__ = [
     "BRANCHES",
     "BRANCHES_SD",
     "COMPLETE",
+    "FAULT_REPORT",
     "CORRIDOR_24_VS_6",
     "COVERAGE",
     "HOVER_RATIO",
@@ -164,6 +165,25 @@ PUBLISHED: list[Published] = [
     ),
 ]
 
+#: Faults (issue 13; not in the paper): coverage, completion, energy and coverage time
+#: against the beacons' failure rate, with and without repair
+#: (``experiments/faults_beacon_explorer.toml``).
+FAULT_REPORT = ReportLayout(
+    x="fault_rate",
+    hue="repair",
+    hue_order=(True, False),
+    metrics=("coverage_area", "complete", "energy_total", "coverage_time", "n_failed"),
+    labels={
+        "fault_rate": "Beacon failure rate lambda (1/s)",
+        "repair": "Repair",
+        "coverage_area": "Coverage area (% of free area)",
+        "complete": "Runs complete (fraction)",
+        "energy_total": "Total swarm energy (kJ)",
+        "coverage_time": "Run time (s)",
+        "n_failed": "Robots failed per run",
+    },
+)
+
 #: The paper's figure types: metrics against the inter-launch period, one line per complexity
 #: (Figs. 6, 8, 10a), energy per mode stacked (Figs. 7, 9, 10b), hover vs attach, the optimal
 #: period (Sect. 5) and Pearson's r of flight time vs energy.
@@ -178,6 +198,7 @@ REPORT = ReportLayout(
     compare_metric="energy_total",
     optimum=("coverage_time", "collisions", "energy_total"),
     correlate=("flight_time", "energy_total"),
+    alternatives=(FAULT_REPORT,),
     labels={
         "coverage_time": "Coverage time (s)",
         "coverage_area": "Coverage area (% of free area)",

@@ -206,6 +206,14 @@ class StigmergyModel(SwarmModel):
         """Robots per state after every change: columns ``time``, ``wander``, ``beacon``."""
         return super().state_counts()
 
+    def samples(self) -> pd.DataFrame:
+        """The area seen, ca (%), every ``ca_sample_period`` s from 0 until the first sample
+        at or after the end of the run (which holds the final ca).
+        """
+        step = self.params.ca_sample_period
+        times = step * np.arange(int(np.ceil(self.env.now / step)) + 1)
+        return pd.DataFrame({"time": times, "ca": 100.0 * self.coverage.fraction_at(times)})
+
     def metrics(self) -> dict:
         """The run's Table 1 row: final w, b, ca, cb (%), and the map's figures."""
         counts = self.recorder.counts

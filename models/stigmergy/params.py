@@ -71,6 +71,8 @@ class StigmergyParams(SwarmParams):
         coverage_target: the run ends when ca reaches this fraction.
         coverage_interval: how often the wanders' views are added to ca (s; ours).
         coverage_line_of_sight: walls block the view of the coverage sensor (ours).
+        ca_sample_period: spacing of the ca time series (``samples()``; s; ours), read after
+            the run from when each pixel was first seen, so it costs the run nothing.
         map_resolution: metres per pixel of a map file or array; None: 1 m (the paper's). An
             error for a built-in map (1 m per pixel).
         body_radius: half-width of a UAV for contacts (m; ours: the paper's <= 0.5 m UAV does
@@ -110,6 +112,7 @@ class StigmergyParams(SwarmParams):
     coverage_target: float = param(0.95, low=0.0, high=1.0, low_open=True)
     coverage_interval: float = param(1.0, low=0.0, low_open=True)
     coverage_line_of_sight: bool = True
+    ca_sample_period: float = param(10.0, low=0.0, low_open=True)
     map_resolution: float | None = param(None, low=0.0, low_open=True)
     body_radius: float = param(0.15, low=0.0, low_open=True)
     body_noise: float = param(0.025, low=0.0)

@@ -11,7 +11,16 @@ over its 10 maps. Our built-in maps reconstruct the Table 1 maps (``abm.worlds.M
 from abm.published import MacroSpec, Published, ReportLayout
 from abm.worlds.bitmap import MAPS
 
-__all__ = ["LAMBDAS", "MACRO", "PUBLISHED", "REPORT", "TABLE1", "TABLE1_COLUMNS", "TABLE2"]
+__all__ = [
+    "FAULT_REPORT",
+    "LAMBDAS",
+    "MACRO",
+    "PUBLISHED",
+    "REPORT",
+    "TABLE1",
+    "TABLE1_COLUMNS",
+    "TABLE2",
+]
 
 #: Table 1: (map id, C_rb) -> (w, b, w_hat, b_hat, t, ca, cb, rmsd_w, rmsd_b).
 TABLE1 = {
@@ -95,11 +104,28 @@ def _table1_records() -> list[Published]:
 PUBLISHED: list[Published] = _table1_records()
 
 #: Table 1's layout: each quantity against C_rb, one line per map.
+#: Faults (issue 13; not in the paper): time to 95 % and ca over time against the failure rate
+#: of the beacons (``experiments/faults_stigmergy.toml``).
+FAULT_REPORT = ReportLayout(
+    x="fault_rate",
+    metrics=("time", "failed", "beacon", "robots"),
+    curves=("ca",),
+    labels={
+        "fault_rate": "Beacon failure rate lambda (1/s)",
+        "time": "Time (s); a run ends when ca reaches 95 %",
+        "failed": "Beacons failed per run",
+        "beacon": "Live beacons at the end",
+        "robots": "Robots launched",
+        "ca": "Area seen ca (%)",
+    },
+)
+
 REPORT = ReportLayout(
     x="pheromone_radius",
     hue="map",
     hue_order=tuple(MAP_OF_ID[i] for i in sorted(MAP_OF_ID)),
     metrics=("time", "beacon", "wander", "cb"),
+    alternatives=(FAULT_REPORT,),
     labels={
         "pheromone_radius": "Pheromone radius C_rb (m)",
         "time": "Time to cover 95 % (s)",

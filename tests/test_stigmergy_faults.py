@@ -1,0 +1,55 @@
+"""Faults in stigmergy: a failed beacon stops relaying (wanders no longer link to it), acts no
+more, and runs with faults are seeded; ca over time is the coverage raster's history."""
+
+import numpy as np
+import pytest
+
+from abm.errors import ConfigError
+from models.stigmergy import StigmergyModel
+
+
+@pytest.fixture(scope="module")
+def faulty_run():
+    return StigmergyModel(seed=4, fault_rate=1 / 500, fault_states=("beacon",)).run()
+
+
+def test_failed_beacons_stop_relaying_and_never_act_again(faulty_run):
+    model = faulty_run
+    failed = model.faults.failed
+    assert len(failed) >= 3
+    assert not set(failed) & set(model.beacon_ids)  # nobody links to a failed beacon
+    live = [r for r in model.robots if r.state == "beacon"]
+    assert sorted(model.beacon_ids) == sorted(r.unique_id for r in live)
+    by_id = {r.unique_id: r for r in model.robots}
+    expected = np.array([by_id[i].position for i in model.beacon_ids])
+    assert np.array_equal(model.beacon_positions, expected)
+    events = model.events()
+    for rid in failed:
+        mine = events[events.robot == rid]
+        after = mine.loc[mine.index[mine.event == "fault"][0] :]
+        assert list(after.event) == ["fault", "state"]
+    assert model.robots[0].unique_id not in failed  # p0's beacon is exempt
+    counts = model.state_counts()
+    assert (counts[list(model.STATES)].sum(axis=1).diff().fillna(1) >= 0).all()
+    assert counts.iloc[-1][list(model.STATES)].sum() == len(model.robots)
+
+
+def test_same_seed_with_faults_gives_the_same_event_log(faulty_run):
+    again = StigmergyModel(seed=4, fault_rate=1 / 500, fault_states=("beacon",)).run()
+    assert again.events().equals(faulty_run.events())
+
+
+def test_ca_over_time_rises_to_the_final_ca(faulty_run):
+    ca = faulty_run.samples()
+    step = faulty_run.params.ca_sample_period
+    assert ca.time.iloc[0] == 0.0 and np.allclose(np.diff(ca.time), step)
+    assert faulty_run.env.now <= ca.time.iloc[-1] < faulty_run.env.now + step
+    assert ca.ca.is_monotonic_increasing
+    assert ca.ca.iloc[-1] == pytest.approx(100 * faulty_run.ca)
+
+
+def test_stigmergy_refuses_link_and_sensor_faults():
+    with pytest.raises(ConfigError, match="link_outage_rate=0.1: StigmergyModel does not handle"):
+        StigmergyModel(seed=1, link_outage_rate=0.1)
+    with pytest.raises(ConfigError, match="fault_states names 'explorer'"):
+        StigmergyModel(seed=1, fault_rate=0.01, fault_states=("explorer",))
