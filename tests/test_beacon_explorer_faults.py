@@ -117,3 +117,27 @@ def test_a_link_outage_redraws_the_lattice_and_the_counts_still_settle():
         assert not model.beacons.lattice.has_edge(a, b)
     if model.running:
         assert_hop_counts_are_bfs_on_the_surviving_lattice(model)
+
+
+@pytest.mark.parametrize("kind", ["stuck", "noisy"])
+def test_faulty_distance_sensors_change_what_beacons_sense(kind):
+    """Every robot's sensors break within seconds, before it attaches: a stuck sensor gives a
+    beacon the wall labels of the first reading it took (whatever it reads since); noisy ones
+    (0.3 m sd) add noise to every reading; either changes the run."""
+    kw = dict(world="corridor", seed=6, trace_interval=None, time_limit=400.0)
+    plain = BeaconExplorerModel(**kw).run()
+    faulty = BeaconExplorerModel(
+        **kw, sensor_fault_rate=1.0, sensor_fault_kind=kind, sensor_fault_noise=0.3
+    ).run()
+    broken = set(faulty.events().query("event == 'sensor_fault'").robot.astype(int))
+    assert faulty.base.unique_id not in broken and len(broken) == faulty.n_robots
+    beacons = [b for rid, b in faulty.beacons.beacons.items() if rid in broken]
+    assert len(beacons) >= 3
+    threshold = faulty.params.obstacle_threshold
+    for beacon in beacons:
+        now = faulty.faults.sensed("walls", [beacon.robot], np.zeros((1, 4)))[0]
+        labels = tuple(bool(r < threshold) for r in now)
+        # stuck: the labels are those of the frozen reading; noisy: a fresh noisy reading of
+        # nothing (0 m everywhere) is no longer what it read
+        assert (beacon.walls == labels) if kind == "stuck" else not np.array_equal(now, 0.0)
+    assert not faulty.events().equals(plain.events())

@@ -104,12 +104,15 @@ class BeaconNetwork:
         self._pending: set[int] = set()
         self._wakes_in_flight = 0
         self.version = 0  # bumped whenever a signal explorers read changes
+        #: readings as a robot's possibly faulty sensors give them (``abm.faults``): the model
+        #: sets ``model.faults.sensed``; by default the readings as measured
+        self.sensed: Callable[[str, list[int], np.ndarray], np.ndarray] = _as_measured
 
     # ------------------------------------------------------------------ membership
     def attach(self, robot: int, position: np.ndarray, is_base: bool = False) -> Beacon:
         """A robot attached at ``position``: sense, join the network, start signalling."""
         position = np.asarray(position, dtype=float)
-        walls, corridor = self._sense_walls(position)
+        walls, corridor = self._sense_walls(robot, position)
         beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
         self.beacons[robot] = beacon
         if is_base:
@@ -186,7 +189,7 @@ class BeaconNetwork:
         return list(self.lattice.neighbors(robot)) if robot in self.lattice else []
 
     # ------------------------------------------------------------------ sensing
-    def _sense_walls(self, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
+    def _sense_walls(self, robot: int, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
         """Obstacle labels N/E/S/W and the corridor/open-space classification.
 
         Corridor beacon (paper): two opposing walls closer than 3 m. A corridor junction senses
@@ -200,7 +203,8 @@ class BeaconNetwork:
         p = self.params
         reading = distance_sensors(
             self.arena, position[None], self.rng, p.sensor_range, p.sensor_noise
-        )[0]
+        )
+        reading = self.sensed("walls", [robot], reading)[0]
         walls = tuple(bool(r < p.obstacle_threshold) for r in reading)
         # Five rays into each quadrant (NE, SE, SW, NW; 15 to 75 degrees from its first
         # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
@@ -208,6 +212,7 @@ class BeaconNetwork:
         reach = ray_sensors(
             self.arena, position, QUADRANT_RAYS, self.rng, p.sensor_range, p.sensor_noise
         )
+        reach = self.sensed("rays", [robot], reach[None])[0]
         quadrant_clear = (reach > p.open_diagonal).reshape(4, -1).all(axis=1)
         open_quadrant = any(
             not walls[d] and not walls[(d + 1) % 4] and quadrant_clear[d] for d in DIRECTIONS
@@ -383,3 +388,7 @@ class BeaconNetwork:
             [b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons], dtype=bool
         )
         return ids, pos, vectors, to_empty
+
+
+def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.ndarray:
+    return readings

@@ -54,7 +54,7 @@ class BeaconExplorerModel(SwarmModel):
     PUBLISHED = published.PUBLISHED
     REPORT = published.REPORT
     APP = "models.beacon_explorer.app"
-    FAULTS = frozenset({"robot", "link"})
+    FAULTS = frozenset({"robot", "link", "sensor"})
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
@@ -92,6 +92,7 @@ class BeaconExplorerModel(SwarmModel):
         self.beacons = BeaconNetwork(
             self.env, self.arena, self.comms, self.rng, p, self.physics.dt, self._may_detach
         )
+        self.beacons.sensed = self.faults.sensed  # a beacon's distance sensors may be faulty
         self.physics.controller = ExplorerController(
             self.arena, self.beacons, self.rng, p, self.physics
         )
