@@ -69,7 +69,7 @@ class TangiblePSOModel(SwarmModel):
         "deploying": StateStyle("#009E73", marker="^", size=40.0, layer=8.0,
                                 label="MAV flying the deployment"),
         "deployed": StateStyle("#000000", marker="^", size=40.0, layer=8.0,
-                               label="MAV at its place"),
+                               label="MAV done deploying"),
     }  # fmt: skip
     ARROWS_LABEL = "localisation links of the best swarm"
     PUBLISHED = published.PUBLISHED
