@@ -83,6 +83,28 @@ class TreeLinks:
         if parent is not None:
             self._children.setdefault(parent, []).append(node)
 
+    def reattach(self, node: Node, parent: Node) -> None:
+        """Move ``node`` (with its subtree) below ``parent``, e.g. an orphan whose parent
+        failed: from now on it may talk to ``parent`` and no longer to its old parent.
+
+        Raises:
+            LinkError: ``node`` is the root or not in the tree, ``parent`` is not in the
+                tree, or ``parent`` lies in ``node``'s own subtree (a cycle).
+
+        """
+        if node not in self.parent or self.parent[node] is None:
+            raise LinkError(f"node {node!r} is not a non-root node of the tree")
+        if parent not in self.parent:
+            raise LinkError(f"parent {parent!r} is not in the tree")
+        above = parent
+        while above is not None:
+            if above == node:
+                raise LinkError(f"node {node!r} cannot move below its own descendant {parent!r}")
+            above = self.parent[above]
+        self._children[self.parent[node]].remove(node)
+        self.parent[node] = parent
+        self._children[parent].append(node)
+
     def allows(self, a: Node, b: Node) -> bool:
         """True for a parent/child pair."""
         return (a in self.parent and self.parent[a] == b and b is not None) or (

@@ -176,6 +176,27 @@ def test_sending_between_siblings_or_across_levels_raises(pair):
         net.send(*pair, None, lambda *a: None, kind="MOVE")
 
 
+def test_a_reattached_node_talks_to_its_new_parent_only():
+    _env, net, tree = tree_network()
+    tree.reattach("s1", "q")
+    net.move("s1", np.array([4.0, 2.0]))  # links are drawn again under the new tree
+    assert tree.level("s1") == 1 and tree.children("w1") == ["s2"] and "s1" in tree.children("q")
+    assert net.graph.has_edge("s1", "q") and not net.graph.has_edge("s1", "w1")
+    net.send("s1", "q", None, lambda *a: None, kind="INFO")
+    with pytest.raises(LinkError, match="no link may carry MOVE"):
+        net.send("w1", "s1", None, lambda *a: None, kind="MOVE")
+
+
+@pytest.mark.parametrize(
+    ("node", "parent", "match"),
+    [("q", "w1", "non-root"), ("s1", "zz", "not in the tree"), ("w1", "s1", "descendant")],
+)
+def test_reattaching_the_root_to_a_stranger_or_below_itself_is_refused(node, parent, match):
+    _env, _net, tree = tree_network()
+    with pytest.raises(LinkError, match=match):
+        tree.reattach(node, parent)
+
+
 def test_the_log_counts_every_transmission_with_kind_items_and_bytes():
     log = MessageLog()
     env, net, _tree = tree_network(log)

@@ -13,6 +13,14 @@ parent/child link. Nothing a node keeps names the swarm's size or depth.
   with children) and SCAN, merge the reports as they arrive, and re-plan when every placed child
   has finished. A worker reports its bubble upward (MAP_REPORT + SCAN_COMPLETE); the queen's
   COMPLETE (or CANNOT_COMPLETE) ends the run.
+
+Failures (the report's "Node Failure Detection", Future Work): a node whose body failed does
+nothing more. Its parent's and children's heartbeat watchdogs notice after
+``heartbeat_timeout`` (a :class:`LinkLost` in their inbox, not a radio message: the report's
+heartbeats are not counted, spec §1.4). The parent forgets the child (no longer waited for,
+its bubble left unscanned for a later round); an orphaned scout finishes the command it is
+running, re-attaches to the queen (the tree's only legal new parent that directs) and sends
+her its INFO; she places it from her next round on like any child.
 """
 
 from __future__ import annotations
@@ -46,7 +54,7 @@ if TYPE_CHECKING:
     from abm.robot import Robot
     from models.hierarchy.model import HierarchyModel
 
-__all__ = ["Director", "NoProgressError", "Node", "Scout"]
+__all__ = ["Director", "LinkLost", "NoProgressError", "Node", "Scout"]
 
 #: Nudge (m) that puts a ray's hit point inside the obstacle it hit, not on its surface.
 HIT_NUDGE = 1e-6
@@ -54,6 +62,14 @@ HIT_NUDGE = 1e-6
 
 class NoProgressError(RuntimeError):
     """A director exceeded ``max_rounds`` coverage rounds (the guard of spec §2.9)."""
+
+
+class LinkLost:
+    """A node's heartbeat watchdog: the neighbour at this local address stopped answering
+    (it failed). Put in the node's own inbox; not a radio message.
+    """
+
+    KIND = "LINK_LOST"
 
 
 class Node:
@@ -85,6 +101,14 @@ class Node:
         """Learn a local address (0: the parent, 1..k: the children)."""
         self.links[local] = node_id
         self._local_of[node_id] = local
+
+    def new_local(self) -> int:
+        """A child number never used before (a lost child's number is not given again)."""
+        return max(self._local_of.values(), default=0) + 1
+
+    def local_of(self, node_id: object) -> int:
+        """The local address under which this node knows ``node_id``."""
+        return self._local_of[node_id]
 
     @property
     def children(self) -> list[int]:
@@ -140,19 +164,27 @@ class Scout(Node):
     role = "scout"
 
     def run(self):
-        """Start-up, then the FIFO command loop (spec §1.6)."""
-        p = self.model.params
-        _, _request = yield self.inbox.get()
-        x, y = self.position
-        self.send(0, InfoMsg(float(x), float(y), p.scout_r_min, p.scout_r_max))
+        """Start-up (INFO on REQUEST_INFO), then the FIFO command loop (spec §1.6); an orphan
+        re-attaches to the queen and introduces itself with an INFO.
+        """
         while True:
             _, cmd = yield self.inbox.get()
+            if isinstance(cmd, LinkLost):
+                self.model.reattach(self)
+            if isinstance(cmd, LinkLost | RequestInfoMsg):
+                self._introduce()
             if isinstance(cmd, MoveMsg | AssignMsg):
                 yield from self.drive(cmd.waypoints)
                 self.send(0, ArrivedMsg())
                 self.set_state("scout_idle")
             if isinstance(cmd, ScanMsg | AssignMsg):
                 yield from self.scan(cmd.r)
+
+    def _introduce(self) -> None:
+        """INFO to the parent: where the scout is and its bubble limits (the IR range)."""
+        p = self.model.params
+        x, y = self.position
+        self.send(0, InfoMsg(float(x), float(y), p.scout_r_min, p.scout_r_max))
 
     def scan(self, r: float):
         """One stationary sweep of radius ``r``: a POINT per obstacle hit, then SCAN_COMPLETE."""
@@ -234,13 +266,34 @@ class Director(Node):
                 self.set_state("worker_idle")
 
     def discover(self):
-        """REQUEST_INFO to every child and wait for all their INFOs."""
+        """REQUEST_INFO to every child and wait for all their INFOs (a child lost meanwhile
+        is not waited for).
+        """
         for k in self.children:
             self.send(k, RequestInfoMsg())
         while len(self.info) < len(self.children):
             k, msg = yield self.inbox.get()
+            self._membership(k, msg)
+
+    def _membership(self, k: int, msg: object) -> bool:
+        """Handle a change of children: a lost child is forgotten, an INFO records a child's
+        limits and place (at start-up, or an orphan adopted later). True if ``msg`` was one.
+        """
+        if isinstance(msg, LinkLost):
+            for table in (self.links, self.info, self.where, self.bubble):
+                table.pop(k, None)
+            return True
+        if isinstance(msg, InfoMsg):
             self.info[k] = msg
             self.where[k] = np.array([msg.x, msg.y])
+            if self.map is not None:  # the child knows its own cell is free (spec §2.9)
+                self.map.mark_free([(msg.x, msg.y)])
+            return True
+        return False
+
+    def _alive(self, keys) -> list[int]:
+        """The children among ``keys`` not lost."""
+        return [k for k in keys if k in self.links]
 
     def _children_box(self) -> Rect:
         """A box around its children's positions, so that its map can route them all."""
@@ -271,6 +324,9 @@ class Director(Node):
         self.set_state("worker_directing")
         rounds = 0
         while True:
+            while not self.info:  # every child lost: wait for the orphans to re-attach
+                k, msg = yield self.inbox.get()
+                self._membership(k, msg)
             plan = coverage(m, self._children(), self.model.rng, alpha=p.alpha, beta=p.beta,
                             decay=p.radius_decay, occupied=own,
                             reset_radius_after_removal=p.reset_radius_after_removal,
@@ -297,17 +353,18 @@ class Director(Node):
         placed = sorted(plan.centres)
         combine = p.combine_move_scan
         moves = {k: plan.paths[k] for k in placed if len(plan.paths[k]) > 1}
-        for k in placed:
+        for k in self._alive(placed):
             self._map_down(k, plan, m)
         if combine:
             yield from self.dispatch(moves, AssignMsg, r=plan.radius)
-            for k in placed:
+            for k in self._alive(placed):
                 if k not in moves:
                     self.send(k, ScanMsg(plan.radius))
         else:
             yield from self.dispatch(moves, MoveMsg)
-            for k in placed:
+            for k in self._alive(placed):
                 self.send(k, ScanMsg(plan.radius))
+        placed = self._alive(placed)
         for k in placed:
             self.bubble[k] = Bubble(*plan.centres[k], plan.radius)
         yield from self.collect(m, plan, placed)
@@ -331,6 +388,7 @@ class Director(Node):
             wave_list = [sorted(moves)]
         self.model.wave_order_violations += wave_order_violations(wave_list, moves, h)
         for wave in wave_list:
+            wave = self._alive(wave)
             for k in wave:
                 msg = MoveMsg(moves[k]) if kind is MoveMsg else AssignMsg(moves[k], r)
                 self.send(k, msg)
@@ -338,7 +396,7 @@ class Director(Node):
             waiting = set(wave)
             while waiting:
                 k, msg = yield self.inbox.get()
-                if isinstance(msg, ArrivedMsg):
+                if self._membership(k, msg) or isinstance(msg, ArrivedMsg):
                     waiting.discard(k)
                 else:
                     self.early.append((k, msg))
@@ -356,6 +414,11 @@ class Director(Node):
                 k, msg = queue.pop(0)
             else:
                 k, msg = yield self.inbox.get()
+            if self._membership(k, msg):  # a lost child is no longer waited for
+                pending.discard(k)
+                continue
+            if k not in gained:  # queued before its sender was lost: nothing waits for it
+                continue
             before = m.n_scanned
             if isinstance(msg, PointMsg):
                 accepted = m.stamp_point(msg.x, msg.y, msg.sigma)

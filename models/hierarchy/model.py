@@ -28,7 +28,7 @@ from abm.pathfollow import PathFollower, ground_robot
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
 from models.hierarchy import published
-from models.hierarchy.agents import Director, Node, Scout
+from models.hierarchy.agents import Director, LinkLost, Node, Scout
 from models.hierarchy.coverage import Plan, Status
 from models.hierarchy.flat import HOLDER, FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
@@ -66,6 +66,7 @@ class HierarchyModel(SwarmModel):
         "worker_driving",
         "worker_directing",
     )
+    FAULTS = frozenset({"robot"})
     STATE_STYLES = {
         "scout_idle": StateStyle("#0072B2", marker="o", size=30.0, label="scout (idle)"),
         "scout_driving": StateStyle("#56B4E9", marker="o", size=30.0, label="scout (driving)"),
@@ -108,6 +109,7 @@ class HierarchyModel(SwarmModel):
         self.plans: list[dict] = []
         self.path_cells_blocked = 0
         self.completion_status: str | None = None
+        self.reattached = 0
         self.completion_time: float | None = None
         self._truth: np.ndarray | None = None  # free cells of the queen's grid (true world)
         self._build_tree()
@@ -171,10 +173,14 @@ class HierarchyModel(SwarmModel):
         self._scout_rows = self._row_of[ids]
         self._parent_of = [s.links[0] for s in self.scouts]
         for node in self.nodes.values():
-            node.process = self.env.process(node.run())
+            if node.robot is None:
+                node.process = self.env.process(node.run())
+            else:  # a body's process: a failure of the body interrupts it
+                node.process = node.robot.start(node.run())
 
     def _scout(self, position: np.ndarray, parent: Node | None, local: int) -> Scout:
         body = Robot(self, position, "scout_idle", "drive")
+        self.faults.exempt(body)  # only workers fail in this model
         kind = FlatScout if self.params.topology in ("fc", "ring") else Scout
         scout = kind(self, body.unique_id, body)
         if parent is not None:
@@ -221,6 +227,36 @@ class HierarchyModel(SwarmModel):
     def deliver(self, src: object, dst: object, msg) -> None:
         """The comm network delivered ``msg``: into the receiver's inbox."""
         self.nodes[dst].receive(src, msg)
+
+    # ------------------------------------------------------------------ failures
+    def on_robot_failed(self, robot: Robot) -> None:
+        """A worker failed (the injector took it off the radio network, stopped it and ended
+        its process): its parent and children notice when their heartbeat watchdogs time out.
+        Scouts are exempt from failures: an orphan must be able to re-attach.
+        """
+        node = self.nodes[robot.unique_id]
+        self.director_maps.pop(node.id, None)
+        timer = self.env.timeout(self.params.heartbeat_timeout)
+        timer.callbacks.append(lambda _ev: self._heartbeat_lost(node))
+
+    def _heartbeat_lost(self, node: Node) -> None:
+        """Every live neighbour of the failed ``node`` finds a LinkLost in its inbox."""
+        for other in node.links.values():
+            peer = self.nodes[other]
+            if peer.robot is None or peer.robot.failure is None:
+                peer.inbox.put((peer.local_of(node.id), LinkLost()))
+
+    def reattach(self, orphan: Node) -> None:
+        """An orphan joins the queen's children: the tree's record, both address books and
+        its radio links change; logged as a ``reattach`` event.
+        """
+        queen, old = self.queen, orphan.links[0]
+        self.tree.reattach(orphan.id, queen.id)
+        orphan.link(0, queen.id)
+        queen.link(queen.new_local(), orphan.id)
+        self.comms.move(orphan.id, orphan.robot.position.copy())
+        self.reattached += 1
+        self.recorder.log("reattach", orphan.robot.unique_id, old_parent=old, parent=str(queen.id))
 
     def has_children(self, node_id: object) -> bool:
         """Whether a node directs others (the simulator's view; a parent learns it from the
@@ -332,6 +368,8 @@ class HierarchyModel(SwarmModel):
             "sibling_proximity_events": self.sibling_proximity_events,
             "path_cells_blocked": self.path_cells_blocked,
             "stalled_moves": self.follower.stalled,
+            "workers_failed": sum(w.robot.failure is not None for w in workers),
+            "reattached": self.reattached,
             "messages": len(log),
             "messages_task": len(task),
             "messages_startup": int((log["phase"] == "startup").sum()),

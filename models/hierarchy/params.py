@@ -11,10 +11,13 @@ from pathlib import Path
 from abm.errors import ConfigError
 from abm.params import SwarmParams, param
 
-__all__ = ["PACKING_RATIO", "WORLDS", "HierarchyParams"]
+__all__ = ["PACKING_RATIO", "WORKER_STATES", "WORLDS", "HierarchyParams"]
 
 #: rho(S): radius of the smallest circle enclosing S unit discs (optimal circle packing), S=1..8.
 PACKING_RATIO = (1.0, 2.0, 2.1547, 2.4142, 2.7013, 3.0, 3.0, 3.3048)
+
+#: The states in which a worker may fail.
+WORKER_STATES = ("worker_idle", "worker_driving", "worker_directing")
 
 #: Built-in worlds: the square room of spec §4.5 (empty unless ``boxes`` > 0).
 WORLDS = ("room",)
@@ -91,6 +94,10 @@ class HierarchyParams(SwarmParams):
             replicated planning on a complete graph / a ring); ours.
         max_rounds: a director that needs more coverage rounds than this fails loudly (ours,
             the no-progress guard of spec §2.9).
+        heartbeat_timeout: time after a worker fails until its parent and its scouts notice
+            (s; ours: the report's "Node Failure Detection" heartbeat gives no value). Acts
+            only when robots fail (``fault_rate`` or ``fault_times``); only workers fail
+            (``fault_states``, if given, names worker states).
 
     """
 
@@ -131,6 +138,7 @@ class HierarchyParams(SwarmParams):
     comm_range: float = param(400.0, low=0.0, low_open=True)
     topology: str = param("hst", choices=("hst", "star", "fc", "ring"))
     max_rounds: int = param(5000, low=1, integer=True)
+    heartbeat_timeout: float = param(5.0, low=0.0, low_open=True)
     time_limit: float = param(50000.0, low=0.0, low_open=True)
     trace_interval: float | None = param(5.0, low=0.0, low_open=True)
     step_duration: float = param(10.0, low=0.0, low_open=True)
@@ -170,6 +178,17 @@ class HierarchyParams(SwarmParams):
                 f"topology={self.topology!r} is modelled with reliable zero-latency delivery "
                 "(replicas stay identical); set latency=0 and message_loss=0"
             )
+        if "robot" in self.fault_kinds:
+            if self.topology != "hst":
+                raise ConfigError(
+                    f"robot faults are modelled for topology='hst' (a worker fails, its scouts "
+                    f"re-attach to the queen), got topology={self.topology!r}"
+                )
+            if not set(self.fault_states) <= set(WORKER_STATES):
+                raise ConfigError(
+                    f"fault_states must name worker states among {WORKER_STATES} (only "
+                    f"workers fail in this model), got {self.fault_states!r}"
+                )
         if self.stamp == "peak" and self.sigma_sensor == 0:
             raise ConfigError(
                 "stamp='peak' needs sigma_sensor > 0 (with sigma 0 both stamps mark the "

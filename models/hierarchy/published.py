@@ -7,7 +7,7 @@ distance per scout and per worker against the total number of robots N, one line
 from abm.published import Claim, ReportLayout
 from models.hierarchy.claims import TESTS
 
-__all__ = ["CLAIMS", "PUBLISHED", "REPORT"]
+__all__ = ["CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT"]
 
 #: The report publishes no numeric result value (spec §4.3), so there is nothing to list here.
 PUBLISHED: list = []
@@ -130,10 +130,32 @@ CLAIMS = [
       for i, src, text, kind, setup, why in _UNTESTABLE),
 ]  # fmt: skip
 
+#: Worker failure (issue 13, not the report's): completion, rounds and messages against each
+#: worker's failure hazard.
+FAULT_REPORT = ReportLayout(
+    x="fault_rate",
+    metrics=(
+        "completion_time",
+        "queen_iterations",
+        "messages",
+        "workers_failed",
+        "known_free_fraction",
+    ),  # fmt: skip
+    labels={
+        "fault_rate": "Failure hazard of a worker (1/s)",
+        "completion_time": "Completion time (s)",
+        "queen_iterations": "Queen's coverage rounds",
+        "messages": "Messages (transmissions)",
+        "workers_failed": "Workers failed per run",
+        "known_free_fraction": "Free cells the queen knows (share)",
+    },
+)
+
 REPORT = ReportLayout(
     x="N",
     hue="W",
     metrics=("scout_scan_area", "worker_scan_area", "scout_drive", "worker_drive"),
+    alternatives=(FAULT_REPORT,),
     labels={
         "N": "Number of robots N = 1 + W + W S",
         "W": "Workers W",

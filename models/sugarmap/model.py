@@ -61,6 +61,7 @@ class SugarMapModel(SwarmModel):
 
     Params = SugarMapParams
     STATES = ("waiting", "dispersing", "anchor", "exploring", "stopped")
+    FAULTS = frozenset({"robot"})
     STATE_STYLES = {
         "waiting": StateStyle("#999999", marker="s", size=40.0, layer=4.0),
         "dispersing": StateStyle("#56B4E9", marker="^", size=45.0, layer=6.0),
@@ -76,6 +77,7 @@ class SugarMapModel(SwarmModel):
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
+        _check_fault_states(p)
         arena = load_arena(p.arena)
         super().__init__(
             p,
@@ -95,6 +97,9 @@ class SugarMapModel(SwarmModel):
             Robot(self, self._entrance(i), "dispersing", "fly") for i in range(p.anchors)
         ]
         self.explorer_robots = [Robot(self, s, "waiting", "fly") for s in self.starts]
+        if not set(p.fault_states) & {"exploring", "stopped"}:
+            for robot in self.explorer_robots:  # by default only the anchors fail
+                self.faults.exempt(robot)
         self.grid = MapGrid.around(arena.width, arena.height, self.cell, p.margin)
         self.filter: ParticleFilter | None = None
         self.env.process(self._run())
@@ -140,7 +145,7 @@ class SugarMapModel(SwarmModel):
             self.recorder.log("launch", robot.unique_id)
         pos = np.array([r.position for r in robots])
         heading = self.rng.uniform(0.0, 360.0, len(robots))
-        flying = np.ones(len(robots), dtype=bool)
+        self._flying = flying = np.ones(len(robots), dtype=bool)  # a failure clears its row
         proximity = p.proximity_for(self.arena.free_area)
         start, next_check = self.env.now, self.env.now + p.dispersion_period
         while flying.any() and self.env.now - start < p.init_cutoff - 1e-9:
@@ -262,7 +267,8 @@ class SugarMapModel(SwarmModel):
         self.command_heading = np.where(moving, heading, self.command_heading)
         self._execute(heading, turn, speed, moving)  # S2
         for e, rid in enumerate(self.explorer_ids):  # S3: radio links at the true positions
-            self.comms.move(int(rid), self.pos[e])
+            if int(rid) in self.comms.graph:  # a failed explorer left the network
+                self.comms.move(int(rid), self.pos[e])
         if self.filter is not None:
             self._estimate(heading, turn, speed, moving)  # S3 signatures, S4 the filter
         self._sample()  # S5
@@ -348,6 +354,8 @@ class SugarMapModel(SwarmModel):
         """S3-S4: signatures at the true positions, then each explorer's particle filter."""
         visible = np.zeros((len(self.pos), len(self.anchor_robots)), dtype=bool)
         for e, rid in enumerate(self.explorer_ids):
+            if int(rid) not in self.comms.graph:  # failed: it measures nothing
+                continue
             for other in self.comms.neighbours(int(rid)):
                 if other in self.anchor_ids:
                     visible[e, self.anchor_ids[other]] = True
@@ -372,6 +380,25 @@ class SugarMapModel(SwarmModel):
             else:
                 truth.append(self.pos[e].copy())
         self.global_map = global_map(self.filter.node_maps())
+
+    def on_robot_failed(self, robot: Robot) -> None:
+        """An anchor (by default from its launch on) or, where ``fault_states`` names their
+        states, a deployed explorer failed (the injector already took it off the radio
+        network and counts it as failed).
+
+        An anchor: nothing else changes by rule. The explorers no longer hear it, so its
+        dimension of every new signature is missing (NaN) and eq. 11 compares signatures on
+        the anchors they have in common (spec §3.5.3); the signatures stored before keep its
+        value, which no longer counts. With no anchor left the explorers stop (spec §5.4).
+        An anchor that fails while others still disperse (in flight it falls where it is) no
+        longer answers their radio checks, so by Fig. 3's rule they retrace until InitCutoff.
+        An explorer: it stops where it is; its NodeMap keeps what its particles believed it
+        covered, so the GlobalMap still holds its past coverage.
+        """
+        if robot in self.explorer_robots:  # only deployed explorers can fail
+            self.active[self.explorer_robots.index(robot)] = False
+        elif robot.failure.state == "dispersing":  # it falls where it is
+            self._flying[self.anchor_robots.index(robot)] = False
 
     def layers(self) -> list[Layer]:
         """The brain's belief over the arena: the GlobalMap and every particle (SugarMap)."""
@@ -460,6 +487,24 @@ class SugarMapModel(SwarmModel):
                 signatures=int(last["signatures"]),
                 matches=matches,
                 false_match_rate=self.false_matches / matches if matches else np.nan,
-                stopped=int((~self.active).sum()),
+                stopped=self.recorder.counts["stopped"],
             )
+        failed = set(self.faults.failed)
+        out["failed_anchors"] = sum(r.unique_id in failed for r in self.anchor_robots)
+        out["failed_explorers"] = sum(r.unique_id in failed for r in self.explorer_robots)
         return out
+
+
+#: The states in which a SugarMap robot may fail: an anchor in flight or landed, an explorer
+#: once the coverage has begun. Explorers fail only where ``fault_states`` names their states;
+#: by default (no ``fault_states``) only the anchors fail, in either of theirs.
+FAULT_STATES = ("dispersing", "anchor", "exploring", "stopped")
+
+
+def _check_fault_states(p: SugarMapParams) -> None:
+    """``fault_states`` must name states among :data:`FAULT_STATES` (ConfigError otherwise)."""
+    if not set(p.fault_states) <= set(FAULT_STATES):
+        raise ConfigError(
+            f"fault_states must name states among {FAULT_STATES} (an explorer waiting for the "
+            f"anchors to land cannot fail), got {p.fault_states!r}"
+        )

@@ -9,7 +9,7 @@ so the claims, not numbers, are what a reproduction is judged on.
 from abm.published import Claim, Published, ReportLayout
 from models.sugarmap.claims import TESTS
 
-__all__ = ["CLAIMS", "PUBLISHED", "REPORT", "TESTBED_COVERAGE"]
+__all__ = ["CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT", "TESTBED_COVERAGE"]
 
 #: The testbed (5 m x 3 m, 5 anchors, 2 explorers) covers 85 % in 180 s (Sect. 4.4).
 TESTBED_COVERAGE = 85.0
@@ -98,6 +98,27 @@ CLAIMS = [
     for i, source, statement, kind, setup in _CLAIMS
 ]
 
+#: Anchor failure (issue 13, not the paper's): coverage and the revisit statistics against
+#: each anchor's failure hazard, and the coverage curves per hazard.
+FAULT_REPORT = ReportLayout(
+    x="fault_rate",
+    metrics=("coverage_500", "coverage_1000", "failed_anchors", "false_match_rate", "t_deploy"),
+    curves=("coverage", "coverage_est"),
+    curve_x="tau",
+    curve_spread="sd",
+    labels={
+        "fault_rate": "Failure hazard of an anchor (1/s)",
+        "coverage_500": "Coverage at 500 s (%)",
+        "coverage_1000": "Coverage at 1000 s (%)",
+        "failed_anchors": "Anchors failed per run",
+        "false_match_rate": "False matches (share of matches)",
+        "t_deploy": "Deployment ends (s)",
+        "tau": "Time after deployment tau (s)",
+        "coverage": "True coverage (% of navigable cells)",
+        "coverage_est": "Estimated coverage (% with P >= COVER_TH)",
+    },
+)
+
 #: Coverage (true, and the brain's estimate) against the coverage clock tau.
 REPORT = ReportLayout(
     metrics=("coverage_500", "coverage_1000", "t50", "t80"),
@@ -116,4 +137,5 @@ REPORT = ReportLayout(
         "n_explorers": "Explorers",
         "n_particles": "Particles",
     },
+    alternatives=(FAULT_REPORT,),
 )

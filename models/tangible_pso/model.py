@@ -14,10 +14,15 @@ process on the simulated clock (Sect. 5, Fig. 6):
    where a constraint would break (the feasibility check); the realised positions p''_j(t) set
    the velocities (eq. 6) and are evaluated by the cost of eq. 1.
 3. After t_max iterations the solution is the history of the best particle.
+4. With ``deploy``: the real swarm (n_r more robots) flies that history, transition by
+   transition; an MAV may fail on the way (the fault injector, state "deploying"), and the
+   survivors fly on to their own planned places under the same feasibility check
+   (:mod:`models.tangible_pso.deployment`).
 """
 
 import networkx as nx
 import numpy as np
+import simpy
 
 from abm.errors import ConfigError
 from abm.model import SwarmModel
@@ -28,6 +33,7 @@ from abm.styles import Layer, StateStyle
 from abm.visgraph import VisibilityPlanner
 from models.tangible_pso import published
 from models.tangible_pso.cost import CoverageCost
+from models.tangible_pso.deployment import Leg, replanned_leg
 from models.tangible_pso.feasibility import OUTCOMES, follow, localised
 from models.tangible_pso.params import DEPOT_RADIUS, TangiblePSOParams
 from models.tangible_pso.scenario import load_scenario
@@ -52,13 +58,18 @@ class TangiblePSOModel(SwarmModel):
     """
 
     Params = TangiblePSOParams
-    STATES = OUTCOMES
+    STATES = (*OUTCOMES, "deploying", "deployed")
+    FAULTS = frozenset({"robot"})
     STATE_STYLES = {
         "free": StateStyle("#56B4E9", marker="o", size=14.0, layer=4.0, label="virtual MAV: free"),
         "stopped": StateStyle("#E69F00", marker="s", size=16.0, layer=5.0,
                               label="virtual MAV: stopped by a swarm constraint"),
         "blocked": StateStyle("#D55E00", marker="X", size=22.0, layer=6.0,
                               label="virtual MAV: stopped at a no-fly zone"),
+        "deploying": StateStyle("#009E73", marker="^", size=40.0, layer=8.0,
+                                label="MAV flying the deployment"),
+        "deployed": StateStyle("#000000", marker="^", size=40.0, layer=8.0,
+                               label="MAV done deploying"),
     }  # fmt: skip
     ARROWS_LABEL = "localisation links of the best swarm"
     PUBLISHED = published.PUBLISHED
@@ -94,6 +105,8 @@ class TangiblePSOModel(SwarmModel):
             Robot(self, self.x[j, i, :2], "free", "fly") for j in range(n_p) for i in range(n)
         ]
         self.robot_ids = np.array([r.unique_id for r in self.robots])
+        for robot in self.robots:  # virtual MAVs: only the real swarm can fail
+            self.faults.exempt(robot)
         self._state_idx = np.zeros(n_p * n, dtype=np.int8)
         self.place(self.robot_ids, self.x[..., :2].reshape(-1, 2))
         self.iteration = 0
@@ -108,7 +121,10 @@ class TangiblePSOModel(SwarmModel):
         self.proposals_in_zone = 0
         self.conflicts = self.resolved = 0
         self._sample()
-        self.env.process(self._optimise())
+        self.mavs: list[Robot] = []  # the real swarm, once it deploys
+        self.deployment: dict = {}
+        self._deploying: simpy.Process | None = None
+        self.env.process(self._run())
 
     # ------------------------------------------------------------------ start
     def _initial_positions(self) -> np.ndarray:
@@ -151,6 +167,15 @@ class TangiblePSOModel(SwarmModel):
         return in_area & clear & localised(swarms, p.neighbours, p.d_min, p.loc_range)
 
     # ------------------------------------------------------------------ the story
+    def _run(self):
+        yield from self._optimise()
+        if self.params.deploy:
+            self._deploying = self.env.process(self._deploy())
+            yield self._deploying
+            self.finish("deployed")
+        else:
+            self.finish("iterations")
+
     def _optimise(self):
         p = self.params
         n_p, n = p.particles, p.n_mavs
@@ -188,7 +213,75 @@ class TangiblePSOModel(SwarmModel):
             self.history.append(realised.copy())
             self._show(outcome)
             self._sample()
-        self.finish("iterations")
+
+    # ------------------------------------------------------------------ the deployment
+    def _deploy(self):
+        """Fly the best particle's realised transitions with the real swarm; after a failure
+        the survivors stop, then fly on to their planned places of every later transition.
+        """
+        p, g = self.params, self.g
+        pos = self.history[0][g].copy()
+        self.mavs = [Robot(self, pos[i, :2], "deploying", "fly") for i in range(p.n_mavs)]
+        alive = np.ones(p.n_mavs, dtype=bool)
+        d = self.deployment = {"failed_at": [], "localised_at_failure": [], "trace": []}
+        d["trace"].append((self.env.now, pos.copy(), alive.copy()))
+        for t in range(1, int(self.best_found[g]) + 1):
+            goal = self.history[t][g]
+            if alive.all():
+                points, count, travelled = self.plans[t - 1]
+                leg = Leg(pos, points[g], count[g], travelled[g], goal, p.speed)
+            else:
+                leg = self._survivors_leg(pos[alive], goal[alive])
+            while True:
+                began = self.env.now
+                try:
+                    yield self.env.timeout(leg.duration)
+                except simpy.Interrupt:  # an MAV failed: everyone stops where it is
+                    here = leg.positions(self.env.now - began)
+                    pos[alive] = here
+                    now_alive = np.array([m.failure is None for m in self.mavs])
+                    survivors = pos[now_alive]
+                    d["failed_at"].append(t)
+                    d["localised_at_failure"].append(self._localised(survivors))
+                    alive = now_alive
+                    self._place_mavs(pos)
+                    d["trace"].append((self.env.now, pos.copy(), alive.copy()))
+                    leg = self._survivors_leg(pos[alive], goal[alive])
+                    continue
+                pos[alive] = leg.end
+                break
+            self._place_mavs(pos)
+            d["trace"].append((self.env.now, pos.copy(), alive.copy()))
+        self._deploying = None
+        self.deployed = pos
+        self.deployed_alive = alive
+        for mav in self.mavs:
+            if mav.failure is None:
+                mav.set_state("deployed")
+
+    def _survivors_leg(self, start: np.ndarray, goal: np.ndarray) -> Leg:
+        p = self.params
+        return replanned_leg(
+            start, goal, self.planner, (self._zone_arr, self._zone_len), p.neighbours, p.d_min,
+            p.loc_range, p.speed, p.dt, p.stop_rule == "swarm",
+        )  # fmt: skip
+
+    def _localised(self, swarm: np.ndarray) -> bool:
+        """Whether a swarm keeps the constraints (k neighbours each, d_min apart)."""
+        p = self.params
+        return bool(len(swarm) == 0 or localised(swarm, p.neighbours, p.d_min, p.loc_range))
+
+    def _place_mavs(self, pos: np.ndarray) -> None:
+        """The real MAVs' places in the space (a failed one stays where it failed)."""
+        ids = np.array([m.unique_id for m in self.mavs])
+        self.place(ids, pos[:, :2])
+        for mav, xy in zip(self.mavs, pos, strict=True):
+            mav.position = xy[:2].copy()
+
+    def on_robot_failed(self, robot: Robot) -> None:
+        """A real MAV failed while it deployed: the deployment process stops the others."""
+        if self._deploying is not None and self._deploying.is_alive:
+            self._deploying.interrupt("mav failed")
 
     def _show(self, outcome: np.ndarray) -> None:
         """The virtual MAVs' new places in the space, and their states where they changed."""
@@ -301,7 +394,32 @@ class TangiblePSOModel(SwarmModel):
             ),
             "groups": nx.number_connected_components(graph),
             "best_feasible": bool(localised(self.best, p.neighbours, p.d_min, p.loc_range)),
+            **self._deployment_metrics(),
         }  # fmt: skip
+
+    def _deployment_metrics(self) -> dict:
+        """With ``deploy``: MAVs failed, the first failure's transition, whether the
+        survivors kept their localisation at the first failure and at every realised state
+        after it (the ends of the legs; a later failure may break it), and the cost of eq. 1
+        where the survivors ended (a failed MAV observes nothing) with its share of the cost
+        of observing nothing.
+        """
+        if not self.params.deploy or not hasattr(self, "deployed"):
+            return {}
+        d = self.deployment
+        cost = float(self.cost(self.deployed[self.deployed_alive]))
+        after = [self._localised(x[a]) for _t, x, a in d["trace"] if not a.all()]
+        return {
+            "mavs_failed": int((~self.deployed_alive).sum()),
+            "failure_transition": d["failed_at"][0] if d["failed_at"] else np.nan,
+            "transitions": int(self.best_found[self.g]),
+            "localised_at_failure": float(d["localised_at_failure"][0])
+            if d["failed_at"]
+            else np.nan,
+            "survivors_localised": float(all(after)) if after else np.nan,
+            "deployed_cost": cost,
+            "deployed_cost_ratio": cost / max(self.cost.total, 1e-12),
+        }
 
 
 def _prefix_points(points: np.ndarray, count: np.ndarray, travelled: np.ndarray, samples: int):

@@ -81,6 +81,10 @@ class TangiblePSOParams(SwarmParams):
             non-fly zone", Sect. 7.1).
         frozen_move: a particle "moved" in an iteration when one of its MAVs moved more than
             this (m; ours: 1 cm), for the spec's alternative deadlock reading ``frozen``.
+        deploy: after the optimisation the real swarm (n_r more robots) flies the best
+            particle's realised transitions to b_g (Sects. 5-6; ours: the paper plans the
+            deployment but does not fly it in simulation). Needed for MAV failures
+            (``fault_rate`` / ``fault_times``: only the real MAVs fail, while they deploy).
 
     """
 
@@ -112,6 +116,7 @@ class TangiblePSOParams(SwarmParams):
     deadlock_window: int = param(10, low=1, integer=True)
     deadlock_share: float = param(0.5, low=0.0, high=1.0, low_open=True)
     frozen_move: float = param(0.01, low=0.0)
+    deploy: bool = param(False)
     time_limit: float = param(1.0e6, low=0.0, low_open=True)
     step_duration: float = param(10.0, low=0.0, low_open=True)
     trace_interval: float | None = param(None, low=0.0, low_open=True)
@@ -132,6 +137,14 @@ class TangiblePSOParams(SwarmParams):
             raise ConfigError(
                 f"depot_radius {self.depot_radius:g} m only acts with init='depot', "
                 f"got init={self.init!r}"
+            )
+        if "robot" in self.fault_kinds and (
+            not self.deploy or not set(self.fault_states) <= {"deploying"}
+        ):
+            raise ConfigError(
+                "MAV failures are modelled while the real swarm deploys: set deploy=True "
+                "(and leave fault_states empty or ('deploying',)), got "
+                f"deploy={self.deploy}, fault_states={self.fault_states!r}"
             )
         if self.w_end > self.w_start:
             raise ConfigError(

@@ -11,6 +11,7 @@ from models.tangible_pso.claims import TESTS
 
 __all__ = [
     "CLAIMS",
+    "FAULT_REPORT",
     "FIG9_BEST_ITERATION",
     "PUBLISHED",
     "REPORT",
@@ -84,12 +85,33 @@ CLAIMS = [
     for i, source, statement, kind, setup in _CLAIMS
 ]
 
+#: MAV failure during the deployment (issue 13, not the paper's): the deployed cost and the
+#: survivors' localisation against each MAV's failure hazard.
+FAULT_REPORT = ReportLayout(
+    x="fault_rate",
+    metrics=("deployed_cost_ratio", "localised_at_failure", "survivors_localised", "mavs_failed"),
+    labels={
+        "fault_rate": "Failure hazard of a deploying MAV (1/s)",
+        "deployed_cost_ratio": "Deployed cost (share of CF with nothing seen)",
+        "localised_at_failure": "Survivors localised at the failure (share)",
+        "survivors_localised": "... and at every state after it (share)",
+        "mavs_failed": "MAVs failed per run",
+    },
+    notes={
+        "deployed_cost_ratio": "eq. 1 over the MAVs alive where they ended, divided by the cost "
+        "with nothing observed",
+        "survivors_localised": "runs with a failure only: after the first failure every survivor "
+        "kept k neighbours at every realised state",
+    },
+)
+
 #: Table 1's columns against the required neighbours, one line per variant; the best cost
 #: against the iteration.
 REPORT = ReportLayout(
     x="neighbours",
     hue="motion_planning",
     metrics=("collision", "deadlock", "best_cost", "collision_proposal", "deadlock_frozen"),
+    alternatives=(FAULT_REPORT,),
     curves=("best_cost",),
     curve_x="iteration",
     curve_spread="sd",
