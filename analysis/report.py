@@ -319,6 +319,20 @@ def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
     return out
 
 
+def _groupable(runs: pd.DataFrame, factors: list[str]) -> pd.DataFrame:
+    """``runs`` with every factor column made a valid group key: a points-only key missing (NaN)
+    in the other points' runs reads "(default)" (the runs are kept), and a list-valued key
+    (e.g. ``fault_states``, read back from Parquet as arrays) reads as its text.
+    """
+
+    def key(value: object) -> object:
+        if isinstance(value, np.ndarray | list | tuple):
+            return str(list(value))
+        return "(default)" if pd.isna(value) else value
+
+    return runs.assign(**{f: runs[f].astype(object).map(key) for f in factors if f in runs})
+
+
 def _factor_sections(
     runs: pd.DataFrame,
     layout: ReportLayout,
@@ -369,10 +383,7 @@ def _factor_sections(
     extra = [m for m in ("coverage_area", "energy_total", *layout.stacked) if m in runs]
     shown = [m for m in dict.fromkeys([*metrics, *extra]) if _numeric(runs, m)]
     if shown:
-        # a points-only key is missing (NaN) in the other points' runs: name it, keep the runs
-        unset = {f: runs[f].astype(object).where(runs[f].notna(), "(default)") for f in factors
-                 if runs[f].isna().any()}  # fmt: skip
-        means = stats.condition_means(runs.assign(**unset), metrics=shown, by=factors)
+        means = stats.condition_means(_groupable(runs, factors), metrics=shown, by=factors)
         wide = (
             means.pivot_table(index=factors, columns="metric", values="mean")
             .rename_axis(columns=None)

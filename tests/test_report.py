@@ -145,3 +145,21 @@ def test_a_points_only_key_is_a_condition_of_its_own_in_the_means(tmp_path):
     text = write_report(folder).read_text()
     assert "(hover_beacons=True)" in text  # the set-up line names the points
     assert "(default)" in text and "1e+09" in text  # their means are not mixed with the rest
+
+
+def test_a_list_valued_points_key_is_a_condition_of_its_own(tmp_path):
+    # fault_states set on some [[points]] only comes back from Parquet as arrays: the report
+    # groups by its text instead of failing on an unhashable value
+    df = corridor_results()
+    df = df[df["complexity"] == "high"].copy()
+    on = df["launch_period"] == 6.0
+    df["fault_states"] = [["beacon"] if flag else None for flag in on]
+    df.loc[on, "energy_total"] = 1e9
+    folder = tmp_path / "lists"
+    write_sweep(folder, df)
+    manifest = json.loads((folder / "sweep.json").read_text())
+    manifest["points"] = [{"fault_states": ["beacon"]}]
+    (folder / "sweep.json").write_text(json.dumps(manifest))
+    text = write_report(folder).read_text()
+    assert "[&#39;beacon&#39;]" in text or "['beacon']" in text
+    assert "(default)" in text and "1e+09" in text
