@@ -91,7 +91,13 @@ class BeaconNetwork:
         self.on_may_detach = on_may_detach
         self.beacons: dict[int, Beacon] = {}
         self.base: int | None = None
-        self.lattice = nx.Graph()
+        # The lattice, kept up to date incrementally (see _update_lattice): each beacon's pick
+        # per direction, the mutual picks (lattice links), and each beacon's attach turn.
+        self._picks: dict[int, dict[int, int]] = {}
+        self._links: dict[int, set[int]] = {}
+        self._turn: dict[int, int] = {}
+        self._turns = 0
+        self._touched: set[int] = set()
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
         )
@@ -112,6 +118,9 @@ class BeaconNetwork:
         walls, corridor = self._sense_walls(position)
         beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
         self.beacons[robot] = beacon
+        self._turn[robot] = self._turns
+        self._turns += 1
+        self._touched.add(robot)
         if is_base:
             self.base = robot
             self.forwards.set_sources([robot])
@@ -136,46 +145,95 @@ class BeaconNetwork:
         if beacon.frontier:
             self.reverse.set_sources(self.reverse.sources - {robot})
         self.comms.remove(robot)
+        self._touched.add(robot)
         self.forwards.forget(robot)
         self.reverse.forget(robot)
         self._topology_changed()
         self.version += 1
 
     def _topology_changed(self) -> None:
-        self._rebuild_lattice()
+        self._update_lattice()
         self.forwards.restart()
         self.reverse.restart()
 
-    def _rebuild_lattice(self) -> None:
+    def _update_lattice(self) -> None:
         """Lattice links: mutual nearest linked neighbours in opposite compass directions.
 
         Hop counts travel through the relative-positioning sensor to these <= 4 neighbours
         (Sect. 3.3, App. A), so neighbours differ by exactly one hop. A drifted lattice can
         bring a diagonal beacon within C_r; flooding over it would give equal hop counts to
         neighbours, which the controller's rules never expect.
+
+        A beacon's picks depend only on its comm links and the (fixed) positions of the
+        beacons, so only beacons that attached, detached or whose links changed since the last
+        update (``_touched``) pick again, and only their links are re-checked: the cost of a
+        change is that of its neighbourhood, not of the whole network.
         """
-        picks: dict[int, dict[int, int]] = {}
-        for robot, beacon in self.beacons.items():
-            nearest: dict[int, tuple[float, int]] = {}
-            for other in self.comms.neighbours(robot):
-                rel = self.beacons[other].position - beacon.position
-                d = int(np.argmax(CARDINALS @ rel))
-                r = float(np.hypot(*rel))
-                if d not in nearest or r < nearest[d][0]:
-                    nearest[d] = (r, other)
-            picks[robot] = {d: other for d, (_r, other) in nearest.items()}
-        self.lattice = nx.Graph()
-        self.lattice.add_nodes_from(self.beacons)
-        self.lattice.add_edges_from(
-            (robot, other)
-            for robot, chosen in picks.items()
-            for d, other in chosen.items()
-            if picks[other].get(opposite(d)) == robot  # mutual: a lattice edge both ends see
+        touched, self._touched = self._touched, set()
+        for robot in touched - self.beacons.keys():  # detached
+            self._picks.pop(robot, None)
+            self._turn.pop(robot, None)
+            for other in self._links.pop(robot, ()):
+                self._links[other].discard(robot)
+        present = [robot for robot in touched if robot in self.beacons]
+        for robot in present:
+            self._picks[robot] = self._pick(robot)
+            self._links.setdefault(robot, set())
+        for robot in present:
+            for other in list(self._links[robot]):
+                if not self._mutual(robot, other):
+                    self._links[robot].discard(other)
+                    self._links[other].discard(robot)
+            for other in self._picks[robot].values():
+                if self._mutual(robot, other):
+                    self._links[robot].add(other)
+                    self._links[other].add(robot)
+
+    def _pick(self, robot: int) -> dict[int, int]:
+        """The nearest linked beacon in each direction (directions in order of first sight)."""
+        beacon = self.beacons[robot]
+        nearest: dict[int, tuple[float, int]] = {}
+        for other in self.comms.neighbours(robot):
+            rel = self.beacons[other].position - beacon.position
+            d = int(np.argmax(CARDINALS @ rel))
+            r = float(np.hypot(*rel))
+            if d not in nearest or r < nearest[d][0]:
+                nearest[d] = (r, other)
+        return {d: other for d, (_r, other) in nearest.items()}
+
+    def _mutual(self, robot: int, other: int) -> bool:
+        """Both beacons pick each other, in opposite directions."""
+        theirs = self._picks.get(other, {})
+        return any(
+            o == other and theirs.get(opposite(d)) == robot for d, o in self._picks[robot].items()
         )
 
     def lattice_neighbours(self, robot: int) -> list[int]:
-        """The beacons a beacon exchanges hop counts with."""
-        return list(self.lattice.neighbors(robot)) if robot in self.lattice else []
+        """The beacons a beacon exchanges hop counts with.
+
+        In the order the whole lattice would list them if it were built afresh beacon by
+        beacon in attach order (messages go out in this order, so it fixes the order of
+        same-time events): first the neighbours that attached earlier, in attach order, then
+        the later ones in the order of this beacon's picks.
+        """
+        links = self._links.get(robot)
+        if not links:
+            return []
+        turn = self._turn
+        mine = turn[robot]
+        earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
+        later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
+        return earlier + later
+
+    @property
+    def lattice(self) -> nx.Graph:
+        """The lattice as a graph (for drawings and analysis; built on demand)."""
+        graph = nx.Graph()
+        graph.add_nodes_from(self.beacons)
+        graph.add_edges_from(
+            (robot, other) for robot in self.beacons for other in self.lattice_neighbours(robot)
+        )
+        return graph
 
     # ------------------------------------------------------------------ sensing
     def _sense_walls(self, position: np.ndarray) -> tuple[tuple[bool, ...], bool]:
@@ -358,6 +416,7 @@ class BeaconNetwork:
             self.wake(n)
 
     def _link_changed(self, _kind: str, a: int, b: int) -> None:
+        self._touched.update((a, b))
         self.wake(a)
         self.wake(b)
 
