@@ -98,6 +98,8 @@ class BeaconNetwork:
         self._turn: dict[int, int] = {}
         self._turns = 0
         self._touched: set[int] = set()
+        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until the next update
+        self._members: tuple[np.ndarray, np.ndarray] | None = None  # signals' ids, positions
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
         )
@@ -118,6 +120,7 @@ class BeaconNetwork:
         walls, corridor = self._sense_walls(position)
         beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
         self.beacons[robot] = beacon
+        self._members = None
         self._turn[robot] = self._turns
         self._turns += 1
         self._touched.add(robot)
@@ -138,6 +141,7 @@ class BeaconNetwork:
         ``searched=False``) says nothing about the area beyond it.
         """
         beacon = self.beacons.pop(robot)
+        self._members = None
         for other in self.beacons.values() if searched else ():
             for d, n in other.neighbour_dirs.items():
                 if n == robot:
@@ -170,6 +174,7 @@ class BeaconNetwork:
         change is that of its neighbourhood, not of the whole network.
         """
         touched, self._touched = self._touched, set()
+        self._ordered.clear()
         for robot in touched - self.beacons.keys():  # detached
             self._picks.pop(robot, None)
             self._turn.pop(robot, None)
@@ -216,14 +221,17 @@ class BeaconNetwork:
         same-time events): first the neighbours that attached earlier, in attach order, then
         the later ones in the order of this beacon's picks.
         """
-        links = self._links.get(robot)
-        if not links:
-            return []
-        turn = self._turn
-        mine = turn[robot]
-        earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
-        later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
-        return earlier + later
+        ordered = self._ordered.get(robot)
+        if ordered is None:
+            links = self._links.get(robot)
+            if not links:
+                return []
+            turn = self._turn
+            mine = turn[robot]
+            earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
+            later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
+            ordered = self._ordered[robot] = earlier + later
+        return ordered
 
     @property
     def lattice(self) -> nx.Graph:
@@ -423,14 +431,19 @@ class BeaconNetwork:
     # ------------------------------------------------------------------ what explorers read
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
-        ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
-        beacons = list(self.beacons.values())
-        pos = np.array([b.position for b in beacons]).reshape(-1, 2)
-        desired = np.array([b.desired for b in beacons], dtype=np.int64)
+        if self._members is None:  # positions are fixed: rebuilt only when beacons come or go
+            ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
+            pos = np.array([b.position for b in self.beacons.values()]).reshape(-1, 2)
+            self._members = ids, pos
+        ids, pos = self._members
+        beacons = self.beacons.values()
+        desired = np.fromiter((b.desired for b in beacons), dtype=np.int64, count=len(ids))
         vectors = np.where(
             (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
         )
-        to_empty = np.array(
-            [b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons], dtype=bool
+        to_empty = np.fromiter(
+            (b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons),
+            dtype=bool,
+            count=len(ids),
         )
         return ids, pos, vectors, to_empty
