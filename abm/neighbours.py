@@ -116,7 +116,7 @@ def cell_of(lo, width, x, y):
 
 @njit(cache=True)
 def _grid(points, cell, size, periodic):
-    """Bucket points into cells: (origin, dims, cell index per point, CSR start, order)."""
+    """Bucket points into cells: (origin, cell sides, dims, cell per point, CSR start, order)."""
     n = points.shape[0]
     lo = np.zeros(2)
     dims = np.ones(2, dtype=np.int64)
@@ -124,29 +124,13 @@ def _grid(points, cell, size, periodic):
         for a in range(2):
             dims[a] = max(1, int(size[a] // cell))
     elif n > 0:
-        hi = np.zeros(2)
         for a in range(2):
             lo[a] = points[:, a].min()
-            hi[a] = points[:, a].max()
-            dims[a] = int((hi[a] - lo[a]) // cell) + 1
+            dims[a] = int((points[:, a].max() - lo[a]) // cell) + 1
     width = np.empty(2)
     for a in range(2):
         width[a] = size[a] / dims[a] if periodic else cell
-    which = np.empty(n, dtype=np.int64)
-    for k in range(n):
-        cx = min(int((points[k, 0] - lo[0]) // width[0]), dims[0] - 1)
-        cy = min(int((points[k, 1] - lo[1]) // width[1]), dims[1] - 1)
-        which[k] = max(cy, 0) * dims[0] + max(cx, 0)
-    start = np.zeros(dims[0] * dims[1] + 1, dtype=np.int64)
-    for k in range(n):
-        start[which[k] + 1] += 1
-    for c in range(dims[0] * dims[1]):
-        start[c + 1] += start[c]
-    fill = start[:-1].copy()
-    order = np.empty(n, dtype=np.int64)
-    for k in range(n):  # points in index order within each cell
-        order[fill[which[k]]] = k
-        fill[which[k]] += 1
+    which, start, order = _bucket(points, lo, width, dims)
     return lo, width, dims, which, start, order
 
 
@@ -177,58 +161,87 @@ def _cell_size(points, radius, size, periodic):
 
 @njit(cache=True)
 def _pairs(points, radius, size, periodic, inclusive):
+    """Cell by cell over points stored in cell order: each pair of neighbouring cells once
+    (the cell itself and four of its eight neighbours), then the pairs sorted.
+    """
     n = points.shape[0]
-    cell = _cell_size(points, radius, size, periodic)
-    lo, width, dims, which, start, order = _grid(points, cell, size, periodic)
+    cell = _cell_size(points, 0.5 * radius, size, periodic)
+    cell = max(cell, radius)
+    if periodic:  # fewer than three cells across an axis: one cell spans it (no double visits)
+        dims = np.ones(2, dtype=np.int64)
+        for a in range(2):
+            dims[a] = max(1, int(size[a] // cell))
+            if dims[a] < 3:
+                dims[a] = 1
+        width = size / dims
+        which, start, order = _bucket(points, np.zeros(2), width, dims)
+    else:
+        lo, width, dims, which, start, order = _grid(points, cell, size, periodic)
+    xs = np.empty(n)
+    ys = np.empty(n)
+    for s in range(n):
+        xs[s] = points[order[s], 0]
+        ys[s] = points[order[s], 1]
     r2 = radius * radius
-    cap = max(16, 4 * n)
-    first = np.empty(cap, dtype=np.int64)
-    second = np.empty(cap, dtype=np.int64)
+    cap = max(16, n)
+    keys = np.empty(cap, dtype=np.int64)
     found = 0
-    near = np.empty(max(n, 1), dtype=np.int64)
-    seen = np.full(dims[0] * dims[1], -1, dtype=np.int64)
-    for i in range(n):
-        cx = which[i] % dims[0]
-        cy = which[i] // dims[0]
-        m = 0
-        for dy in range(-1, 2):
-            y = cy + dy
-            if periodic:
-                y %= dims[1]
-            elif y < 0 or y >= dims[1]:
-                continue
-            for dx in range(-1, 2):
-                x = cx + dx
+    steps_x = np.array([0, 1, -1, 0, 1])
+    steps_y = np.array([0, 0, 1, 1, 1])
+    for cy in range(dims[1]):
+        for cx in range(dims[0]):
+            c = cy * dims[0] + cx
+            for k in range(5):
+                x = cx + steps_x[k]
+                y = cy + steps_y[k]
+                if periodic and (
+                    (steps_x[k] != 0 and dims[0] == 1) or (steps_y[k] != 0 and dims[1] == 1)
+                ):
+                    continue
                 if periodic:
                     x %= dims[0]
-                elif x < 0 or x >= dims[0]:
+                    y %= dims[1]
+                elif x < 0 or x >= dims[0] or y >= dims[1]:
                     continue
-                c = y * dims[0] + x
-                if seen[c] == i:  # a small periodic grid wraps onto the same cell
-                    continue
-                seen[c] = i
+                c2 = y * dims[0] + x
                 for s in range(start[c], start[c + 1]):
-                    j = order[s]
-                    if j <= i:
-                        continue
-                    ddx = _offset(points[j, 0] - points[i, 0], size[0], periodic)
-                    ddy = _offset(points[j, 1] - points[i, 1], size[1], periodic)
-                    d2 = ddx * ddx + ddy * ddy
-                    if d2 < r2 or (inclusive and d2 == r2):
-                        near[m] = j
-                        m += 1
-        if m == 0:
-            continue
-        near[:m].sort()
-        if found + m > cap:
-            cap = 2 * (found + m)
-            first = np.concatenate((first, np.empty(cap - first.shape[0], dtype=np.int64)))
-            second = np.concatenate((second, np.empty(cap - second.shape[0], dtype=np.int64)))
-        for k in range(m):
-            first[found + k] = i
-            second[found + k] = near[k]
-        found += m
-    return first[:found].copy(), second[:found].copy()
+                    first = s + 1 if k == 0 else start[c2]
+                    for t in range(first, start[c2 + 1]):
+                        ddx = _offset(xs[t] - xs[s], size[0], periodic)
+                        ddy = _offset(ys[t] - ys[s], size[1], periodic)
+                        d2 = ddx * ddx + ddy * ddy
+                        if d2 < r2 or (inclusive and d2 == r2):
+                            i = min(order[s], order[t])
+                            j = max(order[s], order[t])
+                            if found == cap:
+                                cap *= 2
+                                keys = np.concatenate((keys, np.empty(cap - found, np.int64)))
+                            keys[found] = i * n + j
+                            found += 1
+    keys = np.sort(keys[:found])
+    return keys // n, keys % n
+
+
+@njit(cache=True)
+def _bucket(points, lo, width, dims):
+    """Cell of each point and the CSR listing of the points per cell (ascending)."""
+    n = points.shape[0]
+    which = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        cx = min(max(int((points[k, 0] - lo[0]) // width[0]), 0), dims[0] - 1)
+        cy = min(max(int((points[k, 1] - lo[1]) // width[1]), 0), dims[1] - 1)
+        which[k] = cy * dims[0] + cx
+    start = np.zeros(dims[0] * dims[1] + 1, dtype=np.int64)
+    for k in range(n):
+        start[which[k] + 1] += 1
+    for c in range(dims[0] * dims[1]):
+        start[c + 1] += start[c]
+    fill = start[:-1].copy()
+    order = np.empty(n, dtype=np.int64)
+    for k in range(n):
+        order[fill[which[k]]] = k
+        fill[which[k]] += 1
+    return which, start, order
 
 
 @njit(cache=True)

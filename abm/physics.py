@@ -164,17 +164,31 @@ class Physics:
         """Start moving a robot; the returned event fires when its flight is done (the
         controller's done mask, or :meth:`finish`).
         """
-        if robot_id in self.ids:
-            raise ValueError(f"robot {robot_id} is already flying")
-        arrived = self.env.event()
-        self.ids = np.append(self.ids, robot_id)
-        self.pos = np.vstack([self.pos, np.asarray(position, dtype=float)[None, :]])
-        self.vel = np.vstack([self.vel, np.zeros((1, 2))])
-        self._wall_contact = np.append(self._wall_contact, False)
+        return self.fly_many([robot_id], np.asarray(position, dtype=float)[None, :])[0]
+
+    def fly_many(self, robot_ids: Iterable[int], positions: np.ndarray) -> list[simpy.Event]:
+        """Start moving several robots at once (a swarm launched together): one event each,
+        as :meth:`fly` gives, in the order given.
+        """
+        ids = np.asarray(list(robot_ids), dtype=np.int64)
+        positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+        if len(ids) != len(positions):
+            raise ValueError(f"{len(ids)} robot ids but {len(positions)} positions")
+        flying = ids[np.isin(ids, self.ids)]
+        if len(flying):
+            raise ValueError(f"robot {int(flying[0])} is already flying")
+        if len(np.unique(ids)) != len(ids):
+            raise ValueError(f"robot ids {ids.tolist()} repeat")
+        arrived = [self.env.event() for _ in range(len(ids))]
+        k = len(ids)
+        self.ids = np.concatenate([self.ids, ids])
+        self.pos = np.concatenate([self.pos, positions])
+        self.vel = np.concatenate([self.vel, np.zeros((k, 2))])
+        self._wall_contact = np.concatenate([self._wall_contact, np.zeros(k, dtype=bool)])
         for name, array in self.flyer_state.items():
-            self.flyer_state[name] = np.vstack([array, np.zeros((1, array.shape[1]))])
-        self._arrivals.append(arrived)
-        if not self._wake.triggered:
+            self.flyer_state[name] = np.concatenate([array, np.zeros((k, array.shape[1]))])
+        self._arrivals.extend(arrived)
+        if k and not self._wake.triggered:
             self._wake.succeed()
         return arrived
 
@@ -289,7 +303,7 @@ class Physics:
             return
         _bounce(self.pos, self.vel, i, j)
         ids_i, ids_j = self.ids[i], self.ids[j]
-        now = np.unique(np.minimum(ids_i, ids_j) << 32 | np.maximum(ids_i, ids_j))
+        now = np.sort(np.minimum(ids_i, ids_j) << 32 | np.maximum(ids_i, ids_j))  # pairs unique
         new = now[~np.isin(now, self._pairs_in_contact, assume_unique=True)]
         self._pairs_in_contact = now
         self.robot_collisions += 2 * len(new)
