@@ -25,8 +25,9 @@ from pathlib import Path
 import numpy as np
 
 from abm.registry import model_class
+from abm.worlds import COMPLEXITIES
 
-__all__ = ["CASES", "DIGESTS", "QUICK", "digest", "stored"]
+__all__ = ["CASES", "DIGESTS", "QUICK", "WORLDS", "digest", "stored", "world_digest"]
 
 #: Where the digests live.
 DIGESTS = Path(__file__).resolve().parent.parent / "tests" / "data" / "event_digests.json"
@@ -114,6 +115,26 @@ def digest(case: str) -> dict:
     }
 
 
+#: The generated worlds checked besides the runs: every kind and level, seeds 0 to 19.
+WORLDS = "worlds-default"
+
+
+def world_digest() -> dict:
+    """SHA-256 prefix of the paper-default generated worlds (walls, start, cells, branches)."""
+    from abm.worlds import make_world
+
+    parts = []
+    for kind, levels in (("corridor", COMPLEXITIES), ("open", COMPLEXITIES), ("mixed", ["medium"])):
+        for level in levels:
+            for seed in range(20):
+                world = make_world(kind, level, seed)
+                parts.append(
+                    f"{kind} {level} {seed} {world.arena.free.tobytes().hex()} "
+                    f"{world.start.tolist()} {world.cells.tolist()} {world.branches}"
+                )
+    return {"worlds": _sha("\n".join(parts)), "n_worlds": len(parts)}
+
+
 def stored() -> dict[str, dict]:
     """The digests on file (empty if none were written)."""
     return json.loads(DIGESTS.read_text()) if DIGESTS.exists() else {}
@@ -125,22 +146,18 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="only the cases the tests check")
     parser.add_argument("--write", action="store_true", help="store the digests of this code")
     args = parser.parse_args()
-    names = args.cases or (list(QUICK) if args.quick else list(CASES))
-    unknown = sorted(set(names) - CASES.keys())
+    names = args.cases or [*(QUICK if args.quick else CASES), WORLDS]
+    unknown = sorted(set(names) - CASES.keys() - {WORLDS})
     if unknown:
         parser.error(f"unknown cases {unknown}; known: {', '.join(CASES)}")
     on_file = stored()
     changed = 0
     for case in names:
-        got = digest(case)
+        got = world_digest() if case == WORLDS else digest(case)
         want = on_file.get(case)
         verdict = "written" if args.write else ("same" if got == want else "CHANGED")
         changed += verdict == "CHANGED"
-        print(
-            f"{case:<24} {got['events']} {got['counts']} {got['summary']} "
-            f"{got['n_events']:>6}  {verdict}",
-            flush=True,
-        )
+        print(f"{case:<24} {' '.join(str(v) for v in got.values())}  {verdict}", flush=True)
         on_file[case] = got
     if args.write:
         DIGESTS.parent.mkdir(parents=True, exist_ok=True)

@@ -21,3 +21,9 @@ def test_seeded_run_matches_stored_digest(case):
     want = event_digests.stored().get(case)
     assert want is not None, f"no stored digest for {case}: run scripts/event_digests.py --write"
     assert event_digests.digest(case) == want
+
+
+def test_paper_default_worlds_match_stored_digest():
+    want = event_digests.stored().get(event_digests.WORLDS)
+    assert want is not None
+    assert event_digests.world_digest() == want
