@@ -8,11 +8,13 @@ messages: a beacon re-evaluates one control period after being woken, and only o
 the newest flood has reached.
 """
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import networkx as nx
 import numpy as np
+from numba import njit
 
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
@@ -299,17 +301,14 @@ class BeaconNetwork:
         measured = relative_positions(
             rel, self.rng, p.range_noise, p.bearing_noise, p.reference_range
         )
-        direction = np.argmax(measured @ CARDINALS.T, axis=1)
-        dist = np.hypot(measured[:, 0], measured[:, 1])
+        reach = self.params.interspace if me.corridor else self.params.spot_taken
+        direction, dist, near_spot = _bearings(measured, self.params.interspace, reach)
         linked = set(self.lattice_neighbours(robot))
         found: dict[int, tuple[float, int]] = {}
         for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
             if n in linked and (d not in found or r < found[d][0]):
                 found[d] = (r, n)
-        spots = CARDINALS * self.params.interspace
-        gaps = np.hypot(*(spots[:, None, :] - measured[None, :, :]).transpose(2, 0, 1))
-        reach = self.params.interspace if me.corridor else self.params.spot_taken
-        taken = {d for d in DIRECTIONS if (gaps[d] < reach).any()}
+        taken = {d for d in DIRECTIONS if near_spot[d]}
         neighbours = {d: n for d, (_r, n) in found.items()}
         return neighbours, (taken | me.reported_taken) - neighbours.keys()
 
@@ -447,3 +446,32 @@ class BeaconNetwork:
             count=len(ids),
         )
         return ids, pos, vectors, to_empty
+
+
+@njit(cache=True)
+def _bearings(measured: np.ndarray, interspace: float, reach: float):
+    """Per measured neighbour vector: its compass direction (the cardinal it is most along,
+    first on ties) and length; per direction: whether some neighbour is closer than ``reach``
+    to that direction's lattice spot (I_r away).
+    """
+    k = measured.shape[0]
+    direction = np.empty(k, dtype=np.int64)
+    dist = np.empty(k)
+    near_spot = np.zeros(4, dtype=np.bool_)
+    for i in range(k):
+        x, y = measured[i, 0], measured[i, 1]
+        best = 0
+        along = x * CARDINALS[0, 0] + y * CARDINALS[0, 1]
+        for d in range(1, 4):
+            v = x * CARDINALS[d, 0] + y * CARDINALS[d, 1]
+            if v > along:
+                best, along = d, v
+        direction[i] = best
+        dist[i] = math.hypot(x, y)
+        for d in range(4):
+            if (
+                math.hypot(CARDINALS[d, 0] * interspace - x, CARDINALS[d, 1] * interspace - y)
+                < reach
+            ):
+                near_spot[d] = True
+    return direction, dist, near_spot
