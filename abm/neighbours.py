@@ -22,7 +22,7 @@ from numba import njit
 
 from abm.errors import ConfigError
 
-__all__ = ["NeighbourIndex", "cell_grid", "cell_of", "pairs_within", "within"]
+__all__ = ["NeighbourIndex", "cell_grid", "cell_of", "nearest_distance", "pairs_within", "within"]
 
 
 def _check_radius(radius: float) -> float:
@@ -296,6 +296,49 @@ def _within(points, queries, radius, size, periodic):
             out[offsets[q] + k] = near[k]
         offsets[q + 1] = offsets[q] + m
     return offsets, out[: offsets[nq]].copy()
+
+
+@njit(cache=True)
+def nearest_distance(points, targets):
+    """Distance from each point to its nearest target (inf without targets); compiled.
+
+    Cells are searched ring by ring around the point (its cell clamped into the targets'
+    grid) until no unsearched cell can hold a nearer target, so the cost grows with the
+    targets near a point, not with all targets.
+    """
+    n = points.shape[0]
+    m = targets.shape[0]
+    out = np.full(n, np.inf)
+    if m == 0:
+        return out
+    lo, width, dims, _which, start, order = cell_grid(targets, 1e-9)
+    step = min(width[0], width[1])
+    for i in range(n):
+        px, py = points[i, 0], points[i, 1]
+        cx, cy = cell_of(lo, width, px, py)
+        cx = min(max(cx, 0), dims[0] - 1)
+        cy = min(max(cy, 0), dims[1] - 1)
+        best = np.inf
+        ring = 0
+        while True:
+            for y in range(max(cy - ring, 0), min(cy + ring, dims[1] - 1) + 1):
+                edge_y = y == cy - ring or y == cy + ring
+                for x in range(max(cx - ring, 0), min(cx + ring, dims[0] - 1) + 1):
+                    if not edge_y and x != cx - ring and x != cx + ring:
+                        continue  # inside the ring: searched already
+                    c = y * dims[0] + x
+                    for s in range(start[c], start[c + 1]):
+                        j = order[s]
+                        d = np.hypot(px - targets[j, 0], py - targets[j, 1])
+                        if d < best:
+                            best = d
+            covered = cx - ring <= 0 and cy - ring <= 0
+            covered = covered and cx + ring >= dims[0] - 1 and cy + ring >= dims[1] - 1
+            if covered or best <= ring * step:
+                break
+            ring += 1
+        out[i] = best
+    return out
 
 
 # ---------------------------------------------------------------------- dynamic index

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
-from abm.neighbours import NeighbourIndex, pairs_within, within
+from abm.neighbours import NeighbourIndex, nearest_distance, pairs_within, within
 
 
 def brute_pairs(points, radius, box=None, inclusive=False):
@@ -101,3 +101,15 @@ def test_dynamic_index_finds_every_key_in_range_after_moves(seed, cell):
 def test_bad_input_is_a_config_error(call, match):
     with pytest.raises(ConfigError, match=match):
         call()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 60), st.integers(0, 60), st.integers(0, 2**32 - 1))
+def test_nearest_distance_equals_the_minimum_over_all_targets(n, m, seed):
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-20, 80, (n, 2))  # some outside the targets' box
+    targets = rng.uniform(0, 50, (m, 2)) * rng.uniform(0, 1, 2)  # clustered, even on a line
+    want = np.full(n, np.inf)
+    if m:
+        want = np.hypot(*(points[:, None] - targets[None]).transpose(2, 0, 1)).min(axis=1)
+    np.testing.assert_array_equal(nearest_distance(points, targets), want)
