@@ -20,14 +20,25 @@ of log(wall per simulated second) against log(robots): b = 1 is linear cost.
 The worlds are built from plain cell lists and arrays (not the generators' size options) so
 the same script times older revisions of the framework.
 
+With ``--compare DIR`` every case also runs on the code checked out in DIR (e.g. a worktree
+of main: ``git worktree add /tmp/before main``), both revisions side by side at the same time
+in two processes, so both see the same machine load; the table then shows both and their
+ratio.
+
 Usage: python benchmarks/bench_scale.py [--quick] [--models beacon-explorer stigmergy]
     [--sizes 50 200 1000 2000] [--budget 600] [--seed 1] [--profile out/scale.prof]
+    [--compare DIR]
 """
 
 import argparse
 import cProfile
+import json
 import math
+import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from tqdm import tqdm
@@ -124,6 +135,22 @@ def time_run(
     }
 
 
+def side_by_side(
+    name: str, n: int, seed: int, budget: float, chunk: float, other: str
+) -> tuple[dict, dict]:
+    """Run a case on this code and on the code in directory ``other`` at the same time."""
+
+    def start(root: str) -> subprocess.Popen:
+        env = {**os.environ, "PYTHONPATH": root}
+        argv = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
+        argv += ["--seed", str(seed), "--budget", str(budget), "--chunk", str(chunk)]
+        return subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, text=True, cwd=root)
+
+    here = str(Path(__file__).resolve().parent.parent)
+    runs = [start(here), start(other)]
+    return tuple(json.loads(run.communicate()[0].strip().splitlines()[-1]) for run in runs)
+
+
 def growth_exponent(rows: list[dict]) -> float:
     """Slope b of log(wall per simulated second) against log(robots)."""
     robots = np.log([r["robots"] for r in rows])
@@ -140,8 +167,47 @@ def main() -> None:
     parser.add_argument("--chunk", type=float, default=30.0, help="simulated s between checks")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--profile", default=None, help="cProfile file of the largest run")
+    parser.add_argument("--compare", default=None, help="also time the code in this checkout")
+    parser.add_argument("--one", nargs=2, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else SIZES)
+    if args.one:  # a worker of --compare: warm up, time one case, print it as JSON
+        name, n = args.one[0], int(args.one[1])
+        model_class(name)(seed=0, **CASES[name](20)[0]).run(until=30.0)
+        print(json.dumps(time_run(name, n, args.seed, args.budget, args.chunk)))
+        return
+    if args.compare:
+        for name in args.models:
+            print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
+            print(
+                f"  {'robots':>7} {'sim s':>7} {'us/robot/sim-s':>15} {'x real time':>11}   "
+                f"{'before: sim s':>13} {'us/robot/sim-s':>15} {'x real time':>11}  speed-up"
+            )
+            pairs = []
+            for n in sizes:
+                after, before = side_by_side(
+                    name, n, args.seed, args.budget, args.chunk, args.compare
+                )
+                pairs.append((after, before))
+                cut = [" *" if r["truncated"] else "  " for r in (after, before)]
+                print(
+                    f"  {n:>7} {after['simulated']:>7.0f}{cut[0]}{after['per_robot_us']:>13.1f} "
+                    f"{after['rtf']:>11.1f}   {before['simulated']:>13.0f}{cut[1]}"
+                    f"{before['per_robot_us']:>13.1f} {before['rtf']:>11.1f}  "
+                    f"{before['per_robot_us'] / after['per_robot_us']:>6.1f}x",
+                    flush=True,
+                )
+            for label, rows in (
+                ("this code", [a for a, _ in pairs]),
+                ("before", [b for _, b in pairs]),
+            ):
+                ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
+                print(
+                    f"  {label}: per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} "
+                    f"robots {ratio:.2f}x, growth exponent b = {growth_exponent(rows):.2f}"
+                )
+            print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
+        return
     for name in args.models:  # warm-up: load (or compile) the numba kernels
         params, _ = CASES[name](20)
         model_class(name)(seed=0, **params).run(until=30.0)
