@@ -304,7 +304,12 @@ class Physics:
         _bounce(self.pos, self.vel, i, j)
         ids_i, ids_j = self.ids[i], self.ids[j]
         now = np.sort(np.minimum(ids_i, ids_j) << 32 | np.maximum(ids_i, ids_j))  # pairs unique
-        new = now[~np.isin(now, self._pairs_in_contact, assume_unique=True)]
+        before = self._pairs_in_contact
+        if len(before):  # both sorted: a binary search per contact
+            at = np.minimum(np.searchsorted(before, now), len(before) - 1)
+            new = now[before[at] != now]
+        else:
+            new = now
         self._pairs_in_contact = now
         self.robot_collisions += 2 * len(new)
         if self.on_collision is not None:
