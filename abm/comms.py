@@ -35,6 +35,7 @@ from scipy.special import ndtr
 
 from abm.arena import Arena
 from abm.errors import LinkError, check_range
+from abm.neighbours import NeighbourIndex
 
 __all__ = [
     "CommNetwork",
@@ -292,6 +293,15 @@ class CommNetwork:
         self._blocked: set[frozenset] = set()
         self._burst: tuple[float, np.random.Generator] | None = None
         self._burst_listeners: list[Callable[[], None]] = []
+        # Placed nodes on a grid of cells a little wider than the range, so a node's possible
+        # links are found among its neighbours (in the graph's node order: ``_seq``), not by
+        # measuring every node. A shadowing radio draws a number per node and keeps the scan.
+        self._index: NeighbourIndex | None = None
+        if shadowing is None or shadowing.sd == 0:
+            self._index = NeighbourIndex(self.comm_range * (1.0 + 1e-9))
+        self._seq: dict[Node, int] = {}
+        self._added = 0
+        self._unplaced: dict[Node, None] = {}
 
     def on_link_change(self, listener: Callable[[str, Node, Node], None]) -> None:
         """Call ``listener("up"|"down", a, b)`` whenever a link appears or disappears."""
@@ -302,8 +312,11 @@ class CommNetwork:
         policy allows); ``position`` None: an off-arena node whose radio reaches every node.
         """
         position = None if position is None else np.asarray(position, dtype=float)
-        others = list(self.graph.nodes)
+        others = self._candidates(position, node)
         self.graph.add_node(node, pos=position)
+        self._seq[node] = self._added
+        self._added += 1
+        self._place(node, position)
         linked = self._reachable(position, others, node)
         for other in linked:
             self.graph.add_edge(node, other)
@@ -317,7 +330,8 @@ class CommNetwork:
         """
         position = np.asarray(position, dtype=float)
         self.graph.nodes[node]["pos"] = position
-        others = [o for o in self.graph.nodes if o != node]
+        self._place(node, position)
+        others = self._candidates(position, node)
         now = self._reachable(position, others, node)
         before = set(self.graph.neighbors(node))
         gone = [o for o in before if o not in set(now)]
@@ -331,6 +345,26 @@ class CommNetwork:
         for other in new:
             self._notify("up", node, other)
         return now
+
+    def _place(self, node: Node, position: np.ndarray | None) -> None:
+        """Keep the index of placed nodes (and the list of off-arena ones) up to date."""
+        if position is None:
+            self._unplaced[node] = None
+            if self._index is not None:
+                self._index.remove(node)
+            return
+        self._unplaced.pop(node, None)
+        if self._index is not None:
+            self._index.add(node, position)
+
+    def _candidates(self, position: np.ndarray | None, node: Node) -> list[Node]:
+        """The nodes ``node`` at ``position`` may link to, in the graph's node order: every
+        node, or with the index the off-arena nodes and the placed nodes in nearby cells.
+        """
+        if position is None or self._index is None:
+            return [o for o in self.graph.nodes if o != node]
+        near = sorted((o for o in self._index.near(position) if o != node), key=self._seq.get)
+        return [o for o in self._unplaced if o != node] + near
 
     def _reachable(self, position: np.ndarray | None, others: list[Node], node: Node) -> list[Node]:
         """The nodes among ``others`` that ``node`` at ``position`` is linked to."""
@@ -364,6 +398,10 @@ class CommNetwork:
         """Remove a node and all its links."""
         neighbours = list(self.graph.neighbors(node))
         self.graph.remove_node(node)
+        self._seq.pop(node, None)
+        self._unplaced.pop(node, None)
+        if self._index is not None:
+            self._index.remove(node)
         for other in neighbours:
             self._notify("down", node, other)
         return neighbours
@@ -474,6 +512,65 @@ class CommNetwork:
 
         event.callbacks.append(deliver)
         return event
+
+    def send_many(
+        self,
+        src: Node,
+        dsts: Iterable[Node],
+        payload: object,
+        handler: Callable[[Node, Node, object], None],
+        on_drop: Callable[[Node, Node, object], None] | None = None,
+        *,
+        kind: str = "message",
+        items: int = 0,
+        nbytes: int = 0,
+        phase: str = "task",
+        origin: Node | None = None,
+        hop: int = 0,
+    ) -> None:
+        """:meth:`send` the same ``payload`` from ``src`` to each of ``dsts`` in turn.
+
+        Exactly as many calls of :meth:`send` would (same log rows, same deliveries in the
+        same order at the same instant, same random draws), but without message loss all the
+        copies share one SimPy event: a broadcast costs one event, not one per receiver.
+        """
+        dsts = list(dsts)
+        if self.loss > 0.0:
+            for dst in dsts:
+                self.send(
+                    src,
+                    dst,
+                    payload,
+                    handler,
+                    on_drop,
+                    kind=kind,
+                    items=items,
+                    nbytes=nbytes,
+                    phase=phase,
+                    origin=origin,
+                    hop=hop,
+                )
+            return
+        if self.policy is not None:
+            for dst in dsts:
+                if not self.policy.allows(src, dst):
+                    raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
+        if self.log is not None:
+            for dst in dsts:
+                self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
+        self.messages_sent += len(dsts)
+        if not dsts:
+            return
+        graph = self.graph
+
+        def deliver(_event: simpy.Event) -> None:
+            for dst in dsts:
+                if graph.has_edge(src, dst):
+                    handler(src, dst, payload)
+                elif on_drop is not None:
+                    on_drop(src, dst, payload)
+
+        self.env.timeout(self.latency, value=payload).callbacks.append(deliver)
 
 
 class GradientFlood:
@@ -595,9 +692,9 @@ class GradientFlood:
         onward = value + self.step
         if onward < self.floor:
             return
-        for other in self.links(node):
-            self.in_flight += 1
-            self.network.send(node, other, (epoch, onward), self._deliver, self._dropped)
+        others = list(self.links(node))
+        self.in_flight += len(others)
+        self.network.send_many(node, others, (epoch, onward), self._deliver, self._dropped)
 
     def _deliver(self, _src: Node, dst: Node, payload: tuple[int, int]) -> None:
         self.in_flight -= 1

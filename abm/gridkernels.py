@@ -17,6 +17,8 @@ import math
 import numpy as np
 from numba import njit
 
+from abm.neighbours import cell_grid, cell_of
+
 __all__ = [
     "cardinal_distances",
     "flight_step",
@@ -191,17 +193,34 @@ def wall_lengths(padded, res, points, targets):
 
 @njit(cache=True)
 def nearest_visible(padded, sat, res, points, targets, max_range):
-    """Row of the nearest target within ``max_range`` and in line of sight per point, or -1."""
+    """Row of the nearest target within ``max_range`` and in line of sight per point, or -1.
+
+    Only targets in the cells around a point are measured (:func:`abm.neighbours.cell_grid`),
+    so the cost grows with points x targets nearby, not points x all targets.
+    """
     n = points.shape[0]
     m = targets.shape[0]
     out = np.full(n, -1, dtype=np.int64)
+    if m == 0:
+        return out
+    lo, width, dims, _which, start, order = cell_grid(targets, max_range)
+    rows = np.empty(m, dtype=np.int64)
     dist = np.empty(m)
     for k in range(n):
-        for j in range(m):
-            dist[j] = math.hypot(targets[j, 0] - points[k, 0], targets[j, 1] - points[k, 1])
-        for j in np.argsort(dist):
-            if dist[j] > max_range:
-                break
+        cx, cy = cell_of(lo, width, points[k, 0], points[k, 1])
+        found = 0
+        for y in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+            for x in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+                c = y * dims[0] + x
+                for s in range(start[c], start[c + 1]):
+                    j = order[s]
+                    d = math.hypot(targets[j, 0] - points[k, 0], targets[j, 1] - points[k, 1])
+                    if d <= max_range:
+                        rows[found] = j
+                        dist[found] = d
+                        found += 1
+        for t in np.argsort(dist[:found]):
+            j = rows[t]
             if not segment_crosses(
                 padded, sat, res, points[k, 0], points[k, 1], targets[j, 0], targets[j, 1]
             ):

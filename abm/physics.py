@@ -29,13 +29,16 @@ from typing import Protocol
 import numpy as np
 import simpy
 from numba import njit
-from scipy.spatial import cKDTree
 
 from abm import gridkernels
 from abm.arena import Arena
 from abm.errors import ConfigError, check_range
+from abm.neighbours import pairs_within
 
 __all__ = ["Physics", "Controller", "FlightParams"]
+
+#: Mask of the low 32 bits (the higher robot id) of a contact key ``low_id << 32 | high_id``.
+_LOW = (1 << 32) - 1
 
 
 class Controller(Protocol):
@@ -133,7 +136,8 @@ class Physics:
         self.vel = np.empty((0, 2))
         self._arrivals: list[simpy.Event] = []
         self._wall_contact = np.empty(0, dtype=bool)
-        self._pairs_in_contact: set[tuple[int, int]] = set()
+        #: Robot pairs touching after the last tick, as sorted keys ``low_id << 32 | high_id``.
+        self._pairs_in_contact = np.empty(0, dtype=np.int64)
         self.wall_collisions = 0
         self.robot_collisions = 0
         self.ticks = 0
@@ -160,17 +164,31 @@ class Physics:
         """Start moving a robot; the returned event fires when its flight is done (the
         controller's done mask, or :meth:`finish`).
         """
-        if robot_id in self.ids:
-            raise ValueError(f"robot {robot_id} is already flying")
-        arrived = self.env.event()
-        self.ids = np.append(self.ids, robot_id)
-        self.pos = np.vstack([self.pos, np.asarray(position, dtype=float)[None, :]])
-        self.vel = np.vstack([self.vel, np.zeros((1, 2))])
-        self._wall_contact = np.append(self._wall_contact, False)
+        return self.fly_many([robot_id], np.asarray(position, dtype=float)[None, :])[0]
+
+    def fly_many(self, robot_ids: Iterable[int], positions: np.ndarray) -> list[simpy.Event]:
+        """Start moving several robots at once (a swarm launched together): one event each,
+        as :meth:`fly` gives, in the order given.
+        """
+        ids = np.asarray(list(robot_ids), dtype=np.int64)
+        positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+        if len(ids) != len(positions):
+            raise ValueError(f"{len(ids)} robot ids but {len(positions)} positions")
+        flying = ids[np.isin(ids, self.ids)]
+        if len(flying):
+            raise ValueError(f"robot {int(flying[0])} is already flying")
+        if len(np.unique(ids)) != len(ids):
+            raise ValueError(f"robot ids {ids.tolist()} repeat")
+        arrived = [self.env.event() for _ in range(len(ids))]
+        k = len(ids)
+        self.ids = np.concatenate([self.ids, ids])
+        self.pos = np.concatenate([self.pos, positions])
+        self.vel = np.concatenate([self.vel, np.zeros((k, 2))])
+        self._wall_contact = np.concatenate([self._wall_contact, np.zeros(k, dtype=bool)])
         for name, array in self.flyer_state.items():
-            self.flyer_state[name] = np.vstack([array, np.zeros((1, array.shape[1]))])
-        self._arrivals.append(arrived)
-        if not self._wake.triggered:
+            self.flyer_state[name] = np.concatenate([array, np.zeros((k, array.shape[1]))])
+        self._arrivals.extend(arrived)
+        if k and not self._wake.triggered:
             self._wake.succeed()
         return arrived
 
@@ -203,8 +221,9 @@ class Physics:
         keep = np.ones(len(self.ids), dtype=bool)
         keep[rows] = False
         last = self.pos[rows].copy()
-        gone = set(self.ids[rows].tolist())
-        self._pairs_in_contact = {p for p in self._pairs_in_contact if not (gone & set(p))}
+        gone = self.ids[rows]
+        pairs = self._pairs_in_contact
+        self._pairs_in_contact = pairs[~(np.isin(pairs >> 32, gone) | np.isin(pairs & _LOW, gone))]
         self.ids = self.ids[keep]
         self.pos = self.pos[keep]
         self.vel = self.vel[keep]
@@ -269,43 +288,33 @@ class Physics:
                     self.on_collision("wall", int(rid), None)
 
     def _robot_contacts(self) -> None:
-        """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.)."""
+        """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.).
+
+        Touching pairs come from a cell list (:func:`abm.neighbours.pairs_within`, linear in the
+        flyers); contacts are compared with the last tick's as sorted integer keys.
+        """
         n = len(self.ids)
         if n < 2:
-            self._pairs_in_contact = set()
+            self._pairs_in_contact = self._pairs_in_contact[:0]
             return
-        reach = 2 * self.params.body_radius
-        if n <= 64:
-            i, j = _close_pairs(self.pos, reach)
-        else:
-            pairs = cKDTree(self.pos).query_pairs(reach, output_type="ndarray")
-            i, j = pairs[:, 0], pairs[:, 1]
+        i, j = pairs_within(self.pos, 2 * self.params.body_radius)
         if len(i) == 0:
-            self._pairs_in_contact = set()
+            self._pairs_in_contact = self._pairs_in_contact[:0]
             return
         _bounce(self.pos, self.vel, i, j)
         ids_i, ids_j = self.ids[i], self.ids[j]
-        now = {(min(a, b), max(a, b)) for a, b in zip(ids_i.tolist(), ids_j.tolist(), strict=True)}
-        new = now - self._pairs_in_contact
+        now = np.sort(np.minimum(ids_i, ids_j) << 32 | np.maximum(ids_i, ids_j))  # pairs unique
+        before = self._pairs_in_contact
+        if len(before):  # both sorted: a binary search per contact
+            at = np.minimum(np.searchsorted(before, now), len(before) - 1)
+            new = now[before[at] != now]
+        else:
+            new = now
         self._pairs_in_contact = now
         self.robot_collisions += 2 * len(new)
         if self.on_collision is not None:
-            for a, b in sorted(new):
-                self.on_collision("robot", a, b)
-
-
-@njit(cache=True)
-def _close_pairs(pos: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
-    """Index pairs ``i < j`` of points closer than ``reach`` (all pairs: for small swarms)."""
-    n = pos.shape[0]
-    first = []
-    second = []
-    for i in range(n):
-        for j in range(i + 1, n):
-            if (pos[i, 0] - pos[j, 0]) ** 2 + (pos[i, 1] - pos[j, 1]) ** 2 < reach * reach:
-                first.append(i)
-                second.append(j)
-    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+            for key in new.tolist():
+                self.on_collision("robot", key >> 32, key & _LOW)
 
 
 @njit(cache=True)

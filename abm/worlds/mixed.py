@@ -33,24 +33,28 @@ MIXED_BRANCHING = "medium"
 _STEPS: tuple[Cell, ...] = ((0, 1), (1, 0), (0, -1), (-1, 0))
 
 
-def _room(corner: Cell) -> list[Cell]:
-    """Cells of the square room whose south-west cell is ``corner``."""
+def _room(corner: Cell, side: int) -> list[Cell]:
+    """Cells of the square room of ``side`` cells whose south-west cell is ``corner``."""
     x0, y0 = corner
-    return [(x0 + dx, y0 + dy) for dy in range(ROOM_SIDE) for dx in range(ROOM_SIDE)]
+    return [(x0 + dx, y0 + dy) for dy in range(side) for dx in range(side)]
 
 
-def _room_beyond(door: Cell, step: Cell, offset: int, taken: set[Cell]) -> list[Cell] | None:
+def _room_beyond(
+    door: Cell, step: Cell, offset: int, taken: set[Cell], side: int
+) -> list[Cell] | None:
     """Return the room entered from ``door`` going ``step``, or None if it does not fit.
 
-    ``offset`` shifts the room sideways by -1, 0 or 1 cells; the door always faces one of the
+    ``offset`` shifts the room sideways by -1, 0 or 1 cells (for the paper's 3-cell rooms;
+    a wider room is centred on the door the same way); the door always faces one of the
     room's cells. The room may touch no taken cell but the door.
     """
     sx, sy = step
     px, py = -sy, sx  # sideways
+    half = side // 2
     cells = [
         (door[0] + f * sx + lat * px, door[1] + f * sy + lat * py)
-        for f in range(1, ROOM_SIDE + 1)
-        for lat in range(offset - 1, offset + 2)
+        for f in range(1, side + 1)
+        for lat in range(offset - half, offset - half + side)
     ]
     for x, y in cells:
         if (x, y) in taken:
@@ -63,7 +67,7 @@ def _room_beyond(door: Cell, step: Cell, offset: int, taken: set[Cell]) -> list[
 
 
 def _attach_room(
-    corridor: list[Cell], taken: set[Cell], rng: np.random.Generator
+    corridor: list[Cell], taken: set[Cell], rng: np.random.Generator, side: int
 ) -> list[Cell] | None:
     """Room B's cells beyond a random dead end (else beside any corridor cell), or None."""
     points = set(corridor)
@@ -75,23 +79,25 @@ def _attach_room(
             for door in candidates
             for step in _STEPS
             for offset in (-1, 0, 1)
-            if (room := _room_beyond(door, step, offset, taken)) is not None
+            if (room := _room_beyond(door, step, offset, taken, side)) is not None
         ]
         if options:
             return options[int(rng.integers(len(options)))]
     return None
 
 
-def _layout(rng: np.random.Generator) -> tuple[list[Cell], list[Cell]] | None:
+def _layout(
+    rng: np.random.Generator, room_side: int, corridor_cells: int
+) -> tuple[list[Cell], list[Cell]] | None:
     """One attempt: ``(room cells, corridor cells)``, or None if room B found no place."""
-    room_a = _room((0, 0))
+    room_a = _room((0, 0), room_side)
     side = _STEPS[int(rng.integers(4))]
-    along = int(rng.integers(ROOM_SIDE))
+    along = int(rng.integers(room_side))
     # The doorway: the cell just outside the room's ``side`` wall, at column or row ``along``.
-    outside = ROOM_SIDE if max(side) > 0 else -1
+    outside = room_side if max(side) > 0 else -1
     door = (along, outside) if side[0] == 0 else (outside, along)
     corridor = grow_corridor(
-        MIXED_CORRIDOR_CELLS,
+        corridor_cells,
         rng,
         MIXED_BRANCHING,
         root=door,
@@ -99,34 +105,45 @@ def _layout(rng: np.random.Generator) -> tuple[list[Cell], list[Cell]] | None:
         blocked=frozenset(room_a),
     )
     taken = set(room_a) | set(corridor)
-    room_b = _attach_room(corridor, taken, rng)
+    room_b = _attach_room(corridor, taken, rng, room_side)
     if room_b is None:
         return None
     return room_a + room_b, corridor
 
 
-def mixed_world(rng: np.random.Generator | int | None = None, cell_size: float = 3.0) -> World:
-    """Generate two 3 x 3 cell rooms joined by 22 medium-branching corridor cells.
+def mixed_world(
+    rng: np.random.Generator | int | None = None,
+    cell_size: float = 3.0,
+    room_side: int = ROOM_SIDE,
+    corridor_cells: int = MIXED_CORRIDOR_CELLS,
+) -> World:
+    """Generate two square rooms joined by medium-branching corridor cells: the paper's two
+    3 x 3 cell rooms and 22 corridor cells, or larger ones.
 
     The start cell is a random free cell.
 
     Args:
         rng: a ``numpy.random.Generator``, an int seed, or None for a fresh generator.
         cell_size: side of a cell (m).
+        room_side: side of each room (cells; the paper: 3).
+        corridor_cells: corridor cells (the paper: 22).
 
     Returns:
-        A World of kind ``"mixed"``, complexity ``"medium"``, 40 free cells, whose ``branches``
-        is the branch count of the corridor cells alone.
+        A World of kind ``"mixed"``, complexity ``"medium"``, ``2 room_side^2 +
+        corridor_cells`` free cells (40 by default), whose ``branches`` is the branch count of
+        the corridor cells alone.
 
     Raises:
         ConfigError: a parameter is out of range or of the wrong type.
 
     """
     check_range("cell_size", cell_size, 0.0, low_open=True)
+    check_range("room_side", room_side, 1, 200, integer=True)
+    check_range("corridor_cells", corridor_cells, 1, 100_000, integer=True)
     gen = as_generator(rng)
     layout = None
     while layout is None:
-        layout = _layout(gen)
+        layout = _layout(gen, int(room_side), int(corridor_cells))
     rooms, corridor = layout
     cells = rooms + corridor
     start = cells[int(gen.integers(len(cells)))]

@@ -22,8 +22,9 @@ distribution as placing obstacles at random and rejecting bad layouts.
 from functools import cache
 
 import numpy as np
+from scipy import ndimage
 
-from abm.errors import check_choice, check_range
+from abm.errors import ConfigError, check_choice, check_range
 from abm.worlds.world import COMPLEXITIES, World, as_generator, world_from_cells
 
 __all__ = ["OBSTACLES", "ROOM_CELLS", "open_world", "room_layouts"]
@@ -89,15 +90,22 @@ def open_world(
     complexity: str = "medium",
     rng: np.random.Generator | int | None = None,
     cell_size: float = 3.0,
+    room_cells: int = ROOM_CELLS,
 ) -> World:
-    """Generate a 5 x 5 cell room with 5, 7 or 10 obstacle cells.
+    """Generate a square room with obstacle cells: the paper's 5 x 5 cells with 5, 7 or 10
+    obstacles, or a larger room of k x k such rooms.
 
-    The start cell is a random free cell.
+    A larger room (``room_cells`` = 5 k) is tiled with k x k independent draws of the paper's
+    layouts joined without walls: the obstacle density is the paper's, rule (b) holds because
+    joining tiles only adds free neighbours, and rule (a) is checked on the whole room (a
+    disconnected room is redrawn). The start cell is a random free cell.
 
     Args:
-        complexity: ``"low"``, ``"medium"`` or ``"high"`` obstacle density (5, 7, 10 cells).
+        complexity: ``"low"``, ``"medium"`` or ``"high"`` obstacle density (5, 7, 10 cells
+            per 5 x 5 cells).
         rng: a ``numpy.random.Generator``, an int seed, or None for a fresh generator.
         cell_size: side of a cell (m).
+        room_cells: side of the room (cells): 5 (the paper's) or a multiple of 5.
 
     Raises:
         ConfigError: a parameter is out of range or not one of its accepted values.
@@ -105,16 +113,35 @@ def open_world(
     """
     check_choice("complexity", complexity, COMPLEXITIES)
     check_range("cell_size", cell_size, 0.0, low_open=True)
+    check_range("room_cells", room_cells, ROOM_CELLS, 500, integer=True)
+    if room_cells % ROOM_CELLS:
+        raise ConfigError(
+            f"room_cells must be a multiple of {ROOM_CELLS} (rooms are tiled with the paper's "
+            f"{ROOM_CELLS} x {ROOM_CELLS} layouts), got {room_cells!r}"
+        )
     gen = as_generator(rng)
     layouts = room_layouts(ROOM_CELLS, OBSTACLES[complexity])
-    mask = int(layouts[gen.integers(len(layouts))])
-    cells = [
-        (ix, iy)
-        for iy in range(ROOM_CELLS)
-        for ix in range(ROOM_CELLS)
-        if mask >> (iy * ROOM_CELLS + ix) & 1
-    ]
+    tiles = room_cells // ROOM_CELLS
+    while True:
+        free = np.zeros((room_cells, room_cells), dtype=bool)
+        for ty in range(tiles):
+            for tx in range(tiles):
+                mask = int(layouts[gen.integers(len(layouts))])
+                for iy in range(ROOM_CELLS):
+                    for ix in range(ROOM_CELLS):
+                        if mask >> (iy * ROOM_CELLS + ix) & 1:
+                            free[ty * ROOM_CELLS + iy, tx * ROOM_CELLS + ix] = True
+        if tiles == 1 or _connected(free):
+            break
+    iy, ix = np.nonzero(free)
+    cells = list(zip(ix.tolist(), iy.tolist(), strict=True))
     start = cells[int(gen.integers(len(cells)))]
     # The arena always holds the whole room, even when a row of obstacles lines one wall.
-    room = ((0, 0), (ROOM_CELLS - 1, ROOM_CELLS - 1))
+    room = ((0, 0), (room_cells - 1, room_cells - 1))
     return world_from_cells(cells, start, "open", complexity, None, cell_size, extent=room)
+
+
+def _connected(free: np.ndarray) -> bool:
+    """Tell whether the free cells are 4-connected."""
+    _labels, count = ndimage.label(free)
+    return count == 1

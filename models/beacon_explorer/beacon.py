@@ -8,11 +8,13 @@ messages: a beacon re-evaluates one control period after being woken, and only o
 the newest flood has reached.
 """
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import networkx as nx
 import numpy as np
+from numba import njit
 
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
@@ -91,7 +93,15 @@ class BeaconNetwork:
         self.on_may_detach = on_may_detach
         self.beacons: dict[int, Beacon] = {}
         self.base: int | None = None
-        self.lattice = nx.Graph()
+        # The lattice, kept up to date incrementally (see _update_lattice): each beacon's pick
+        # per direction, the mutual picks (lattice links), and each beacon's attach turn.
+        self._picks: dict[int, dict[int, int]] = {}
+        self._links: dict[int, set[int]] = {}
+        self._turn: dict[int, int] = {}
+        self._turns = 0
+        self._touched: set[int] = set()
+        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until the next update
+        self._members: tuple[np.ndarray, np.ndarray] | None = None  # signals' ids, positions
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
         )
@@ -115,6 +125,10 @@ class BeaconNetwork:
         walls, corridor = self._sense_walls(position, robot)
         beacon = Beacon(robot, position, walls, corridor, is_base=is_base)
         self.beacons[robot] = beacon
+        self._members = None
+        self._turn[robot] = self._turns
+        self._turns += 1
+        self._touched.add(robot)
         if is_base:
             self.base = robot
             self.forwards.set_sources([robot])
@@ -132,6 +146,7 @@ class BeaconNetwork:
         ``searched=False``) says nothing about the area beyond it.
         """
         beacon = self.beacons.pop(robot)
+        self._members = None
         for other in self.beacons.values() if searched else ():
             for d, n in other.neighbour_dirs.items():
                 if n == robot:
@@ -140,6 +155,7 @@ class BeaconNetwork:
             self.reverse.set_sources(self.reverse.sources - {robot})
         if robot in self.comms.graph:  # a failed robot has left it already
             self.comms.remove(robot)
+        self._touched.add(robot)
         self.forwards.forget(robot)
         self.reverse.forget(robot)
         self._topology_changed()
@@ -153,40 +169,92 @@ class BeaconNetwork:
         self.version += 1
 
     def _topology_changed(self) -> None:
-        self._rebuild_lattice()
+        self._update_lattice()
         self.forwards.restart()
         self.reverse.restart()
 
-    def _rebuild_lattice(self) -> None:
+    def _update_lattice(self) -> None:
         """Lattice links: mutual nearest linked neighbours in opposite compass directions.
 
         Hop counts travel through the relative-positioning sensor to these <= 4 neighbours
         (Sect. 3.3, App. A), so neighbours differ by exactly one hop. A drifted lattice can
         bring a diagonal beacon within C_r; flooding over it would give equal hop counts to
         neighbours, which the controller's rules never expect.
+
+        A beacon's picks depend only on its comm links and the (fixed) positions of the
+        beacons, so only beacons that attached, detached or whose links changed since the last
+        update (``_touched``) pick again, and only their links are re-checked: the cost of a
+        change is that of its neighbourhood, not of the whole network.
         """
-        picks: dict[int, dict[int, int]] = {}
-        for robot, beacon in self.beacons.items():
-            nearest: dict[int, tuple[float, int]] = {}
-            for other in self.comms.neighbours(robot):
-                rel = self.beacons[other].position - beacon.position
-                d = int(np.argmax(CARDINALS @ rel))
-                r = float(np.hypot(*rel))
-                if d not in nearest or r < nearest[d][0]:
-                    nearest[d] = (r, other)
-            picks[robot] = {d: other for d, (_r, other) in nearest.items()}
-        self.lattice = nx.Graph()
-        self.lattice.add_nodes_from(self.beacons)
-        self.lattice.add_edges_from(
-            (robot, other)
-            for robot, chosen in picks.items()
-            for d, other in chosen.items()
-            if picks[other].get(opposite(d)) == robot  # mutual: a lattice edge both ends see
+        touched, self._touched = self._touched, set()
+        self._ordered.clear()
+        for robot in touched - self.beacons.keys():  # detached
+            self._picks.pop(robot, None)
+            self._turn.pop(robot, None)
+            for other in self._links.pop(robot, ()):
+                self._links[other].discard(robot)
+        present = [robot for robot in touched if robot in self.beacons]
+        for robot in present:
+            self._picks[robot] = self._pick(robot)
+            self._links.setdefault(robot, set())
+        for robot in present:
+            for other in list(self._links[robot]):
+                if not self._mutual(robot, other):
+                    self._links[robot].discard(other)
+                    self._links[other].discard(robot)
+            for other in self._picks[robot].values():
+                if self._mutual(robot, other):
+                    self._links[robot].add(other)
+                    self._links[other].add(robot)
+
+    def _pick(self, robot: int) -> dict[int, int]:
+        """The nearest linked beacon in each direction (directions in order of first sight)."""
+        beacon = self.beacons[robot]
+        nearest: dict[int, tuple[float, int]] = {}
+        for other in self.comms.neighbours(robot):
+            rel = self.beacons[other].position - beacon.position
+            d = int(np.argmax(CARDINALS @ rel))
+            r = float(np.hypot(*rel))
+            if d not in nearest or r < nearest[d][0]:
+                nearest[d] = (r, other)
+        return {d: other for d, (_r, other) in nearest.items()}
+
+    def _mutual(self, robot: int, other: int) -> bool:
+        """Both beacons pick each other, in opposite directions."""
+        theirs = self._picks.get(other, {})
+        return any(
+            o == other and theirs.get(opposite(d)) == robot for d, o in self._picks[robot].items()
         )
 
     def lattice_neighbours(self, robot: int) -> list[int]:
-        """The beacons a beacon exchanges hop counts with."""
-        return list(self.lattice.neighbors(robot)) if robot in self.lattice else []
+        """The beacons a beacon exchanges hop counts with.
+
+        In the order the whole lattice would list them if it were built afresh beacon by
+        beacon in attach order (messages go out in this order, so it fixes the order of
+        same-time events): first the neighbours that attached earlier, in attach order, then
+        the later ones in the order of this beacon's picks.
+        """
+        ordered = self._ordered.get(robot)
+        if ordered is None:
+            links = self._links.get(robot)
+            if not links:
+                return []
+            turn = self._turn
+            mine = turn[robot]
+            earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
+            later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
+            ordered = self._ordered[robot] = earlier + later
+        return ordered
+
+    @property
+    def lattice(self) -> nx.Graph:
+        """The lattice as a graph (for drawings and analysis; built on demand)."""
+        graph = nx.Graph()
+        graph.add_nodes_from(self.beacons)
+        graph.add_edges_from(
+            (robot, other) for robot in self.beacons for other in self.lattice_neighbours(robot)
+        )
+        return graph
 
     # ------------------------------------------------------------------ sensing
     def _sense_walls(
@@ -251,17 +319,14 @@ class BeaconNetwork:
         measured = relative_positions(
             rel, self.rng, p.range_noise, p.bearing_noise, p.reference_range
         )
-        direction = np.argmax(measured @ CARDINALS.T, axis=1)
-        dist = np.hypot(measured[:, 0], measured[:, 1])
+        reach = self.params.interspace if me.corridor else self.params.spot_taken
+        direction, dist, near_spot = _bearings(measured, self.params.interspace, reach)
         linked = set(self.lattice_neighbours(robot))
         found: dict[int, tuple[float, int]] = {}
         for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
             if n in linked and (d not in found or r < found[d][0]):
                 found[d] = (r, n)
-        spots = CARDINALS * self.params.interspace
-        gaps = np.hypot(*(spots[:, None, :] - measured[None, :, :]).transpose(2, 0, 1))
-        reach = self.params.interspace if me.corridor else self.params.spot_taken
-        taken = {d for d in DIRECTIONS if (gaps[d] < reach).any()}
+        taken = {d for d in DIRECTIONS if near_spot[d]}
         neighbours = {d: n for d, (_r, n) in found.items()}
         return neighbours, (taken | me.reported_taken) - neighbours.keys()
 
@@ -376,24 +441,59 @@ class BeaconNetwork:
             self.wake(n)
 
     def _link_changed(self, _kind: str, a: int, b: int) -> None:
+        self._touched.update((a, b))
         self.wake(a)
         self.wake(b)
 
     # ------------------------------------------------------------------ what explorers read
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
-        ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
-        beacons = list(self.beacons.values())
-        pos = np.array([b.position for b in beacons]).reshape(-1, 2)
-        desired = np.array([b.desired for b in beacons], dtype=np.int64)
+        if self._members is None:  # positions are fixed: rebuilt only when beacons come or go
+            ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
+            pos = np.array([b.position for b in self.beacons.values()]).reshape(-1, 2)
+            self._members = ids, pos
+        ids, pos = self._members
+        beacons = self.beacons.values()
+        desired = np.fromiter((b.desired for b in beacons), dtype=np.int64, count=len(ids))
         vectors = np.where(
             (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
         )
-        to_empty = np.array(
-            [b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons], dtype=bool
+        to_empty = np.fromiter(
+            (b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons),
+            dtype=bool,
+            count=len(ids),
         )
         return ids, pos, vectors, to_empty
 
 
 def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.ndarray:
     return readings
+
+
+@njit(cache=True)
+def _bearings(measured: np.ndarray, interspace: float, reach: float):
+    """Per measured neighbour vector: its compass direction (the cardinal it is most along,
+    first on ties) and length; per direction: whether some neighbour is closer than ``reach``
+    to that direction's lattice spot (I_r away).
+    """
+    k = measured.shape[0]
+    direction = np.empty(k, dtype=np.int64)
+    dist = np.empty(k)
+    near_spot = np.zeros(4, dtype=np.bool_)
+    for i in range(k):
+        x, y = measured[i, 0], measured[i, 1]
+        best = 0
+        along = x * CARDINALS[0, 0] + y * CARDINALS[0, 1]
+        for d in range(1, 4):
+            v = x * CARDINALS[d, 0] + y * CARDINALS[d, 1]
+            if v > along:
+                best, along = d, v
+        direction[i] = best
+        dist[i] = math.hypot(x, y)
+        for d in range(4):
+            if (
+                math.hypot(CARDINALS[d, 0] * interspace - x, CARDINALS[d, 1] * interspace - y)
+                < reach
+            ):
+                near_spot[d] = True
+    return direction, dist, near_spot

@@ -172,11 +172,14 @@ def _steer(
     attach = np.zeros(n, dtype=np.bool_)
     nearest = nearest_visible(padded, sat, res, pos, beacon_pos, p.comm_range)
     walls = cardinal_distances(padded, runs, res, pos, p.sensor_range)
+    row_of = _rows_by_id(ids)
     for i in range(n):
         lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
         if not lost:
-            k = _keep_guide(padded, sat, res, pos[i], guide[i, 0], ids, beacon_pos, to_empty, k, p)
+            k = _keep_guide(
+                padded, sat, res, pos[i], guide[i, 0], row_of, beacon_pos, to_empty, k, p
+            )
             guide[i, 0] = ids[k]
             contact[i, 0] = pos[i, 0]
             contact[i, 1] = pos[i, 1]
@@ -271,7 +274,19 @@ def _slide_side(slide, point, lx, ly, walls, p):
 
 
 @njit(cache=True)
-def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, to_empty, nearest, p):
+def _rows_by_id(ids):
+    """Row of each beacon by robot id (-1: no beacon has that id), for O(1) look-ups."""
+    top = 0
+    for j in range(ids.shape[0]):
+        top = max(top, ids[j])
+    row_of = np.full(top + 1, -1, dtype=np.int64)
+    for j in range(ids.shape[0]):
+        row_of[ids[j]] = j
+    return row_of
+
+
+@njit(cache=True)
+def _keep_guide(padded, sat, res, point, guide_id, row_of, beacon_pos, to_empty, nearest, p):
     """The beacon a flyer follows: the nearest one, unless the one it followed is still in
     touch (within C_r, line of sight) and either signals an empty spot (``guide_commit``: the
     flyer is on its way to attach there) or is less than ``guide_hysteresis`` farther away.
@@ -283,10 +298,8 @@ def _keep_guide(padded, sat, res, point, guide_id, ids, beacon_pos, to_empty, ne
     defaults) that a beacon advertises but an explorer arriving there leaves for the other
     beacon: on floor plans whose walls stop the lattice short, whole swarms circled such a spot.
     """
-    g = -1
-    for j in range(ids.shape[0]):
-        if ids[j] == guide_id:
-            g = j
+    gid = int(guide_id)
+    g = row_of[gid] if 0 <= gid < row_of.shape[0] and gid == guide_id else -1
     if g < 0 or g == nearest:
         return nearest
     to_guide = math.hypot(beacon_pos[g, 0] - point[0], beacon_pos[g, 1] - point[1])

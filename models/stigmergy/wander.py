@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 from scipy import ndimage
 
+from abm import neighbours
 from abm.arena import Arena
 from abm.discs import disc_offsets
 from abm.errors import check_range
@@ -229,13 +230,8 @@ def radio_margin(
     return power.max(axis=1)
 
 
-@njit(cache=True)
 def nearest_distance(points: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """Distance from each point to the nearest target (inf without targets)."""
-    out = np.full(points.shape[0], np.inf)
-    for i in range(points.shape[0]):
-        for j in range(targets.shape[0]):
-            d = np.hypot(points[i, 0] - targets[j, 0], points[i, 1] - targets[j, 1])
-            if d < out[i]:
-                out[i] = d
-    return out
+    return neighbours.nearest_distance(
+        np.ascontiguousarray(points, dtype=float), np.ascontiguousarray(targets, dtype=float)
+    )

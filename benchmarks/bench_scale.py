@@ -1,0 +1,255 @@
+"""Cost growth with swarm size: wall time per simulated second per robot, 50 to 2,000 robots.
+
+Each model runs at four sizes in a world that grows with the swarm, so the density of robots
+stays about the same and a linear-cost framework shows the same wall time per simulated second
+per robot at every size:
+
+- beacon/explorer: an open hall of 3 m cells with a few obstacle cells (one every 7 cells in
+  both directions), about 1.1 cells per robot, launch period 3 s, simulated until every robot
+  has launched plus 60 s (``n * 3 + 60`` s);
+- stigmergy: an open square map of 1 m pixels with the same obstacle pattern scaled, about
+  60 m^2 per robot, launch rate 0.1 (one robot per 5 s, ten times the paper's), simulated until
+  every robot has launched (``n * 5`` s).
+
+A run that would take longer than ``--budget`` wall seconds stops early (checked every
+simulated ``--chunk`` seconds) and its row reports the simulated time it reached: its cost is
+then measured over the early, cheaper part of the deployment only (fewer robots aloft), so a
+truncated row *under*states that size's cost. The growth exponent b is the least-squares slope
+of log(wall per simulated second) against log(robots): b = 1 is linear cost.
+
+The worlds are built from plain cell lists and arrays (not the generators' size options) so
+the same script times older revisions of the framework.
+
+With ``--compare DIR`` every case also runs on the code checked out in DIR (e.g. a worktree
+of main: ``git worktree add /tmp/before main``), both revisions side by side at the same time
+in two processes, so both see the same machine load; the table then shows both and their
+ratio.
+
+Usage: python benchmarks/bench_scale.py [--quick] [--models beacon-explorer stigmergy]
+    [--sizes 50 200 1000 2000] [--budget 600] [--seed 1] [--profile out/scale.prof]
+    [--compare DIR]
+"""
+
+import argparse
+import cProfile
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from abm.registry import model_class
+from abm.worlds.world import world_from_cells
+
+#: Sizes of the full and the quick run (robots).
+SIZES = (50, 200, 1000, 2000)
+QUICK_SIZES = (50, 100, 200, 400)
+#: Explorer launch period (s) of the beacon/explorer runs.
+LAUNCH_PERIOD = 3.0
+#: Stigmergy launch rate (robots per 0.5 s model step): one per 5 s, ten times the paper's.
+STIGMERGY_RATE = 0.1
+#: Obstacle spacing in both directions (cells or 1/7 of the map).
+OBSTACLE_EVERY = 7
+
+
+def beacon_explorer_case(n: int) -> tuple[dict, float]:
+    """Parameters and simulated duration of an ``n``-robot beacon/explorer run."""
+    side = math.ceil(math.sqrt(1.1 * n))
+    cells = [
+        (ix, iy)
+        for iy in range(side)
+        for ix in range(side)
+        if not (ix % OBSTACLE_EVERY == 3 and iy % OBSTACLE_EVERY == 3)
+    ]
+    world = world_from_cells(cells, (0, 0), "open", "low", None, 3.0)
+    duration = n * LAUNCH_PERIOD + 60.0
+    params = {
+        "world": world,
+        "n_robots": n,
+        "launch_period": LAUNCH_PERIOD,
+        "time_limit": duration,
+        "stall_time": None,
+    }
+    return params, duration
+
+
+def stigmergy_case(n: int) -> tuple[dict, float]:
+    """Parameters and simulated duration of an ``n``-robot stigmergy run."""
+    side = max(60, math.ceil(math.sqrt(600.0 * n)))
+    free = np.ones((side, side), dtype=bool)
+    free[[0, -1], :] = free[:, [0, -1]] = False
+    step = side // OBSTACLE_EVERY
+    for k in range(1, OBSTACLE_EVERY):
+        for m in range(1, OBSTACLE_EVERY):
+            free[k * step : k * step + 3, m * step : m * step + 3] = False
+    duration = n * 0.5 / STIGMERGY_RATE
+    params = {
+        "map": free,
+        "start": (5.0, 5.0),
+        "launch_rate": STIGMERGY_RATE,
+        "swarm_size": n,
+        "time_limit": duration,
+        "coverage_target": 1.0,
+    }
+    return params, duration
+
+
+CASES = {"beacon-explorer": beacon_explorer_case, "stigmergy": stigmergy_case}
+
+
+def time_run(
+    name: str, n: int, seed: int, budget: float, chunk: float, profile: str | None = None
+) -> dict:
+    """Run one case; wall time, simulated time reached and how the run ended."""
+    params, duration = CASES[name](n)
+    cls = model_class(name)
+    profiler = cProfile.Profile() if profile else None
+    start = time.perf_counter()
+    if profiler:
+        profiler.enable()
+    model = cls(seed=seed, **params)
+    progress = [(0.0, time.perf_counter() - start)]  # (simulated s, wall s) after each chunk
+    while model.running and model.env.now < duration:
+        model.run(until=min(duration, model.env.now + chunk))
+        progress.append((float(model.env.now), time.perf_counter() - start))
+        if progress[-1][1] > budget:
+            break
+    if profiler:
+        profiler.disable()
+        profiler.dump_stats(profile)
+    wall = time.perf_counter() - start
+    simulated = float(model.env.now)
+    return {
+        "model": name,
+        "robots": n,
+        "simulated": simulated,
+        "wall": wall,
+        "per_robot_us": 1e6 * wall / simulated / n,
+        "rtf": simulated / wall,
+        "truncated": simulated < duration and model.running,
+        "events": len(model.events()),
+        "end": model.end_reason or "",
+        "progress": progress,
+    }
+
+
+def wall_at(row: dict, simulated: float) -> float:
+    """Wall time (s) a run took to reach ``simulated`` seconds (linear between chunks)."""
+    sims, walls = zip(*row["progress"], strict=True)
+    return float(np.interp(simulated, sims, walls))
+
+
+def side_by_side(
+    name: str, n: int, seed: int, budget: float, chunk: float, other: str
+) -> tuple[dict, dict]:
+    """Run a case on this code and on the code in directory ``other`` at the same time."""
+
+    def start(root: str) -> subprocess.Popen:
+        env = {**os.environ, "PYTHONPATH": root}
+        argv = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
+        argv += ["--seed", str(seed), "--budget", str(budget), "--chunk", str(chunk)]
+        return subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, text=True, cwd=root)
+
+    here = str(Path(__file__).resolve().parent.parent)
+    runs = [start(here), start(other)]
+    return tuple(json.loads(run.communicate()[0].strip().splitlines()[-1]) for run in runs)
+
+
+def speedup(after: dict, before: dict) -> float:
+    """Ratio of the wall times both revisions took to reach the simulated time both reached."""
+    common = min(after["simulated"], before["simulated"])
+    return wall_at(before, common) / wall_at(after, common)
+
+
+def growth_exponent(rows: list[dict]) -> float:
+    """Slope b of log(wall per simulated second) against log(robots)."""
+    robots = np.log([r["robots"] for r in rows])
+    cost = np.log([r["wall"] / r["simulated"] for r in rows])
+    return float(np.polyfit(robots, cost, 1)[0])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help=f"sizes {QUICK_SIZES}")
+    parser.add_argument("--sizes", type=int, nargs="+", default=None)
+    parser.add_argument("--models", nargs="+", default=list(CASES), choices=list(CASES))
+    parser.add_argument("--budget", type=float, default=600.0, help="wall s per run at most")
+    parser.add_argument("--chunk", type=float, default=30.0, help="simulated s between checks")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--profile", default=None, help="cProfile file of the largest run")
+    parser.add_argument("--compare", default=None, help="also time the code in this checkout")
+    parser.add_argument("--one", nargs=2, default=None, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    sizes = args.sizes or (QUICK_SIZES if args.quick else SIZES)
+    if args.one:  # a worker of --compare: warm up, time one case, print it as JSON
+        name, n = args.one[0], int(args.one[1])
+        model_class(name)(seed=0, **CASES[name](20)[0]).run(until=30.0)
+        print(json.dumps(time_run(name, n, args.seed, args.budget, args.chunk)))
+        return
+    if args.compare:
+        for name in args.models:
+            print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
+            print(
+                f"  {'robots':>7} {'sim s':>7} {'us/robot/sim-s':>15} {'x real time':>11}   "
+                f"{'before: sim s':>13} {'us/robot/sim-s':>15} {'x real time':>11}  "
+                f"speed-up (wall to the same sim time)"
+            )
+            pairs = []
+            for n in sizes:
+                after, before = side_by_side(
+                    name, n, args.seed, args.budget, args.chunk, args.compare
+                )
+                pairs.append((after, before))
+                cut = [" *" if r["truncated"] else "  " for r in (after, before)]
+                print(
+                    f"  {n:>7} {after['simulated']:>7.0f}{cut[0]}{after['per_robot_us']:>13.1f} "
+                    f"{after['rtf']:>11.1f}   {before['simulated']:>13.0f}{cut[1]}"
+                    f"{before['per_robot_us']:>13.1f} {before['rtf']:>11.1f}  "
+                    f"{speedup(after, before):>6.1f}x",
+                    flush=True,
+                )
+            for label, rows in (
+                ("this code", [a for a, _ in pairs]),
+                ("before", [b for _, b in pairs]),
+            ):
+                ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
+                print(
+                    f"  {label}: per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} "
+                    f"robots {ratio:.2f}x, growth exponent b = {growth_exponent(rows):.2f}"
+                )
+            print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
+        return
+    for name in args.models:  # warm-up: load (or compile) the numba kernels
+        params, _ = CASES[name](20)
+        model_class(name)(seed=0, **params).run(until=30.0)
+    for name in args.models:
+        rows = []
+        for n in tqdm(sizes, desc=name, leave=False):
+            profile = args.profile if n == max(sizes) else None
+            rows.append(time_run(name, n, args.seed, args.budget, args.chunk, profile))
+        print(f"{name} (seed {args.seed}):")
+        print(
+            f"  {'robots':>7} {'sim s':>7} {'wall s':>8} {'us/robot/sim-s':>15} "
+            f"{'x real time':>11} {'events':>8}  end"
+        )
+        for r in rows:
+            cut = " (stopped at budget)" if r["truncated"] else ""
+            print(
+                f"  {r['robots']:>7} {r['simulated']:>7.0f} {r['wall']:>8.1f} "
+                f"{r['per_robot_us']:>15.1f} {r['rtf']:>11.1f} {r['events']:>8}  "
+                f"{r['end']}{cut}"
+            )
+        ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
+        print(
+            f"  per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} robots: {ratio:.2f}x; "
+            f"growth exponent b = {growth_exponent(rows):.2f} (wall per sim-s ~ robots^b)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,127 @@
+"""The scale work's shortcuts give what the plain full searches they replace give.
+
+- The comm graph looks for links among nearby cells: same links, same neighbour order (the
+  order messages go out in) as measuring every node.
+- The beacon lattice is updated around each change: same lattice, same neighbour order as
+  rebuilding it from all beacons.
+- A broadcast shares one SimPy event: same deliveries in the same order as one send each.
+"""
+
+import networkx as nx
+import numpy as np
+import simpy
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from abm.arena import CARDINALS, Arena
+from abm.comms import CommNetwork, MessageLog
+from models.beacon_explorer import BeaconExplorerModel
+from models.beacon_explorer.flowchart import opposite
+
+
+def walled_arena() -> Arena:
+    free = np.ones((30, 30), dtype=bool)
+    free[[0, -1], :] = free[:, [0, -1]] = False
+    free[10, 3:25] = False
+    free[3:20, 20] = False
+    return Arena(free, 1.0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([2.5, 4.0, 9.0]))
+def test_comm_graph_with_index_equals_full_scan(seed, comm_range):
+    rng = np.random.default_rng(seed)
+    arena = walled_arena()
+    nets = [
+        CommNetwork(simpy.Environment(), arena, np.random.default_rng(0), comm_range, 0.1)
+        for _ in range(2)
+    ]
+    nets[1]._index = None  # the full scan over every node
+    free = arena.free_cell_centres()
+    placed: set[int] = set()
+    for _ in range(150):
+        node = int(rng.integers(40))
+        action = rng.random()
+        where = free[rng.integers(len(free))] + rng.uniform(-0.4, 0.4, 2)
+        if node in placed and action < 0.2:
+            results = [net.remove(node) for net in nets]
+            placed.discard(node)
+        elif node in placed:
+            results = [net.move(node, where) for net in nets]
+        else:
+            off_arena = action > 0.95
+            results = [net.add(node, None if off_arena else where) for net in nets]
+            placed.add(node)
+        assert results[0] == results[1]
+    a, b = (net.graph for net in nets)
+    assert list(a.nodes) == list(b.nodes)
+    assert {n: list(a.adj[n]) for n in a} == {n: list(b.adj[n]) for n in b}
+
+
+def test_broadcast_delivers_like_one_send_each():
+    deliveries = []
+    for batched in (True, False):
+        env = simpy.Environment()
+        net = CommNetwork(env, walled_arena(), np.random.default_rng(0), 5.0, 0.1, log=MessageLog())
+        for node, x in enumerate((2.0, 4.0, 6.0, 8.0)):
+            net.add(node, np.array([x, 2.0]))
+        got = []
+
+        def handler(src, dst, payload, got=got, net=net):
+            got.append((net.env.now, src, dst, payload))
+            if dst == 2:
+                net.remove(3)  # the link to 3 breaks while the copy to 3 is in flight
+
+        def dropped(src, dst, payload, got=got):
+            got.append(("dropped", src, dst, payload))
+
+        if batched:
+            net.send_many(1, [2, 3, 0], "p", handler, dropped, kind="k")
+        else:
+            for dst in (2, 3, 0):
+                net.send(1, dst, "p", handler, dropped, kind="k")
+        env.run()
+        deliveries.append((got, net.messages_sent, net.log.frame().to_dict("records")))
+    assert deliveries[0] == deliveries[1]
+    assert ("dropped", 1, 3, "p") in deliveries[0][0]
+
+
+def rebuilt_lattice(network) -> dict[int, list[int]]:
+    """The lattice built afresh from every beacon (the code the incremental update replaced)."""
+    picks = {}
+    for robot, beacon in network.beacons.items():
+        nearest = {}
+        for other in network.comms.neighbours(robot):
+            rel = network.beacons[other].position - beacon.position
+            d = int(np.argmax(CARDINALS @ rel))
+            r = float(np.hypot(*rel))
+            if d not in nearest or r < nearest[d][0]:
+                nearest[d] = (r, other)
+        picks[robot] = {d: other for d, (_r, other) in nearest.items()}
+    lattice = nx.Graph()
+    lattice.add_nodes_from(network.beacons)
+    lattice.add_edges_from(
+        (robot, other)
+        for robot, chosen in picks.items()
+        for d, other in chosen.items()
+        if picks[other].get(opposite(d)) == robot
+    )
+    return {robot: list(lattice.neighbors(robot)) for robot in lattice}
+
+
+def test_incremental_lattice_equals_rebuild_through_attaches_and_detaches():
+    model = BeaconExplorerModel(world="corridor", complexity="high", seed=3)
+    network = model.beacons
+    update = network._update_lattice
+    checks = []
+
+    def checked():
+        update()
+        want = rebuilt_lattice(network)
+        assert {r: network.lattice_neighbours(r) for r in network.beacons} == want
+        checks.append(len(want))
+
+    network._update_lattice = checked
+    model.run()
+    detaches = (model.events()["event"] == "detach").sum()
+    assert detaches > 0 and len(checks) > 20
