@@ -531,11 +531,12 @@ class CommNetwork:
         """:meth:`send` the same ``payload`` from ``src`` to each of ``dsts`` in turn.
 
         Exactly as many calls of :meth:`send` would (same log rows, same deliveries in the
-        same order at the same instant, same random draws), but without message loss all the
-        copies share one SimPy event: a broadcast costs one event, not one per receiver.
+        same order at the same instant, same random draws), but without message loss (and
+        outside a loss burst) all the copies share one SimPy event: a broadcast costs one
+        event, not one per receiver.
         """
         dsts = list(dsts)
-        if self.loss > 0.0:
+        if self.loss > 0.0 or self._burst is not None:
             for dst in dsts:
                 self.send(
                     src,
