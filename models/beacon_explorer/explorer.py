@@ -41,6 +41,7 @@ class _Constants(NamedTuple):
     max_speed: float
     guide_hysteresis: float
     guide_commit: bool
+    taken_hold: float  # inf: hold off
     lost_return: bool
     slide_after: float  # inf: never slide
     dt: float
@@ -82,6 +83,10 @@ class ExplorerController:
         physics.add_flyer_state("contact", 3)
         # where it was pressed (x, y), for how long, slide time left, side (+1 left, -1 right)
         physics.add_flyer_state("slide", 5)
+        # committed to its guide's empty spot last tick (1/0); holding a guide whose spot was
+        # taken (1/0); the D it was committed to (x, y); time held with that D (s); see
+        # ``taken_hold``
+        physics.add_flyer_state("loyal", 5)
         self._constants = _Constants(
             params.comm_range,
             params.sensor_range,
@@ -95,6 +100,7 @@ class ExplorerController:
             params.max_speed,
             params.guide_hysteresis,
             params.guide_commit,
+            math.inf if params.taken_hold is None else params.taken_hold,
             params.lost_return,
             math.inf if params.slide_after is None else params.slide_after,
             physics.dt,
@@ -127,6 +133,7 @@ class ExplorerController:
             physics.flyer_state["guide"],
             physics.flyer_state["contact"],
             physics.flyer_state["slide"],
+            physics.flyer_state["loyal"],
             ids,
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
@@ -151,6 +158,7 @@ def _steer(
     guide,
     contact,
     slide,
+    loyal,
     ids,
     beacon_pos,
     desired_vec,
@@ -176,7 +184,24 @@ def _steer(
         lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
         if not lost:
+            nearest_k = k
             k = _keep_guide(padded, sat, res, pos[i], guide[i, 0], ids, beacon_pos, to_empty, k, p)
+            if p.taken_hold < math.inf:
+                k = _hold_guide(
+                    padded,
+                    sat,
+                    res,
+                    pos[i],
+                    guide[i, 0],
+                    loyal[i],
+                    ids,
+                    beacon_pos,
+                    desired_vec,
+                    to_empty,
+                    k,
+                    nearest_k,
+                    p,
+                )
             guide[i, 0] = ids[k]
             contact[i, 0] = pos[i, 0]
             contact[i, 1] = pos[i, 1]
@@ -268,6 +293,49 @@ def _slide_side(slide, point, lx, ly, walls, p):
     else:  # both sides alike: the other side than last time (the first slide goes left)
         slide[4] = -1.0 if slide[4] > 0.0 else 1.0
     return slide[4]
+
+
+@njit(cache=True)
+def _hold_guide(
+    padded, sat, res, point, guide_id, loyal, ids, beacon_pos, desired_vec, to_empty, k, nearest, p
+):
+    """The beacon a flyer follows under ``taken_hold``, given ``k`` from :func:`_keep_guide`.
+
+    A flyer committed to its guide's empty spot last tick whose spot is gone (another explorer
+    attached there) keeps that guide while it stays in touch, until the guide is its nearest
+    beacon again: at a junction the guide turns to its next neighbour and the flyer follows it
+    there instead of following the newcomer into a side branch. If the guide still signals the
+    taken spot's direction after ``taken_hold`` seconds (it has decided, and the newcomer
+    carries the search on, as along a chain), the flyer follows the newcomer as before.
+    ``loyal`` holds (committed last tick, holding, committed D x and y, time held with that D)
+    and is updated in place.
+    """
+    g = -1
+    for j in range(ids.shape[0]):
+        if ids[j] == guide_id:
+            g = j
+    if g >= 0 and loyal[0] > 0.0 and not to_empty[g]:
+        loyal[1] = 1.0  # the spot it was committed to is gone
+        loyal[4] = 0.0
+    if g < 0 or g == nearest:
+        loyal[1] = 0.0
+    elif loyal[1] > 0.0:
+        same = abs(desired_vec[g, 0] - loyal[2]) + abs(desired_vec[g, 1] - loyal[3]) < 1e-9
+        if same:
+            loyal[4] += p.dt
+        to_guide = math.hypot(beacon_pos[g, 0] - point[0], beacon_pos[g, 1] - point[1])
+        crosses = segment_crosses(
+            padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]
+        )
+        if to_guide <= p.comm_range and not crosses and not (same and loyal[4] > p.taken_hold):
+            k = g
+        else:
+            loyal[1] = 0.0
+    loyal[0] = 1.0 if to_empty[k] else 0.0
+    if to_empty[k]:
+        loyal[2] = desired_vec[k, 0]
+        loyal[3] = desired_vec[k, 1]
+    return k
 
 
 @njit(cache=True)
