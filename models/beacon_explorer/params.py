@@ -104,11 +104,13 @@ class BeaconExplorerParams(SwarmParams):
         taken_hold: an explorer committed to its beacon's empty spot whose spot is taken
             (another explorer attached there first) keeps following that beacon, not the
             newcomer, until that beacon is its nearest again, unless the beacon still signals
-            the taken spot's direction after this long (then the newcomer carries the search
-            on, as along a chain, and the explorer follows it) (s; ours; None: off, the paper's
-            explorer, which follows its nearest beacon: the newcomer, whose onward signal at a
-            junction sends it into a side branch, two beacons where the depth-first search of
-            Sect. 3.3 puts one; see the README).
+            the taken spot's direction after this long (it has decided, and the newcomer
+            carries the search on, as along a chain: the explorer then follows the newcomer)
+            (s; ours: 1 s, ten control periods, covers the beacon's decision after a neighbour
+            attaches. None: off, the paper's explorer following its nearest beacon, i.e. the
+            newcomer, whose onward signal at a junction sends it into a side branch: two
+            beacons where the depth-first search of Sect. 3.3, "deploying robots serially down
+            a single corridor branch", puts one; see the README).
         report_taken: an explorer that flew to a beacon's advertised spot and finds another
             beacon within I_r / 2 of it tells that beacon, which labels the direction "beacon"
             from then on (ours: the paper's beacons label directions only from their own
@@ -194,7 +196,7 @@ class BeaconExplorerParams(SwarmParams):
     attach_speed: float = param(0.2, low=0.0, low_open=True)
     guide_hysteresis: float = param(0.5, low=0.0)
     guide_commit: bool = True
-    taken_hold: float | None = param(None, low=0.0, low_open=True)
+    taken_hold: float | None = param(1.0, low=0.0, low_open=True)
     report_taken: bool = True
     lost_return: bool = True
     searched_follows_signal: bool = True
