@@ -77,6 +77,7 @@ class ExplorerController:
         #: robot id -> the beacon whose spot it flew to when it last stopped to attach
         self.guide_at_attach: dict[int, int] = {}
         self._signals = None
+        self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
@@ -112,6 +113,11 @@ class ExplorerController:
     def _current_signals(self):
         if self._version != self.beacons.version:
             self._signals = self.beacons.signals()
+            self._corridor = np.fromiter(
+                (b.corridor for b in self.beacons.beacons.values()),
+                dtype=bool,
+                count=len(self.beacons.beacons),
+            )
             self._version = self.beacons.version
         return self._signals
 
@@ -138,6 +144,7 @@ class ExplorerController:
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
             to_empty,
+            self._corridor,
             self.rng.standard_normal((n, 6)),
             self._constants,
         )
@@ -163,6 +170,7 @@ def _steer(
     beacon_pos,
     desired_vec,
     to_empty,
+    corridor,
     z,
     p,
 ):
@@ -198,6 +206,7 @@ def _steer(
                     beacon_pos,
                     desired_vec,
                     to_empty,
+                    corridor,
                     k,
                     nearest_k,
                     p,
@@ -297,24 +306,39 @@ def _slide_side(slide, point, lx, ly, walls, p):
 
 @njit(cache=True)
 def _hold_guide(
-    padded, sat, res, point, guide_id, loyal, ids, beacon_pos, desired_vec, to_empty, k, nearest, p
+    padded,
+    sat,
+    res,
+    point,
+    guide_id,
+    loyal,
+    ids,
+    beacon_pos,
+    desired_vec,
+    to_empty,
+    corridor,
+    k,
+    nearest,
+    p,
 ):
     """The beacon a flyer follows under ``taken_hold``, given ``k`` from :func:`_keep_guide`.
 
-    A flyer committed to its guide's empty spot last tick whose spot is gone (another explorer
-    attached there) keeps that guide while it stays in touch, until the guide is its nearest
-    beacon again: at a junction the guide turns to its next neighbour and the flyer follows it
-    there instead of following the newcomer into a side branch. If the guide still signals the
-    taken spot's direction after ``taken_hold`` seconds (it has decided, and the newcomer
-    carries the search on, as along a chain), the flyer follows the newcomer as before.
-    ``loyal`` holds (committed last tick, holding, committed D x and y, time held with that D)
-    and is updated in place.
+    A flyer committed to its corridor guide's empty spot last tick whose spot is gone (another
+    explorer attached there) keeps that guide while it stays in touch, until the guide is its
+    nearest beacon again or the flyer is within I_r / 2 of the spot the guide turned to: at a
+    junction the guide turns to its next neighbour and the flyer follows it there instead of
+    following the newcomer into a side branch. If the guide still signals the taken spot's
+    direction after ``taken_hold`` seconds (it has decided, and the newcomer carries the search
+    on, as along a chain), the flyer follows the newcomer as before. ``loyal`` holds
+    (committed last tick, holding, committed D x and y, time held with that D) and is updated
+    in place. Open-space guides are not held: there the paper sends explorers to the nearest
+    empty space, which the newcomer's signal is.
     """
     g = -1
     for j in range(ids.shape[0]):
         if ids[j] == guide_id:
             g = j
-    if g >= 0 and loyal[0] > 0.0 and not to_empty[g]:
+    if g >= 0 and loyal[0] > 0.0 and not to_empty[g] and corridor[g]:
         loyal[1] = 1.0  # the spot it was committed to is gone
         loyal[4] = 0.0
     if g < 0 or g == nearest:
@@ -327,7 +351,13 @@ def _hold_guide(
         crosses = segment_crosses(
             padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]
         )
-        if to_guide <= p.comm_range and not crosses and not (same and loyal[4] > p.taken_hold):
+        goal = math.hypot(
+            beacon_pos[g, 0] + desired_vec[g, 0] - point[0],
+            beacon_pos[g, 1] + desired_vec[g, 1] - point[1],
+        )
+        decided = same and loyal[4] > p.taken_hold  # still the taken spot's way: follow on
+        arrived = not same and goal <= p.interspace / 2  # at the spot the guide turned to
+        if to_guide <= p.comm_range and not crosses and not decided and not arrived:
             k = g
         else:
             loyal[1] = 0.0

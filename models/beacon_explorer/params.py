@@ -101,9 +101,10 @@ class BeaconExplorerParams(SwarmParams):
             or the signal changes (ours: the paper's explorer follows its nearest beacon; where
             a wall stops the lattice short, an advertised spot can lie nearer another beacon,
             and explorers circled between the two for ever; see the README).
-        taken_hold: an explorer committed to its beacon's empty spot whose spot is taken
+        taken_hold: an explorer committed to a corridor beacon's empty spot whose spot is taken
             (another explorer attached there first) keeps following that beacon, not the
-            newcomer, until that beacon is its nearest again, unless the beacon still signals
+            newcomer, until that beacon is its nearest again or the explorer has reached
+            the spot the beacon turned to, unless the beacon still signals
             the taken spot's direction after this long (it has decided, and the newcomer
             carries the search on, as along a chain: the explorer then follows the newcomer)
             (s; ours: 1 s, ten control periods, covers the beacon's decision after a neighbour
