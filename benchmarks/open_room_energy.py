@@ -83,7 +83,9 @@ def main() -> None:
     print(f"{len(rows)} runs, {time.perf_counter() - start:.0f} s wall, model keywords {extra}")
     table = pd.DataFrame(rows).groupby(["density", "period"]).mean(numeric_only=True)
     table = table.drop(columns="seed")
-    with pd.option_context("display.width", 200, "display.precision", 2):
+    with pd.option_context(
+        "display.width", 250, "display.max_columns", None, "display.precision", 2
+    ):
         print(table)
     for density in args.densities:
         t = table.loc[density]
