@@ -371,6 +371,7 @@ OLD_RULES = {
     "lost_return": False,
     "searched_follows_signal": False,
     "slide_after": None,
+    "taken_hold": None,
 }
 
 

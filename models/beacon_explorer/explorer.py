@@ -41,6 +41,7 @@ class _Constants(NamedTuple):
     max_speed: float
     guide_hysteresis: float
     guide_commit: bool
+    taken_hold: float  # inf: hold off
     lost_return: bool
     slide_after: float  # inf: never slide
     dt: float
@@ -76,12 +77,17 @@ class ExplorerController:
         #: robot id -> the beacon whose spot it flew to when it last stopped to attach
         self.guide_at_attach: dict[int, int] = {}
         self._signals = None
+        self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
         physics.add_flyer_state("contact", 3)
         # where it was pressed (x, y), for how long, slide time left, side (+1 left, -1 right)
         physics.add_flyer_state("slide", 5)
+        # committed to its guide's empty spot last tick (1/0); holding a guide whose spot was
+        # taken (1/0); the D it was committed to (x, y); time held with that D (s); see
+        # ``taken_hold``
+        physics.add_flyer_state("loyal", 5)
         self._constants = _Constants(
             params.comm_range,
             params.sensor_range,
@@ -95,6 +101,7 @@ class ExplorerController:
             params.max_speed,
             params.guide_hysteresis,
             params.guide_commit,
+            math.inf if params.taken_hold is None else params.taken_hold,
             params.lost_return,
             math.inf if params.slide_after is None else params.slide_after,
             physics.dt,
@@ -106,6 +113,11 @@ class ExplorerController:
     def _current_signals(self):
         if self._version != self.beacons.version:
             self._signals = self.beacons.signals()
+            self._corridor = np.fromiter(
+                (b.corridor for b in self.beacons.beacons.values()),
+                dtype=bool,
+                count=len(self.beacons.beacons),
+            )
             self._version = self.beacons.version
         return self._signals
 
@@ -127,10 +139,12 @@ class ExplorerController:
             physics.flyer_state["guide"],
             physics.flyer_state["contact"],
             physics.flyer_state["slide"],
+            physics.flyer_state["loyal"],
             ids,
             np.ascontiguousarray(beacon_pos),
             np.ascontiguousarray(desired_vec),
             to_empty,
+            self._corridor,
             self.rng.standard_normal((n, 6)),
             self._constants,
         )
@@ -151,10 +165,12 @@ def _steer(
     guide,
     contact,
     slide,
+    loyal,
     ids,
     beacon_pos,
     desired_vec,
     to_empty,
+    corridor,
     z,
     p,
 ):
@@ -177,9 +193,27 @@ def _steer(
         lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
         if not lost:
+            nearest_k = k
             k = _keep_guide(
                 padded, sat, res, pos[i], guide[i, 0], row_of, beacon_pos, to_empty, k, p
             )
+            if p.taken_hold < math.inf:
+                k = _hold_guide(
+                    padded,
+                    sat,
+                    res,
+                    pos[i],
+                    guide[i, 0],
+                    loyal[i],
+                    row_of,
+                    beacon_pos,
+                    desired_vec,
+                    to_empty,
+                    corridor,
+                    k,
+                    nearest_k,
+                    p,
+                )
             guide[i, 0] = ids[k]
             contact[i, 0] = pos[i, 0]
             contact[i, 1] = pos[i, 1]
@@ -283,6 +317,68 @@ def _rows_by_id(ids):
     for j in range(ids.shape[0]):
         row_of[ids[j]] = j
     return row_of
+
+
+@njit(cache=True)
+def _hold_guide(
+    padded,
+    sat,
+    res,
+    point,
+    guide_id,
+    loyal,
+    row_of,
+    beacon_pos,
+    desired_vec,
+    to_empty,
+    corridor,
+    k,
+    nearest,
+    p,
+):
+    """The beacon a flyer follows under ``taken_hold``, given ``k`` from :func:`_keep_guide`.
+
+    A flyer committed to its corridor guide's empty spot last tick whose spot is gone (another
+    explorer attached there) keeps that guide while it stays in touch, until the guide is its
+    nearest beacon again or the flyer is within I_r / 2 of the spot the guide turned to: at a
+    junction the guide turns to its next neighbour and the flyer follows it there instead of
+    following the newcomer into a side branch. If the guide still signals the taken spot's
+    direction after ``taken_hold`` seconds (it has decided, and the newcomer carries the search
+    on, as along a chain), the flyer follows the newcomer as before. ``loyal`` holds
+    (committed last tick, holding, committed D x and y, time held with that D) and is updated
+    in place. Open-space guides are not held: there the paper sends explorers to the nearest
+    empty space, which the newcomer's signal is.
+    """
+    gid = int(guide_id)
+    g = row_of[gid] if 0 <= gid < row_of.shape[0] and gid == guide_id else -1
+    if g >= 0 and loyal[0] > 0.0 and not to_empty[g] and corridor[g]:
+        loyal[1] = 1.0  # the spot it was committed to is gone
+        loyal[4] = 0.0
+    if g < 0 or g == nearest:
+        loyal[1] = 0.0
+    elif loyal[1] > 0.0:
+        same = abs(desired_vec[g, 0] - loyal[2]) + abs(desired_vec[g, 1] - loyal[3]) < 1e-9
+        if same:
+            loyal[4] += p.dt
+        to_guide = math.hypot(beacon_pos[g, 0] - point[0], beacon_pos[g, 1] - point[1])
+        crosses = segment_crosses(
+            padded, sat, res, point[0], point[1], beacon_pos[g, 0], beacon_pos[g, 1]
+        )
+        goal = math.hypot(
+            beacon_pos[g, 0] + desired_vec[g, 0] - point[0],
+            beacon_pos[g, 1] + desired_vec[g, 1] - point[1],
+        )
+        decided = same and loyal[4] > p.taken_hold  # still the taken spot's way: follow on
+        arrived = not same and goal <= p.interspace / 2  # at the spot the guide turned to
+        if to_guide <= p.comm_range and not crosses and not decided and not arrived:
+            k = g
+        else:
+            loyal[1] = 0.0
+    loyal[0] = 1.0 if to_empty[k] else 0.0
+    if to_empty[k]:
+        loyal[2] = desired_vec[k, 0]
+        loyal[3] = desired_vec[k, 1]
+    return k
 
 
 @njit(cache=True)

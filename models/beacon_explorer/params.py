@@ -107,6 +107,17 @@ class BeaconExplorerParams(SwarmParams):
             or the signal changes (ours: the paper's explorer follows its nearest beacon; where
             a wall stops the lattice short, an advertised spot can lie nearer another beacon,
             and explorers circled between the two for ever; see the README).
+        taken_hold: an explorer committed to a corridor beacon's empty spot whose spot is taken
+            (another explorer attached there first) keeps following that beacon, not the
+            newcomer, until that beacon is its nearest again or the explorer has reached
+            the spot the beacon turned to, unless the beacon still signals
+            the taken spot's direction after this long (it has decided, and the newcomer
+            carries the search on, as along a chain: the explorer then follows the newcomer)
+            (s; ours: 1 s, ten control periods, covers the beacon's decision after a neighbour
+            attaches. None: off, the paper's explorer following its nearest beacon, i.e. the
+            newcomer, whose onward signal at a junction sends it into a side branch: two
+            beacons where the depth-first search of Sect. 3.3, "deploying robots serially down
+            a single corridor branch", puts one; see the README).
         report_taken: an explorer that flew to a beacon's advertised spot and finds another
             beacon within I_r / 2 of it tells that beacon, which labels the direction "beacon"
             from then on (ours: the paper's beacons label directions only from their own
@@ -193,6 +204,7 @@ class BeaconExplorerParams(SwarmParams):
     attach_speed: float = param(0.2, low=0.0, low_open=True)
     guide_hysteresis: float = param(0.5, low=0.0)
     guide_commit: bool = True
+    taken_hold: float | None = param(1.0, low=0.0, low_open=True)
     report_taken: bool = True
     lost_return: bool = True
     searched_follows_signal: bool = True
