@@ -95,7 +95,7 @@ class TangiblePSOParams(SwarmParams):
     c2: float = param(2.0, low=0.0)
     w_start: float = param(1.0, low=0.0)
     w_end: float = param(1.0, low=0.0)
-    u_max: float = param(math.inf, low=0.0, low_open=True)
+    u_max: float = param(math.inf, low=0.0, high=math.inf, low_open=True)
     initial_speed: float = param(15.0, low=0.0)
     initial_velocity: str = param("swarm", choices=("component", "swarm"))
     init: str = param("circle", choices=("circle", "depot"))
