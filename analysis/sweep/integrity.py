@@ -17,6 +17,7 @@ Temporary files a killed writer left (``.<name>.<pid>.tmp``) are set aside as
 ``half-written`` the same way.
 """
 
+import concurrent.futures as cf
 import datetime
 import os
 from collections.abc import Iterable, Mapping
@@ -117,6 +118,15 @@ def _check(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> None:
                 )
 
 
+def _problem(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> CorruptResultError | None:
+    """What is wrong with ``path`` (None: nothing)."""
+    try:
+        _check(path, folder, planned)
+    except CorruptResultError as exc:
+        return exc
+    return None
+
+
 def _stamp() -> str:
     return datetime.datetime.now().strftime("%Y%m%dT%H%M%S%f")
 
@@ -153,13 +163,14 @@ def scan(out: Path, specs: Iterable[RunSpec]) -> tuple[set[str], set[str], list[
         if path_folder.is_dir():
             for tmp in sorted(path_folder.glob(".*.tmp")):
                 moved.append(set_aside(out, tmp, "half-written", "a write a killed sweep cut"))
-            for path in sorted(path_folder.glob("*.parquet")):
-                try:
-                    _check(path, folder, planned)
-                except CorruptResultError as exc:
-                    moved.append(set_aside(out, path, exc.reason, str(exc)))
-                else:
-                    ok.add(path.stem)
+            paths = sorted(path_folder.glob("*.parquet"))
+            with cf.ThreadPoolExecutor(max_workers=4) as pool:  # pyarrow reads without the GIL
+                problems = pool.map(lambda p, f=folder: _problem(p, f, planned), paths)
+                for path, problem in zip(paths, problems, strict=True):
+                    if problem is None:
+                        ok.add(path.stem)
+                    else:
+                        moved.append(set_aside(out, path, problem.reason, str(problem)))
         found[folder] = ok
     damaged = {m.source.stem for m in moved if m.source.parent.name in ("series", "samples")}
     return found["runs"] - damaged, found["failed"], moved

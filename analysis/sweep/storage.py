@@ -13,8 +13,8 @@
                                    ``<run_id>.<reason>.<time>.parquet`` (never deleted; see
                                    :mod:`analysis.sweep.integrity`)
 
-Every file is written to a temporary name, flushed and renamed (atomic), with Parquet page
-checksums; on restart every file is verified before its run counts as done, and reading
+Every file is written to a temporary name and renamed (atomic), with Parquet page checksums;
+on restart every file is verified before its run counts as done, and reading
 (:func:`load_results`) refuses a damaged file with a message naming it.
 """
 
@@ -44,14 +44,13 @@ class SweepError(ABMError):
 
 
 def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
-    """Write ``frame`` to ``path`` whole or not at all: a temporary file, flushed to disk, then
-    renamed over ``path`` (a killed writer leaves only the temporary file). Page checksums let
-    a reader detect a file damaged later.
+    """Write ``frame`` to ``path`` whole or not at all: a temporary file renamed over ``path``
+    (a killed writer leaves only the temporary file). Page checksums let a reader detect a file
+    damaged later. No fsync (it doubled the write time): a file an operating-system crash
+    leaves empty or torn fails the check on restart and its run runs again.
     """
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     frame.to_parquet(tmp, index=False, write_page_checksum=True)
-    with open(tmp, "rb+") as handle:
-        os.fsync(handle.fileno())
     os.replace(tmp, path)
 
 
