@@ -154,7 +154,7 @@ def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, referenc
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                            dashboard_address=None)  # fmt: skip
     client = Client(cluster)
-    killed: list[int] = []
+    killed: list[tuple[int, bool, int]] = []
 
     def kill_a_worker_once_runs_land() -> None:
         deadline = time.monotonic() + 60
@@ -164,7 +164,7 @@ def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, referenc
         busy = [a for a, tasks in client.processing().items() if tasks]
         victim = pids[busy[0] if busy else next(iter(pids))]
         os.kill(victim, signal.SIGKILL)
-        killed.append(victim)
+        killed.append((victim, bool(busy), len(_files(tmp_path / "runs"))))
 
     killer = threading.Thread(target=kill_a_worker_once_runs_land)
     killer.start()
@@ -175,6 +175,8 @@ def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, referenc
         client.close()
         cluster.close()
     assert killed, "no worker was killed"
+    _pid, was_busy, written = killed[0]
+    assert was_busy and written < 12  # killed while running a run, with runs still to come
     assert len(df) == 12 and df["run_id"].is_unique and (df["status"] == "ok").all()
     assert len(_files(tmp_path / "runs")) == 12 == len({s.run_id for s in plan(sweep)})
     pd.testing.assert_frame_equal(_rows(df), reference)
