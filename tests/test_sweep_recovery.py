@@ -17,12 +17,13 @@ from analysis.sweep import Sweep, SweepError, execute, load_results, plan
 
 ROOT = Path(__file__).resolve().parents[1]
 VOLATILE = ["wall_time", "worker"]
-#: 2 x 2 grid points x 3 replications of corridor runs cut at 240 s (~0.2 s of wall time each).
+#: 2 x 2 grid points x 4 replications of corridor runs cut at 240 s (~0.1-0.2 s of wall time each).
+RUNS = 16
 GRID = {"world": ["corridor"], "complexity": ["low", "high"], "launch_period": [6.0, 24.0],
         "time_limit": [240.0]}  # fmt: skip
 SWEEP_TOML = """model = "beacon-explorer"
 seed = 13
-replications = 3
+replications = 4
 time_series = true
 [grid]
 world = ["corridor"]
@@ -40,7 +41,7 @@ def _rows(df: pd.DataFrame) -> pd.DataFrame:
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory) -> pd.DataFrame:
     """The sweep run once, uninterrupted, in this process."""
-    sweep = Sweep("beacon-explorer", GRID, replications=3, seed=13, time_series=True)
+    sweep = Sweep("beacon-explorer", GRID, replications=4, seed=13, time_series=True)
     out = tmp_path_factory.mktemp("reference")
     return _rows(execute(sweep, out, executor="serial", progress=False))
 
@@ -56,27 +57,30 @@ def test_sweep_killed_at_seeded_random_moments_completes_each_run_once(tmp_path,
     cmd = [sys.executable, "-c", ABM, "sweep", str(sweep_file), "--executor", "serial",
            "--out", str(out)]  # fmt: skip
     draw = random.Random(20261123)
+    # Kill when this many runs are on disk (then within 30 ms, inside the next run or its
+    # write); the first kill lands during start-up (imports, the scan of the folder).
+    targets = sorted(draw.sample(range(1, RUNS - 1), 3))
     kills = []
-    for k in range(4):
+    for target in [0, *targets]:
         proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        if k % 2 == 0:  # any moment: import, scan, a run or a write
-            time.sleep(draw.uniform(0.2, 4.0))
-        else:  # while runs are being written: after the next file lands, a random fraction
-            before = len(_files(out / "runs"))
-            deadline = time.monotonic() + 30
-            while len(_files(out / "runs")) <= before and time.monotonic() < deadline:
-                time.sleep(0.01)
-            time.sleep(draw.uniform(0.0, 0.25))
+        if target == 0:
+            time.sleep(draw.uniform(0.0, 1.0))
+        else:
+            deadline = time.monotonic() + 60
+            while len(_files(out / "runs")) < target and time.monotonic() < deadline:
+                time.sleep(0.002)
+            time.sleep(draw.uniform(0.0, 0.03))
+        assert proc.poll() is None, "the sweep ended before it could be killed"
         proc.send_signal(signal.SIGKILL)
         proc.communicate(timeout=30)
         assert proc.returncode == -signal.SIGKILL
         kills.append(len(_files(out / "runs")))
-    assert kills == sorted(kills) and kills[-1] < 12, kills  # cut short each time, never undone
+    assert kills == sorted(kills) and kills[-1] < RUNS, kills  # cut short each time, never undone
 
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     resumed = _rows(load_results(out))
-    assert len(resumed) == 12 and resumed["run_id"].is_unique
+    assert len(resumed) == RUNS and resumed["run_id"].is_unique
     pd.testing.assert_frame_equal(resumed, reference)
     series = load_results(out, series=True)
     assert set(series["run_id"]) == set(reference["run_id"])
@@ -150,7 +154,7 @@ def test_damaged_files_are_set_aside_named_and_run_again(tmp_path, reference, ca
 def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, reference):
     from dask.distributed import Client, LocalCluster
 
-    sweep = Sweep("beacon-explorer", GRID, replications=3, seed=13, time_series=True)
+    sweep = Sweep("beacon-explorer", GRID, replications=4, seed=13, time_series=True)
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                            dashboard_address=None)  # fmt: skip
     client = Client(cluster)
@@ -176,7 +180,7 @@ def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, referenc
         cluster.close()
     assert killed, "no worker was killed"
     _pid, was_busy, written = killed[0]
-    assert was_busy and written < 12  # killed while running a run, with runs still to come
-    assert len(df) == 12 and df["run_id"].is_unique and (df["status"] == "ok").all()
-    assert len(_files(tmp_path / "runs")) == 12 == len({s.run_id for s in plan(sweep)})
+    assert was_busy and written < RUNS  # killed while running a run, with runs still to come
+    assert len(df) == RUNS and df["run_id"].is_unique and (df["status"] == "ok").all()
+    assert len(_files(tmp_path / "runs")) == RUNS == len({s.run_id for s in plan(sweep)})
     pd.testing.assert_frame_equal(_rows(df), reference)
