@@ -117,7 +117,7 @@ def _write(folder, data: bytes, suffix: str):
     return path
 
 
-@examples(200)
+@examples(250)
 @given(file=FILES)
 def test_fuzzed_map_files_load_or_raise_map_error_naming_the_file(tmp_path_factory, file):
     path = _write(tmp_path_factory.mktemp("map"), *file)
@@ -130,7 +130,7 @@ def test_fuzzed_map_files_load_or_raise_map_error_naming_the_file(tmp_path_facto
 def test_fuzzed_map_files_run_every_model_or_raise_naming_the_input(model, tmp_path_factory):
     key = MAP_PARAMS[model]
 
-    @examples(25)
+    @examples(40)
     @given(file=MODEL_FILES, seed=st.integers(0, 2**32 - 1))
     def one(file, seed):
         path = _write(tmp_path_factory.mktemp("map"), *file)

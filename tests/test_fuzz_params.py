@@ -53,7 +53,7 @@ def _ceiling():
 
 
 def _fuzz(model: str):
-    @examples(40)
+    @examples(80)
     @given(kwargs=_kwargs(model), seed=st.integers(0, 2**32 - 1))
     def one(kwargs, seed):
         with case(f"params:{model}", list(kwargs)):

@@ -145,7 +145,7 @@ def test_fuzzed_sweep_files_load_or_raise_config_error_naming_the_file(tmp_path_
     _check_file(path)
 
 
-@examples(100)
+@examples(120)
 @given(doc=PLAUSIBLE)
 def test_plausible_sweep_files_load_or_raise_config_error_naming_the_file(tmp_path_factory, doc):
     path = tmp_path_factory.mktemp("toml") / "plausible.toml"
