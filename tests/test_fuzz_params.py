@@ -86,6 +86,7 @@ def test_fuzzed_parameters_run_or_raise_config_error_naming_them(model):
         ("stigmergy", {"obstacle_beams": 10**18}, r"obstacle_beams must be in \[0, 360\]"),
         ("tangible-pso", {"speed": 5e-324}, r"speed must be in \[0.01, inf\]"),
         ("tangible-pso", {"mav_radius": 4}, r"grown by mav_radius 4 m"),
+        ("tangible-pso", {"n_mavs": 8}, r"no feasible start for n_mavs=8 MAVs"),
     ],
 )
 def test_fuzz_findings_raise_config_error(model, kwargs, match):

@@ -140,9 +140,9 @@ class TangiblePSOModel(SwarmModel):
                 return out
         depot = ", ".join(f"{v:g}" for v in self.depot)
         raise ConfigError(
-            f"init 'circle': no feasible start for {n} MAVs in a circle of diameter loc_range "
-            f"{p.loc_range:g} m around the depot ({depot}) (d_min {p.d_min:g} m, outside the "
-            f"no-fly zones grown by mav_radius {p.mav_radius:g} m)"
+            f"init 'circle': no feasible start for n_mavs={n} MAVs in a circle of diameter "
+            f"loc_range {p.loc_range:g} m around the depot ({depot}) (d_min {p.d_min:g} m, "
+            f"outside the no-fly zones grown by mav_radius {p.mav_radius:g} m)"
         )
 
     def _start_ok(self, swarms: np.ndarray) -> np.ndarray:
