@@ -14,7 +14,11 @@ import numpy as np
 from abm import gridkernels
 from abm.errors import MapError, check_range
 
-__all__ = ["Arena", "CARDINALS"]
+__all__ = ["Arena", "CARDINALS", "MAX_MAP_PIXELS"]
+
+#: Most pixels a map may have (ours): an arena keeps ~10 bytes a pixel (the grid, its padded
+#: copy, a summed-area table), so this is about half a gigabyte; 7 km x 7 km at 1 m a pixel.
+MAX_MAP_PIXELS = 50_000_000
 
 #: Unit vectors of the four compass directions in the order the papers use: N, E, S, W.
 CARDINALS = np.array([[0.0, 1.0], [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0]])
@@ -36,6 +40,10 @@ class Arena:
             raise MapError(f"free must be a non-empty 2-D array, got shape {free.shape}")
         if free.dtype != bool:
             raise MapError(f"free must be a boolean array, got dtype {free.dtype}")
+        if free.size > MAX_MAP_PIXELS:
+            raise MapError(
+                f"map {name!r} has {free.size:.3g} pixels, more than {MAX_MAP_PIXELS:.0e}"
+            )
         if not free.any():
             raise MapError(f"map {name!r} has no free cell: nothing can move in it")
         check_range("resolution", resolution, 0.0, low_open=True)
@@ -94,28 +102,14 @@ class Arena:
             raise MapError(f"map file {str(path)!r} does not exist")
         name = name or path.stem
         if path.suffix.lower() == ".npy":
-            try:
-                image = np.load(path, allow_pickle=False)
-            except Exception as exc:  # numpy raises several types for a bad file
-                raise MapError(
-                    f"map file {str(path)!r} is not a readable .npy array: {exc}"
-                ) from exc
-            if image.ndim != 2:
-                raise MapError(f"map file {str(path)!r} must hold a 2-D array, got {image.shape}")
-            free_top_down = image.astype(bool)
+            free_top_down = _read_npy(path)
         else:
-            from PIL import Image, UnidentifiedImageError
-
-            try:
-                with Image.open(path) as img:
-                    grey = np.asarray(img.convert("L"), dtype=float)
-            except (UnidentifiedImageError, OSError) as exc:
-                raise MapError(
-                    f"map file {str(path)!r} is not a readable image (PNG, PGM, BMP or .npy): {exc}"
-                ) from exc
-            free_top_down = grey >= 128.0
+            free_top_down = _read_image(path)
         # Images store the top row first; the arena stores the south row first.
-        return cls(free_top_down[::-1].copy(), resolution=resolution, name=name)
+        try:
+            return cls(free_top_down[::-1].copy(), resolution=resolution, name=name)
+        except MapError as exc:
+            raise MapError(f"map file {str(path)!r}: {exc}") from exc
 
     # ------------------------------------------------------------------ queries
     @property
@@ -235,6 +229,58 @@ def _point_pairs(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two ``(n, 2)`` float arrays, broadcast against each other and contiguous for the kernels."""
     a, b = np.broadcast_arrays(_points(a), _points(b))
     return np.ascontiguousarray(a), np.ascontiguousarray(b)
+
+
+def _check_size(path: Path, shape: tuple[int, ...]) -> None:
+    pixels = float(np.prod([float(n) for n in shape]))
+    if pixels > MAX_MAP_PIXELS:
+        raise MapError(
+            f"map file {str(path)!r} has {pixels:.3g} pixels ({' x '.join(map(str, shape))}), "
+            f"more than {MAX_MAP_PIXELS:.0e}"
+        )
+
+
+def _read_npy(path: Path) -> np.ndarray:
+    """The free grid of a .npy map, top row first (True / nonzero = free); shape checked first."""
+    try:
+        image = np.load(path, mmap_mode="r", allow_pickle=False)
+    except Exception as exc:  # numpy raises several types for a bad file
+        raise MapError(f"map file {str(path)!r} is not a readable .npy array: {exc}") from exc
+    if image.ndim != 2:
+        raise MapError(f"map file {str(path)!r} must hold a 2-D array, got {image.shape}")
+    _check_size(path, image.shape)
+    if image.dtype.kind not in "biuf":
+        raise MapError(
+            f"map file {str(path)!r} must hold booleans or numbers, got dtype {image.dtype}"
+        )
+    return np.asarray(image).astype(bool)
+
+
+def _read_image(path: Path) -> np.ndarray:
+    """The free grid of a PNG/PGM/BMP map, top row first (grey >= 128 = free); the image's size
+    is checked from its header before its pixels are decoded.
+    """
+    import warnings
+
+    from PIL import Image
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # checked below
+            with Image.open(path) as img:
+                _check_size(path, (img.height, img.width))
+                grey = np.asarray(img.convert("L"))
+    except MapError:
+        raise
+    except Image.DecompressionBombError as exc:  # Pillow's own check, at twice its limit
+        raise MapError(
+            f"map file {str(path)!r} has more than {MAX_MAP_PIXELS:.0e} pixels ({exc})"
+        ) from exc
+    except Exception as exc:  # Pillow raises OSError, SyntaxError, ValueError, ... for bad files
+        raise MapError(
+            f"map file {str(path)!r} is not a readable image (PNG, PGM, BMP or .npy): {exc}"
+        ) from exc
+    return grey >= 128
 
 
 def _free_runs(free: np.ndarray) -> np.ndarray:

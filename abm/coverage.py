@@ -21,9 +21,13 @@ from numba import njit
 
 from abm.arena import Arena
 from abm.discs import disc_offsets
-from abm.errors import check_choice, check_range
+from abm.errors import ConfigError, check_choice, check_range
 
-__all__ = ["CoverageRaster"]
+__all__ = ["MAX_PIXELS", "CoverageRaster"]
+
+#: Most pixels a coverage raster may have (ours): with its first-covered times (8 bytes each)
+#: that is about a gigabyte.
+MAX_PIXELS = 1e8
 
 
 class CoverageRaster:
@@ -53,7 +57,14 @@ class CoverageRaster:
         check_range("pixel", pixel, 0.0, low_open=True)
         self.arena = arena
         self.radius = float(radius)
-        self.subdivision = max(1, int(round(arena.resolution / pixel)))
+        split = arena.resolution / pixel
+        if split * split * arena.free.size > MAX_PIXELS:
+            raise ConfigError(
+                f"pixel={pixel!r} m splits this {arena.width:g} x {arena.height:g} m arena "
+                f"into more than {MAX_PIXELS:.0e} pixels; pixel must be >= "
+                f"{arena.resolution * np.sqrt(arena.free.size / MAX_PIXELS):.3g} m here"
+            )
+        self.subdivision = max(1, int(round(split)))
         self.pixel = arena.resolution / self.subdivision
         self.line_of_sight = bool(line_of_sight)
         self.around = around
@@ -65,10 +76,11 @@ class CoverageRaster:
         self.first_covered = np.full(self.free.shape, np.inf)
         self._n_free = int(self.free.sum())
         self._n_covered = 0
+        reach = max(self.free.shape)  # a farther offset lands on no pixel of the raster
         if around == "cell":
-            dy, dx = disc_offsets(self.radius, self.pixel)
+            dy, dx = disc_offsets(self.radius, self.pixel, max_offset=reach)
         else:
-            r = int(np.ceil(self.radius / self.pixel))
+            r = int(min(np.ceil(self.radius / self.pixel), reach))
             dy, dx = (a.ravel() for a in np.mgrid[-r : r + 1, -r : r + 1])
         self._dy = np.ascontiguousarray(dy, dtype=np.int64)
         self._dx = np.ascontiguousarray(dx, dtype=np.int64)

@@ -5,6 +5,9 @@ parameter, the value it got and the rule it broke, so a user can fix the call wi
 the source.
 """
 
+import math
+import sys
+
 __all__ = [
     "ABMError",
     "ConfigError",
@@ -47,11 +50,15 @@ def check_range(
 ) -> None:
     """Raise ConfigError unless ``low <= value <= high`` (``low < value`` when ``low_open``).
 
+    Infinity (and an integer too large for a float) is refused unless ``high`` is ``math.inf``
+    itself: an unbounded parameter still takes finite values only.
+
     Args:
         name: the parameter's name as the user typed it.
         value: the value received.
         low: smallest accepted value, or None for no lower bound.
-        high: largest accepted value, or None for no upper bound.
+        high: largest accepted value, or None for no upper bound (finite values); ``math.inf``
+            to accept infinity too.
         low_open: exclude ``low`` itself (for "must be positive").
         integer: the value must also be an integer.
 
@@ -59,10 +66,12 @@ def check_range(
     if isinstance(value, bool) or not isinstance(value, int | float):
         kind = "an integer" if integer else "a number"
         raise ConfigError(f"{name} must be {kind}, got {value!r}")
-    if integer and int(value) != value:
-        raise ConfigError(f"{name} must be an integer, got {value!r}")
     if value != value:  # NaN
         raise ConfigError(f"{name} must be a number, got NaN")
+    if not _finite(value) and not (value > 0 and high == math.inf):
+        raise ConfigError(f"{name} must be a finite number, got {value!r}")
+    if integer and int(value) != value:
+        raise ConfigError(f"{name} must be an integer, got {value!r}")
     too_low = low is not None and (value <= low if low_open else value < low)
     too_high = high is not None and value > high
     if too_low or too_high:
@@ -70,6 +79,13 @@ def check_range(
         hi = "inf" if high is None else f"{high:g}"
         bracket = "(" if low_open else "["
         raise ConfigError(f"{name} must be in {bracket}{lo}, {hi}], got {value!r}")
+
+
+def _finite(value: int | float) -> bool:
+    """True for a finite float or an integer a float can hold."""
+    if isinstance(value, int):
+        return abs(value) <= sys.float_info.max
+    return math.isfinite(value)
 
 
 def check_choice(name: str, value: object, choices: tuple) -> None:

@@ -26,6 +26,7 @@ from abm.errors import ConfigError, check_choice, check_range
 __all__ = [
     "FAULT_KEYWORDS",
     "FaultParams",
+    "MAX_PERIODS",
     "SwarmParams",
     "check_value",
     "field_help",
@@ -38,6 +39,13 @@ __all__ = [
 
 _RULE = "abm.rule"
 
+#: Most periods of one repeating process a run may hold (ours). A shorter period is no model
+#: anyone means: at ~1e6 SimPy events/s the run would take a quarter of an hour per process at
+#: best, and below ``time_limit`` x 2^-52 the clock cannot advance at all (the run never ends).
+MAX_PERIODS = 1e9
+#: The base fields that are periods whatever a model's own declaration of them says.
+_BASE_PERIODS = ("step_duration", "dt", "trace_interval")
+
 
 def param(
     default: object,
@@ -47,6 +55,7 @@ def param(
     low_open: bool = False,
     integer: bool = False,
     choices: Sequence | None = None,
+    period: bool = False,
 ) -> object:
     """A dataclass field with a default and the rule its values must follow.
 
@@ -57,6 +66,8 @@ def param(
         low_open: exclude ``low`` itself ("must be positive").
         integer: the value must be a whole number.
         choices: the accepted values, for a field that takes one of a few names.
+        period: the field is a time period (s) a process waits again and again; it must leave
+            at most :data:`MAX_PERIODS` periods in ``time_limit`` (see :class:`SwarmParams`).
 
     """
     rule = {
@@ -65,6 +76,7 @@ def param(
         "low_open": low_open,
         "integer": integer,
         "choices": None if choices is None else tuple(choices),
+        "period": period,
     }
     return dataclasses.field(default=default, metadata={_RULE: rule})
 
@@ -184,6 +196,22 @@ class SwarmParams(FaultParams, _RunParams):
             value = _checked(f, getattr(self, f.name))
             object.__setattr__(self, f.name, value)
         self._check_faults()
+        self._check_periods()
+
+    def _check_periods(self) -> None:
+        """Every period (``dt``, ``step_duration``, ``trace_interval`` and the fields declared
+        with ``period=True``) leaves at most :data:`MAX_PERIODS` periods in ``time_limit``.
+        """
+        for f in dataclasses.fields(self):
+            if not (field_rule(f).get("period") or f.name in _BASE_PERIODS):
+                continue
+            value = getattr(self, f.name)
+            if value is not None and value * MAX_PERIODS < self.time_limit:
+                raise ConfigError(
+                    f"{f.name}={value!r} s repeats more than {MAX_PERIODS:.0e} times in "
+                    f"time_limit={self.time_limit!r} s (the run would never end in practice): "
+                    f"{f.name} must be >= time_limit / {MAX_PERIODS:.0e}"
+                )
 
     def replace(self, **changes: object) -> "SwarmParams":
         """A copy with some fields changed (validated like a new instance)."""

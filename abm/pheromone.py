@@ -284,7 +284,7 @@ class PheromoneField:
         """Offsets ``dy, dx`` of a disc, its f1 weights ``(k, 2)`` and the index of (0, 0)."""
         key = (float(radius), int(stride), float(falloff))
         if key not in self._discs:
-            dy, dx = disc_offsets(radius, self.resolution, stride)
+            dy, dx = disc_offsets(radius, self.resolution, stride, max(self.rows, self.cols))
             v = np.stack([dx, dy], axis=1) * self.resolution
             d = np.hypot(v[:, 0], v[:, 1])
             scale = np.zeros_like(d)

@@ -114,11 +114,14 @@ class Physics:
         check_range("dt", dt, 0.0, low_open=True)
         self.params = params or FlightParams()
         step = self.params.max_speed * dt + 4 * self.params.body_noise
-        if step >= arena.resolution - 2 * self.params.body_radius:
+        room = arena.resolution - 2 * self.params.body_radius
+        if step >= room:
             raise ConfigError(
-                f"dt={dt} s is too long for max_speed={self.params.max_speed} m/s on a "
-                f"{arena.resolution} m grid: a tick may move {step:.3f} m, must stay below "
-                f"{arena.resolution - 2 * self.params.body_radius:.3f} m"
+                f"dt={dt} s is too long for max_speed={self.params.max_speed} m/s with "
+                f"body_noise={self.params.body_noise} m and body_radius="
+                f"{self.params.body_radius} m on a {arena.resolution} m grid: a tick may move "
+                f"max_speed * dt + 4 body_noise = {step:.3f} m, must stay below "
+                f"resolution - 2 body_radius = {room:.3f} m"
             )
         if 2 * self.params.body_radius >= arena.resolution:
             raise ConfigError(

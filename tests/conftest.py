@@ -36,3 +36,12 @@ def tiny_package(tmp_path_factory) -> Path:
     else:
         os.environ["PYTHONPATH"] = before
     registry.refresh()
+
+
+def pytest_terminal_summary(terminalreporter) -> None:
+    """After the run: how many cases each fuzz target tried (tests/fuzzing.py)."""
+    fuzzing = sys.modules.get("fuzzing")
+    if fuzzing is not None and fuzzing.COUNTS:
+        terminalreporter.section("fuzz cases tried")
+        for line in fuzzing.summary():
+            terminalreporter.write_line(line)

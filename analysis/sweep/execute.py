@@ -11,9 +11,10 @@ import pandas as pd
 
 from abm.errors import ConfigError
 from analysis.sweep.executors import Executors
+from analysis.sweep.integrity import SET_ASIDE, SetAside, scan
 from analysis.sweep.seeding import plan
 from analysis.sweep.spec import Sweep
-from analysis.sweep.storage import done_ids, load_results, prepare_out, store
+from analysis.sweep.storage import load_results, prepare_out, store
 
 __all__ = ["execute", "run_sweep"]
 
@@ -31,9 +32,11 @@ def execute(
     """Run every run of ``sweep`` not already on disk in ``out``; return the whole dataset.
 
     Before any run starts, every grid point is built once (not run) so that a bad value fails
-    at once. Each finished run is written immediately; on Ctrl-C queued runs are cancelled,
-    runs in flight are finished and written (a second Ctrl-C abandons them), then
-    KeyboardInterrupt propagates.
+    at once, and every result file already in ``out`` is verified: one that is damaged,
+    half-written or holds another run is moved to ``out/set_aside/`` (named by the reason,
+    reported on stderr) and its run runs again. Each finished run is written immediately; on
+    Ctrl-C queued runs are cancelled, runs in flight are finished and written (a second
+    Ctrl-C abandons them), then KeyboardInterrupt propagates.
 
     Args:
         sweep: what to run.
@@ -51,9 +54,9 @@ def execute(
     out = Path(out) if out is not None else Path("out/sweeps") / sweep.name
     specs = plan(sweep)
     _dry_build(sweep)
-    prepare_out(out, sweep)
-    done = done_ids(out / "runs")
-    failed_before = done_ids(out / "failed")
+    manifest = prepare_out(out, sweep)
+    done, failed_before, moved = scan(out, specs)
+    _report_set_aside(out, manifest + moved)
     todo = [
         s for s in specs if s.run_id not in done and (retry_failed or s.run_id not in failed_before)
     ]
@@ -61,6 +64,18 @@ def execute(
     if todo:
         _run_all(todo, out, executor, address, workers, progress, skipped)
     return load_results(out)
+
+
+def _report_set_aside(out: Path, moved: list[SetAside]) -> None:
+    """Say which files failed the check, why, and where they went (they are never deleted)."""
+    for item in moved:
+        print(str(item), file=sys.stderr)
+    if moved:
+        print(
+            f"{len(moved)} damaged or half-written file(s) set aside in {out / SET_ASIDE}; "
+            "any run of this sweep among them runs again",
+            file=sys.stderr,
+        )
 
 
 def _dry_build(sweep: Sweep) -> None:

@@ -8,6 +8,7 @@ is combined with every point.
 """
 
 import itertools
+import math
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -19,7 +20,7 @@ from abm.errors import ConfigError
 from abm.params import check_value, param_fields
 from abm.registry import model_class, name_of, target_of
 
-__all__ = ["Sweep", "TOML_KEYS", "check_int", "load_sweep"]
+__all__ = ["MAX_RUNS", "Sweep", "TOML_KEYS", "check_int", "load_sweep"]
 
 #: Keys a sweep file may hold.
 TOML_KEYS = (
@@ -33,6 +34,10 @@ TOML_KEYS = (
     "points",
 )
 _RESERVED = ("seed", "rng")
+
+#: Most runs one sweep may hold (ours): planning takes ~0.1 ms a run, and a study larger than
+#: this is clearer as several sweeps (and several folders).
+MAX_RUNS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -71,6 +76,11 @@ class Sweep:
         points = check_points(cls, self.points, self.grid)
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "grid", check_grid(cls, self.grid, allow_empty=bool(points)))
+        if self.n_runs > MAX_RUNS:
+            raise ConfigError(
+                f"the sweep has {self.n_runs:.3g} runs (grid points x points x replications); "
+                f"at most {MAX_RUNS:.0e} in one sweep: split it into several"
+            )
 
     @property
     def target(self) -> str:
@@ -80,7 +90,7 @@ class Sweep:
     @property
     def n_runs(self) -> int:
         """Grid points times replications."""
-        grid = int(np.prod([len(v) for v in self.grid.values()]))
+        grid = math.prod(len(v) for v in self.grid.values())
         return grid * max(len(self.points), 1) * self.replications
 
     def conditions(self) -> list[dict]:

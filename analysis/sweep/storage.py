@@ -9,6 +9,13 @@
         series/<run_id>.parquet    the run's state counts over time (when ``time_series``)
         samples/<run_id>.parquet   the model's own time series (when ``time_series`` and the
                                    model records one)
+        set_aside/<folder>/        files that failed the check on restart, named
+                                   ``<run_id>.<reason>.<time>.parquet`` (never deleted; see
+                                   :mod:`analysis.sweep.integrity`)
+
+Every file is written to a temporary name and renamed (atomic), with Parquet page checksums;
+on restart every file is verified before its run counts as done, and reading
+(:func:`load_results`) refuses a damaged file with a message naming it.
 """
 
 import concurrent.futures as cf
@@ -20,6 +27,13 @@ from pathlib import Path
 import pandas as pd
 
 from abm.errors import ABMError
+from analysis.sweep.integrity import (
+    RESULT_FOLDERS,
+    CorruptResultError,
+    SetAside,
+    read_verified,
+    set_aside,
+)
 from analysis.sweep.spec import Sweep
 
 __all__ = ["SweepError", "done_ids", "load_results", "prepare_out", "store", "swept_keys"]
@@ -30,8 +44,13 @@ class SweepError(ABMError):
 
 
 def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
+    """Write ``frame`` to ``path`` whole or not at all: a temporary file renamed over ``path``
+    (a killed writer leaves only the temporary file). Page checksums let a reader detect a file
+    damaged later. No fsync (it doubled the write time): a file an operating-system crash
+    leaves empty or torn fails the check on restart and its run runs again.
+    """
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.to_parquet(tmp, index=False)
+    frame.to_parquet(tmp, index=False, write_page_checksum=True)
     os.replace(tmp, path)
 
 
@@ -54,10 +73,26 @@ def done_ids(folder: Path) -> set[str]:
     return {p.stem for p in folder.glob("*.parquet")} if folder.is_dir() else set()
 
 
+def _read_one(path: Path) -> pd.DataFrame:
+    try:
+        frame = read_verified(path)
+    except CorruptResultError as exc:
+        raise SweepError(
+            f"{path} is damaged ({exc}); run the sweep again: it sets the file aside and "
+            "runs that run again"
+        ) from exc
+    if "run_id" not in frame or set(frame["run_id"].astype(str)) != {path.stem}:
+        raise SweepError(
+            f"{path} does not hold run {path.stem}; run the sweep again: it sets the file "
+            "aside and runs that run again"
+        )
+    return frame
+
+
 def _read_folder(folder: Path) -> list[pd.DataFrame]:
     files = sorted(folder.glob("*.parquet")) if folder.is_dir() else []
     with cf.ThreadPoolExecutor(max_workers=4) as pool:
-        return list(pool.map(pd.read_parquet, files))
+        return list(pool.map(_read_one, files))
 
 
 def load_results(
@@ -88,8 +123,9 @@ def load_results(
     return pd.concat(frames, ignore_index=True).sort_values(["status", "run_id"], ignore_index=True)
 
 
-def prepare_out(out: Path, sweep: Sweep) -> None:
-    """Create the folders and write (or merge into) ``sweep.json``.
+def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
+    """Create the folders and write (or merge into) ``sweep.json``; returns the damaged
+    ``sweep.json`` set aside, if there was one.
 
     Raises:
         SweepError: the folder holds a sweep of another model or seed.
@@ -97,8 +133,8 @@ def prepare_out(out: Path, sweep: Sweep) -> None:
     """
     manifest = sweep.manifest()
     path = out / "sweep.json"
-    if path.is_file():
-        old = json.loads(path.read_text())
+    old, moved = _read_manifest(out, path)
+    if old is not None:
         for key in ("target", "seed"):
             if old.get(key) != manifest[key]:
                 raise SweepError(
@@ -113,15 +149,29 @@ def prepare_out(out: Path, sweep: Sweep) -> None:
         manifest["points"] = points + [p for p in manifest["points"] if p not in points]
         manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
         manifest["created"] = old.get("created")
-    for sub in ("runs", "failed", "series", "samples"):
+    for sub in RESULT_FOLDERS:
         (out / sub).mkdir(parents=True, exist_ok=True)
-        for tmp in (out / sub).glob(".*.tmp"):  # left by a killed sweep
-            tmp.unlink(missing_ok=True)
     manifest.setdefault("created", datetime.datetime.now().isoformat(timespec="seconds"))
     manifest["updated"] = datetime.datetime.now().isoformat(timespec="seconds")
     tmp = path.with_name(".sweep.json.tmp")
     tmp.write_text(json.dumps(manifest, indent=2, default=str))
     os.replace(tmp, path)
+    return moved
+
+
+def _read_manifest(out: Path, path: Path) -> tuple[dict | None, list[SetAside]]:
+    """The ``sweep.json`` already in ``out`` (None if there is none, or it was damaged: then it
+    is set aside and a new one is written; every run file is still checked against the plan).
+    """
+    if not path.is_file():
+        return None, []
+    try:
+        old = json.loads(path.read_text())
+        if not isinstance(old, dict) or not isinstance(old.get("grid", {}), dict):
+            raise ValueError("not a table of a sweep's keys")
+    except (ValueError, UnicodeDecodeError) as exc:
+        return None, [set_aside(out, path, "unreadable", f"{type(exc).__name__}: {exc}")]
+    return old, []
 
 
 def swept_keys(manifest: dict, runs: pd.DataFrame) -> list[str]:

@@ -218,7 +218,7 @@ class BeaconExplorerParams(SwarmParams):
     reverse_start: int = param(127, low=1, integer=True)
     coverage_pixel: float = param(0.25, low=0.0, low_open=True)
     complete_fraction: float = param(0.999, low=0.0, high=1.0, low_open=True)
-    monitor_period: float = param(1.0, low=0.0, low_open=True)
+    monitor_period: float = param(1.0, low=0.0, low_open=True, period=True)
     stall_time: float | None = param(600.0, low=0.0, low_open=True)
     stall_collisions: int = param(20, low=0, integer=True)
     power_ground: float = param(0.5, low=0.0)

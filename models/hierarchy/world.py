@@ -36,7 +36,7 @@ def start_layout(p: HierarchyParams, width: float, height: float, rng: np.random
     if span > width:
         raise ConfigError(
             f"workers={w} at worker_spacing={p.worker_spacing} m need a {span:.1f} m wide row, "
-            f"the world is {width:g} m wide"
+            f"the world {p.world!r} is {width:g} m wide"
         )
     xs = width / 2 + (np.arange(w) - (w - 1) / 2) * p.worker_spacing
     y = 1.0 + p.scout_ring if p.start_layout == "row" else height / 2

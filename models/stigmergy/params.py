@@ -62,8 +62,8 @@ class StigmergyParams(SwarmParams):
         link_wall_loss: L, attenuation per metre of wall crossed (dB/m; ours, radio only).
         link_fading_sd: sd of the radio's log-normal fading (dB; ours, radio only).
         obstacle_range: r_u, obstacle detection radius (m).
-        obstacle_beams: range sensors in f2's ring (ours); 0: every wall pixel within r_u
-            pushes.
+        obstacle_beams: range sensors in f2's ring (ours; at most 360, one a degree); 0: every
+            wall pixel within r_u pushes.
         launch_rate: eta = alpha5, new robots per model step (one per 50 s at 0.01).
         model_step: the paper's model step: headings, deposits and landing checks (s).
         start: p0, the launch point (m); None: the map's default ((5, 80) for every built-in
@@ -115,9 +115,9 @@ class StigmergyParams(SwarmParams):
     link_wall_loss: float = param(_RADIO_DEFAULTS["link_wall_loss"], low=0.0)
     link_fading_sd: float = param(_RADIO_DEFAULTS["link_fading_sd"], low=0.0)
     obstacle_range: float = param(5.0, low=0.0, low_open=True)
-    obstacle_beams: int = param(8, low=0, integer=True)
+    obstacle_beams: int = param(8, low=0, high=360, integer=True)
     launch_rate: float = param(0.01, low=0.0, high=1.0, low_open=True)
-    model_step: float = param(0.5, low=0.0, low_open=True)
+    model_step: float = param(0.5, low=0.0, low_open=True, period=True)
     start: tuple[float, float] | None = None
     a1: float = param(0.2, low=0.0)
     a2: float = param(0.4, low=0.0)
@@ -131,7 +131,7 @@ class StigmergyParams(SwarmParams):
     max_speed: float = param(2.0, low=0.0, low_open=True)
     detection_range: float = param(10.0, low=0.0, low_open=True)
     coverage_target: float = param(0.95, low=0.0, high=1.0, low_open=True)
-    coverage_interval: float = param(1.0, low=0.0, low_open=True)
+    coverage_interval: float = param(1.0, low=0.0, low_open=True, period=True)
     coverage_line_of_sight: bool = True
     ca_sample_period: float = param(10.0, low=0.0, low_open=True)
     map_resolution: float | None = param(None, low=0.0, low_open=True)

@@ -89,7 +89,10 @@ class SugarMapModel(SwarmModel):
         )
         self.cell = arena.resolution
         self.coverage = CoverageRaster(arena, radius=0.01 * self.cell, around="cell")
-        cells = start_cells(arena.free, p.n_explorers, self._entrance_cell(p.entrance))
+        try:
+            cells = start_cells(arena.free, p.n_explorers, self._entrance_cell(p.entrance))
+        except ConfigError as exc:
+            raise ConfigError(f"n_explorers={p.n_explorers} in arena {p.arena!r}: {exc}") from exc
         self.starts = (np.array(cells, dtype=float) + 0.5) * self.cell
         self.t_deploy: float | None = None
         self.cutoff_fired = False

@@ -154,9 +154,11 @@ class TangiblePSOModel(SwarmModel):
             todo = todo[~ok]
             if not len(todo):
                 return out
+        depot = ", ".join(f"{v:g}" for v in self.depot)
         raise ConfigError(
-            f"init 'circle': no feasible start for {n} MAVs in a circle of diameter loc_range "
-            f"{p.loc_range:g} m around the depot {tuple(self.depot)} (d_min {p.d_min:g} m)"
+            f"init 'circle': no feasible start for n_mavs={n} MAVs in a circle of diameter "
+            f"loc_range {p.loc_range:g} m around the depot ({depot}) (d_min {p.d_min:g} m, "
+            f"outside the no-fly zones grown by mav_radius {p.mav_radius:g} m)"
         )
 
     def _start_ok(self, swarms: np.ndarray) -> np.ndarray:

@@ -65,7 +65,9 @@ class TangiblePSOParams(SwarmParams):
         z_opt: the "optimal" altitude of eq. 1, which is also the lowest allowed (m; ours).
         z_max: the highest allowed altitude (m; ours).
         speed: flight speed along the paths; a transition lasts its longest path / speed
-            on the simulated clock (m/s; ours: a point mass at 2 m/s).
+            on the simulated clock (m/s; ours: a point mass at 2 m/s; at least 1 cm/s, as the
+            feasibility check walks each path in ticks of speed * dt and a slower flight
+            overflowed its tick count).
         dt: tick of the feasibility check: the MAVs follow their paths in ticks of dt, the
             constraints checked after each, so the longest path moves speed * dt per tick
             (s; ours: 0.05 s, 10 cm at 2 m/s).
@@ -99,7 +101,7 @@ class TangiblePSOParams(SwarmParams):
     c2: float = param(2.0, low=0.0)
     w_start: float = param(1.0, low=0.0)
     w_end: float = param(1.0, low=0.0)
-    u_max: float = param(math.inf, low=0.0, low_open=True)
+    u_max: float = param(math.inf, low=0.0, high=math.inf, low_open=True)
     initial_speed: float = param(15.0, low=0.0)
     initial_velocity: str = param("swarm", choices=("component", "swarm"))
     init: str = param("circle", choices=("circle", "depot"))
@@ -110,7 +112,7 @@ class TangiblePSOParams(SwarmParams):
     camera_angle: float = param(90.0, low=0.0, high=180.0, low_open=True)
     z_opt: float = param(5.0, low=0.0, low_open=True)
     z_max: float = param(15.0, low=0.0, low_open=True)
-    speed: float = param(2.0, low=0.0, low_open=True)
+    speed: float = param(2.0, low=0.01)
     dt: float = param(0.05, low=0.0, low_open=True)
     stop_rule: str = param("mav", choices=("mav", "swarm"))
     deadlock_window: int = param(10, low=1, integer=True)

@@ -1,0 +1,176 @@
+"""Checking a sweep folder on restart: every result file is verified before it counts as done.
+
+A sweep killed with ``kill -9`` (or a full disk, a copy cut short, a stray file) can leave
+behind files that must not be read as results. On every start of a sweep each file under
+``runs/``, ``failed/``, ``series/`` and ``samples/`` is opened and checked:
+
+* it is a whole Parquet file whose page checksums hold (a truncated or overwritten file fails
+  here: its footer is missing or a page's CRC is wrong);
+* a run's row (``runs/``, ``failed/``) is exactly one row whose ``run_id`` is the file's name
+  and whose ``status`` fits the folder; when the run belongs to the sweep being run, its
+  ``seed`` and ``rep`` are the ones the plan gives that run;
+* a series file's rows all carry the file's ``run_id``.
+
+A file that fails is never deleted: it is moved to ``set_aside/<folder>/`` under a name that
+says why (``<run_id>.<reason>.<time>.parquet``), reported, and its run is run again.
+Temporary files a killed writer left (``.<name>.<pid>.tmp``) are set aside as
+``half-written`` the same way.
+"""
+
+import concurrent.futures as cf
+import datetime
+import os
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import pyarrow.parquet as pq
+
+from analysis.runner import RunSpec
+
+__all__ = [
+    "RESULT_FOLDERS",
+    "SET_ASIDE",
+    "CorruptResultError",
+    "SetAside",
+    "read_verified",
+    "scan",
+    "set_aside",
+]
+
+#: The folders of a sweep that hold result files, one per run.
+RESULT_FOLDERS = ("runs", "failed", "series", "samples")
+
+#: Where files that failed the check go (inside the sweep folder).
+SET_ASIDE = "set_aside"
+
+
+class CorruptResultError(Exception):
+    """A result file failed a check; ``reason`` is the short word used in its new name."""
+
+    def __init__(self, reason: str, detail: str) -> None:
+        super().__init__(detail)
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class SetAside:
+    """A file moved out of the way.
+
+    Attributes:
+        source: where it was.
+        target: where it is now.
+        reason: one word: ``unreadable``, ``wrong-run-id``, ``wrong-seed``, ``wrong-status``,
+            ``not-one-row`` or ``half-written``.
+        detail: what the check found.
+
+    """
+
+    source: Path
+    target: Path
+    reason: str
+    detail: str
+
+    def __str__(self) -> str:
+        return f"set aside {self.source} -> {self.target} ({self.reason}: {self.detail})"
+
+
+def read_verified(path: Path):
+    """Read a result file as a pandas DataFrame, checking its Parquet page checksums.
+
+    Raises:
+        CorruptResultError: the file is not a whole, intact Parquet file (reason ``unreadable``).
+
+    """
+    try:
+        table = pq.read_table(path, page_checksum_verification=True)
+        return table.to_pandas()
+    except Exception as exc:  # pyarrow raises ArrowInvalid, OSError, ... for damaged files
+        raise CorruptResultError("unreadable", f"{type(exc).__name__}: {exc}") from exc
+
+
+def _check(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> None:
+    """Raise CorruptResultError unless ``path`` holds what its name and folder promise."""
+    frame = read_verified(path)
+    run_id = path.stem
+    if "run_id" not in frame:
+        raise CorruptResultError("wrong-run-id", "no run_id column")
+    ids = set(frame["run_id"].astype(str))
+    if ids != {run_id}:
+        shown = ", ".join(sorted(ids)[:3]) or "no rows"
+        raise CorruptResultError("wrong-run-id", f"the file is named {run_id} but holds {shown}")
+    if folder not in ("runs", "failed"):
+        return
+    if len(frame) != 1:
+        raise CorruptResultError("not-one-row", f"{len(frame)} rows, a run has one")
+    row = frame.iloc[0]
+    status = "ok" if folder == "runs" else "failed"
+    if row.get("status") != status:
+        raise CorruptResultError("wrong-status", f"status {row.get('status')!r} in {folder}/")
+    spec = planned.get(run_id)
+    if spec is not None:
+        for key in ("seed", "rep"):
+            if row.get(key) != getattr(spec, key):
+                raise CorruptResultError(
+                    "wrong-seed",
+                    f"{key} {row.get(key)!r}, this sweep gives run {run_id} "
+                    f"{key} {getattr(spec, key)!r}",
+                )
+
+
+def _problem(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> CorruptResultError | None:
+    """What is wrong with ``path`` (None: nothing)."""
+    try:
+        _check(path, folder, planned)
+    except CorruptResultError as exc:
+        return exc
+    return None
+
+
+def _stamp() -> str:
+    return datetime.datetime.now().strftime("%Y%m%dT%H%M%S%f")
+
+
+def set_aside(out: Path, path: Path, reason: str, detail: str) -> SetAside:
+    """Move ``path`` to ``out/set_aside/<its folder>/`` under a name saying ``reason``."""
+    folder = out / SET_ASIDE / path.parent.relative_to(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    stem = path.name.lstrip(".").split(".")[0] if path.suffix == ".tmp" else path.stem
+    target = folder / f"{stem}.{reason}.{_stamp()}{'.parquet' if reason != 'half-written' else ''}"
+    os.replace(path, target)
+    return SetAside(path, target, reason, detail)
+
+
+def scan(out: Path, specs: Iterable[RunSpec]) -> tuple[set[str], set[str], list[SetAside]]:
+    """Verify every result file of the sweep folder ``out``; set aside the ones that fail.
+
+    Args:
+        out: the sweep folder.
+        specs: the runs of the sweep being started (their seeds are checked).
+
+    Returns:
+        ``(done, failed, moved)``: the run ids with a verified row in ``runs/``, those with a
+        verified row in ``failed/``, and the files set aside. A run whose series or samples
+        file was set aside is not in ``done`` (it runs again and writes them anew).
+
+    """
+    planned = {s.run_id: s for s in specs}
+    found: dict[str, set[str]] = {}
+    moved: list[SetAside] = []
+    for folder in RESULT_FOLDERS:
+        path_folder = out / folder
+        ok: set[str] = set()
+        if path_folder.is_dir():
+            for tmp in sorted(path_folder.glob(".*.tmp")):
+                moved.append(set_aside(out, tmp, "half-written", "a write a killed sweep cut"))
+            paths = sorted(path_folder.glob("*.parquet"))
+            with cf.ThreadPoolExecutor(max_workers=4) as pool:  # pyarrow reads without the GIL
+                problems = pool.map(lambda p, f=folder: _problem(p, f, planned), paths)
+                for path, problem in zip(paths, problems, strict=True):
+                    if problem is None:
+                        ok.add(path.stem)
+                    else:
+                        moved.append(set_aside(out, path, problem.reason, str(problem)))
+        found[folder] = ok
+    damaged = {m.source.stem for m in moved if m.source.parent.name in ("series", "samples")}
+    return found["runs"] - damaged, found["failed"], moved
