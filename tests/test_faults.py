@@ -133,7 +133,7 @@ def test_scheduled_faults_fail_one_eligible_robot_at_each_time():
     ("kw", "match"),
     [
         ({"fault_rate": -0.1}, r"fault_rate must be in \[0"),
-        ({"fault_rate": float("inf")}, "fault_rate must be finite"),
+        ({"fault_rate": float("inf")}, "fault_rate must be a finite number"),
         ({"fault_rate": float("nan")}, "fault_rate must be a number"),
         ({"fault_shape": 0.0}, r"fault_shape must be in \(0"),
         ({"fault_times": (-5.0,)}, "fault_times must hold finite times >= 0"),
