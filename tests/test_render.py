@@ -4,15 +4,17 @@ import json
 import shutil
 
 import imageio.v3 as iio
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
 
 from abm.errors import ConfigError
-from abm.viz.scene import WALL_COLOUR
+from abm.viz.scene import WALL_COLOUR, view_of
 from analysis.render import RunReplay, render_animation, render_snapshots, snapshot_times
 from analysis.runio import RUN_FILES, RunFolderError, load_run, save_run
 from models.beacon_explorer import BeaconExplorerModel
+from models.flocking import FlockingModel
 
 
 @pytest.fixture(scope="module")
@@ -128,3 +130,15 @@ def test_missing_or_incomplete_run_folder(run_dir, tmp_path):
     shutil.copy(run_dir / "events.parquet", partial)
     with pytest.raises(RunFolderError, match="lacks positions.parquet"):
         load_run(partial)
+
+
+def test_the_legend_names_walls_only_where_the_arena_has_some(model):
+    def labels(m):
+        fig, ax = plt.subplots()
+        try:
+            return [h.get_label() for h in view_of(m, ax).legend_handles()]
+        finally:
+            plt.close(fig)
+
+    assert "wall" in labels(model)
+    assert "wall" not in labels(FlockingModel(seed=1))  # a periodic square without walls

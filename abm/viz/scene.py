@@ -134,6 +134,7 @@ class SceneView:
         self.pixel = pixel
         self.arrows_label = arrows_label
         rows, cols = free.shape
+        self.has_walls = bool((~free).any())
         self.width, self.height = cols * resolution, rows * resolution
         extent = (0.0, self.width, 0.0, self.height)
         walls = np.zeros((rows, cols, 4))
@@ -237,7 +238,9 @@ class SceneView:
             self._layer_specs[layer.label] = layer
 
     def legend_handles(self) -> list:
-        """Legend entries: each state with its current count, links, arrows, coverage, walls."""
+        """Legend entries: each state with its current count, links, arrows, coverage, walls
+        (when the arena has any).
+        """
         handles = [
             Line2D(
                 [],
@@ -272,5 +275,6 @@ class SceneView:
             else:
                 handles.append(Line2D([], [], linestyle="none", marker="o", markersize=4,
                                       color=layer.colour, alpha=0.6, label=label))  # fmt: skip
-        handles.append(Patch(facecolor=WALL_COLOUR, label="wall"))
+        if self.has_walls:  # a periodic square has none
+            handles.append(Patch(facecolor=WALL_COLOUR, label="wall"))
         return handles
