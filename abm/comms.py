@@ -492,8 +492,7 @@ class CommNetwork:
             LinkError: the policy forbids the pair (e.g. two siblings of a tree).
 
         """
-        if self.policy is not None and not self.policy.allows(src, dst):
-            raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
+        self._check_policy(src, dst, kind)
         if self.log is not None:
             self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
         self.messages_sent += 1
@@ -512,6 +511,11 @@ class CommNetwork:
 
         event.callbacks.append(deliver)
         return event
+
+    def _check_policy(self, src: Node, dst: Node, kind: str) -> None:
+        """Raise LinkError if the link policy forbids a message from ``src`` to ``dst``."""
+        if self.policy is not None and not self.policy.allows(src, dst):
+            raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
 
     def send_many(
         self,
@@ -552,10 +556,9 @@ class CommNetwork:
                     hop=hop,
                 )
             return
-        if self.policy is not None:
+        if self.policy is not None:  # refuse the whole broadcast before any copy is logged
             for dst in dsts:
-                if not self.policy.allows(src, dst):
-                    raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
+                self._check_policy(src, dst, kind)
         if self.log is not None:
             for dst in dsts:
                 self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
