@@ -21,7 +21,7 @@ from abm.neighbours import cell_grid, cell_of
 
 __all__ = [
     "cardinal_distances",
-    "flight_step",
+    "flight_rows",
     "nearest_visible",
     "raycasts",
     "segments_cross",
@@ -229,34 +229,76 @@ def nearest_visible(padded, sat, res, points, targets, max_range):
     return out
 
 
-@njit(cache=True)
-def flight_step(
-    pos, vel, desired, noise, padded, res, mass, tau, max_force, drag, max_speed, dt, radius
+@njit(cache=True, inline="always")
+def _cap_below(cap):
+    """The ``cap2`` argument of :func:`_capped` for a cap."""
+    return (cap * (1.0 - 1e-9)) ** 2 if cap >= 1e-12 else -1.0
+
+
+@njit(cache=True, inline="always")
+def _capped(x, y, cap, cap2):
+    """Factor that shortens vector (x, y) to length ``cap`` if it is longer (1.0 otherwise).
+
+    ``cap2`` is ``(cap (1 - 1e-9))^2`` (or -1 to always measure): a vector whose squared
+    length is below it is certainly shorter than ``cap`` whatever the rounding, so the factor
+    is exactly 1.0 without the slower ``hypot``; the result is bit for bit that of
+    ``min(1, cap / max(hypot(x, y), 1e-12))``.
+    """
+    if x * x + y * y <= cap2:
+        return 1.0
+    return min(1.0, cap / max(math.hypot(x, y), 1e-12))
+
+
+@njit(cache=True, nogil=True)
+def flight_rows(
+    pos,
+    vel,
+    desired,
+    noise,
+    noise_scale,
+    padded,
+    res,
+    mass,
+    tau,
+    max_force,
+    drag,
+    max_speed,
+    dt,
+    radius,
+    contact,
+    first,
+    last,
 ):
-    """Advance every flyer one tick in place; returns which bodies touch a wall now.
+    """Advance flyers ``first`` to ``last - 1`` one tick in place; ``contact[k]`` tells whether
+    body k touches a wall now.
 
     Control force ``m (v_desired - v) / tau`` capped at ``max_force``, quadratic drag
     ``-drag |v| v`` (drag = rho A C_d / 2), speed capped at ``max_speed``, then the displacement
-    ``v dt + noise`` applied one axis at a time: a square body of half-width ``radius`` that
-    would enter a wall cell stops flush against it and loses that velocity component.
+    ``v dt + noise_scale * noise`` (``noise``: standard normal draws) applied one axis at a
+    time: a square body of half-width ``radius`` that would enter a wall cell stops flush
+    against it and loses that velocity component.
+
+    Rows are independent and the GIL is released, so disjoint row ranges may run on threads
+    at once with the same result as one call over all rows.
     """
-    n = pos.shape[0]
-    contact = np.zeros(n, dtype=np.bool_)
-    for k in range(n):
+    force_cap2 = _cap_below(max_force)
+    speed_cap2 = _cap_below(max_speed)
+    for k in range(first, last):
         fx = mass * (desired[k, 0] - vel[k, 0]) / tau
         fy = mass * (desired[k, 1] - vel[k, 1]) / tau
-        scale = min(1.0, max_force / max(math.hypot(fx, fy), 1e-12))
+        scale = _capped(fx, fy, max_force, force_cap2)
         speed = math.hypot(vel[k, 0], vel[k, 1])
         fx = fx * scale - drag * speed * vel[k, 0]
         fy = fy * scale - drag * speed * vel[k, 1]
         vel[k, 0] += fx * dt / mass
         vel[k, 1] += fy * dt / mass
-        scale = min(1.0, max_speed / max(math.hypot(vel[k, 0], vel[k, 1]), 1e-12))
+        scale = _capped(vel[k, 0], vel[k, 1], max_speed, speed_cap2)
         vel[k, 0] *= scale
         vel[k, 1] *= scale
+        touching = False
         for axis in range(2):
             other = 1 - axis
-            d = vel[k, axis] * dt + noise[k, axis]
+            d = vel[k, axis] * dt + noise_scale * noise[k, axis]
             new = pos[k, axis] + d
             sign = 1.0 if d >= 0.0 else -1.0
             lead = int(math.floor((new + sign * radius) / res))
@@ -270,6 +312,6 @@ def flight_step(
                 flush = lead * res - radius if sign > 0.0 else (lead + 1) * res + radius
                 new = flush - sign * 1e-9
                 vel[k, axis] = 0.0
-                contact[k] = True
+                touching = True
             pos[k, axis] = new
-    return contact
+        contact[k] = touching

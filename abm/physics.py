@@ -17,12 +17,14 @@ one axis at a time and each axis move is shorter than a grid pixel, so a body ca
 through a wall: it is stopped flush against it. A new contact counts one wall collision.
 Robots whose centres come closer than two body radii collide elastically; each new contact
 counts two collisions (the paper counts a robot-robot collision as 2). The per-flyer work is
-compiled (:func:`abm.gridkernels.flight_step`): with tens of flyers, numpy's per-call overhead,
+compiled (:func:`abm.gridkernels.flight_rows`): with tens of flyers, numpy's per-call overhead,
 not arithmetic, would set the speed.
 """
 
 import math
+import os
 from collections.abc import Callable, Iterable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -39,6 +41,29 @@ __all__ = ["Physics", "Controller", "FlightParams"]
 
 #: Mask of the low 32 bits (the higher robot id) of a contact key ``low_id << 32 | high_id``.
 _LOW = (1 << 32) - 1
+#: Flyers per thread of the flight step: a tick of fewer than twice this many runs in one call
+#: (a thread hand-off costs about as much as stepping a few thousand flyers).
+ROWS_PER_THREAD = 20_000
+#: Contact candidates are the pairs within two body radii plus a skin this many ticks of the
+#: largest move wide; they are searched again only once some flyer has moved half the skin.
+CONTACT_SKIN_TICKS = 10
+_CPUS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+_pool: tuple[int, ThreadPoolExecutor] | None = None
+
+
+def row_chunks(n: int) -> list[tuple[int, int]]:
+    """Row ranges ``[first, last)`` that split ``n`` flyers over the threads worth using."""
+    parts = max(1, min(_CPUS, n // ROWS_PER_THREAD))
+    bounds = [n * k // parts for k in range(parts + 1)]
+    return list(zip(bounds[:-1], bounds[1:], strict=True))
+
+
+def _thread_pool() -> ThreadPoolExecutor:
+    """The process's worker threads for the flight step (new ones in a forked child)."""
+    global _pool
+    if _pool is None or _pool[0] != os.getpid():
+        _pool = (os.getpid(), ThreadPoolExecutor(_CPUS, thread_name_prefix="abm-physics"))
+    return _pool[1]
 
 
 class Controller(Protocol):
@@ -141,6 +166,13 @@ class Physics:
         self._wall_contact = np.empty(0, dtype=bool)
         #: Robot pairs touching after the last tick, as sorted keys ``low_id << 32 | high_id``.
         self._pairs_in_contact = np.empty(0, dtype=np.int64)
+        #: Reused buffer of the body-noise draws (rows >= the flyers).
+        self._noise = np.zeros((0, 2))
+        #: Contact candidates (pairs within two radii plus the skin) and where the flyers were
+        #: when they were searched; None after flyers joined or left (rows changed).
+        self._candidates: tuple[np.ndarray, np.ndarray] | None = None
+        self._searched_at = np.empty((0, 2))
+        self._skin = CONTACT_SKIN_TICKS * step
         self.wall_collisions = 0
         self.robot_collisions = 0
         self.ticks = 0
@@ -191,6 +223,7 @@ class Physics:
         for name, array in self.flyer_state.items():
             self.flyer_state[name] = np.concatenate([array, np.zeros((k, array.shape[1]))])
         self._arrivals.extend(arrived)
+        self._candidates = None
         if k and not self._wake.triggered:
             self._wake.succeed()
         return arrived
@@ -234,6 +267,7 @@ class Physics:
         for name, array in self.flyer_state.items():
             self.flyer_state[name] = array[keep]
         self._arrivals = [a for a, k in zip(self._arrivals, keep, strict=True) if k]
+        self._candidates = None
         return last
 
     # ------------------------------------------------------------------ the process
@@ -250,17 +284,39 @@ class Physics:
         self.ticks += 1
         self.flyer_steps += self.n_flying
         desired, done = self.controller.control(self)
+        contact = self._fly_one_tick(np.ascontiguousarray(desired, dtype=float))
+        self._count_wall_contacts(contact)
+        self._robot_contacts()
+        if self.trace is not None:
+            self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
+        if self.positions_out is not None:
+            self.positions_out(self.ids, self.pos)
+        if done.any():
+            self.finish(self.ids[done])
+
+    def _fly_one_tick(self, desired: np.ndarray) -> np.ndarray:
+        """Flight dynamics and wall contacts for every flyer (:func:`gridkernels.flight_rows`);
+        returns which bodies touch a wall.
+
+        The body noise is drawn as ``rng.standard_normal`` into a reused buffer and scaled in
+        the kernel: the same numbers as ``rng.normal(0, body_noise)``, without a new array per
+        tick. With :data:`THREADED_FLYERS` flyers or more the rows are split over threads
+        (rows are independent, so the result is the same as one pass).
+        """
+        n = self.n_flying
         p = self.params
-        noise = (
-            self.rng.normal(0.0, p.body_noise, size=self.pos.shape)
-            if p.body_noise > 0
-            else np.zeros_like(self.pos)
-        )
-        contact = gridkernels.flight_step(
+        if len(self._noise) < n:
+            self._noise = np.zeros((max(n, 2 * len(self._noise)), 2))
+        noise = self._noise[:n]
+        if p.body_noise > 0:
+            self.rng.standard_normal(out=noise)
+        contact = np.empty(n, dtype=bool)
+        args = (
             self.pos,
             self.vel,
-            np.ascontiguousarray(desired, dtype=float),
+            desired,
             noise,
+            p.body_noise,
             self.arena.padded,
             self.arena.resolution,
             p.mass,
@@ -270,15 +326,15 @@ class Physics:
             p.max_speed,
             self.dt,
             p.body_radius,
+            contact,
         )
-        self._count_wall_contacts(contact)
-        self._robot_contacts()
-        if self.trace is not None:
-            self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
-        if self.positions_out is not None:
-            self.positions_out(self.ids, self.pos)
-        if done.any():
-            self.finish(self.ids[done])
+        (first, last), *others = row_chunks(n)
+        pool = _thread_pool() if others else None
+        elsewhere = [pool.submit(gridkernels.flight_rows, *args, *rows) for rows in others]
+        gridkernels.flight_rows(*args, first, last)
+        for done in elsewhere:
+            done.result()
+        return contact
 
     def _count_wall_contacts(self, contact: np.ndarray) -> None:
         """A body that touches a wall now and did not last tick is a new wall collision."""
@@ -293,14 +349,14 @@ class Physics:
     def _robot_contacts(self) -> None:
         """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.).
 
-        Touching pairs come from a cell list (:func:`abm.neighbours.pairs_within`, linear in the
-        flyers); contacts are compared with the last tick's as sorted integer keys.
+        Touching pairs come from :meth:`_touching_pairs`; contacts are compared with the last
+        tick's as sorted integer keys.
         """
         n = len(self.ids)
         if n < 2:
             self._pairs_in_contact = self._pairs_in_contact[:0]
             return
-        i, j = pairs_within(self.pos, 2 * self.params.body_radius)
+        i, j = self._touching_pairs()
         if len(i) == 0:
             self._pairs_in_contact = self._pairs_in_contact[:0]
             return
@@ -318,6 +374,51 @@ class Physics:
         if self.on_collision is not None:
             for key in new.tolist():
                 self.on_collision("robot", key >> 32, key & _LOW)
+
+    def _touching_pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """Row pairs ``i < j`` closer than two body radii, in lexicographic order: exactly
+        :func:`abm.neighbours.pairs_within` ``(pos, 2 r)``, from a Verlet list.
+
+        The cell-list search runs with a skin (``CONTACT_SKIN_TICKS`` ticks of the largest
+        move) and is reused while no flyer has moved more than half the skin since: two bodies
+        touching now were then within two radii plus the skin. Each tick only measures the
+        candidates, so the search (the costly part at 100,000 flyers) runs every few ticks.
+        """
+        reach = 2 * self.params.body_radius
+        if self._candidates is None or _moved_beyond(
+            self.pos, self._searched_at, 0.5 * self._skin * (1.0 - 1e-9)
+        ):
+            self._candidates = pairs_within(self.pos, reach + self._skin)
+            self._searched_at = self.pos.copy()
+        return _closer_than(self.pos, *self._candidates, reach)
+
+
+@njit(cache=True)
+def _moved_beyond(pos: np.ndarray, before: np.ndarray, limit: float) -> bool:
+    """Tell whether some row of ``pos`` lies more than ``limit`` from its row in ``before``."""
+    limit2 = limit * limit
+    for k in range(pos.shape[0]):
+        dx = pos[k, 0] - before[k, 0]
+        dy = pos[k, 1] - before[k, 1]
+        if dx * dx + dy * dy > limit2:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _closer_than(
+    pos: np.ndarray, first: np.ndarray, second: np.ndarray, reach: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The candidate pairs whose rows are closer than ``reach`` now (order kept), measured as
+    :func:`abm.neighbours.pairs_within` measures them.
+    """
+    r2 = reach * reach
+    keep = np.zeros(first.shape[0], dtype=np.bool_)
+    for k in range(first.shape[0]):
+        dx = pos[second[k], 0] - pos[first[k], 0]
+        dy = pos[second[k], 1] - pos[first[k], 1]
+        keep[k] = dx * dx + dy * dy < r2
+    return first[keep], second[keep]
 
 
 @njit(cache=True)

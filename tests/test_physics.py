@@ -1,3 +1,4 @@
+import math
 from itertools import pairwise
 
 import numpy as np
@@ -5,6 +6,7 @@ import pytest
 import simpy
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from numba import njit
 
 from abm.arena import Arena
 from abm.errors import ConfigError
@@ -95,3 +97,118 @@ def test_a_tick_too_long_for_the_grid_is_rejected():
     arena = Arena(np.ones((5, 5), dtype=bool), 1.0)
     with pytest.raises(ConfigError, match="dt=1.0 s is too long"):
         Physics(simpy.Environment(), arena, np.random.default_rng(0), dt=1.0)
+
+
+class Crowd:
+    """Random pilots in a crowd: some flyers land and new ones take off as it runs."""
+
+    def __init__(self, rng):
+        self.rng = rng
+        self.next_id = 0
+
+    def control(self, physics):
+        n = physics.n_flying
+        done = self.rng.random(n) < 0.02
+        return self.rng.normal(0, 2.0, (n, 2)), done
+
+
+def crowd_run(seed: int, monkeypatch, **settings) -> tuple[list, int, int]:
+    """A seeded crowd of flyers in a walled room, some joining later: trace and collisions."""
+    import abm.physics
+
+    for name, value in settings.items():
+        monkeypatch.setattr(abm.physics, name, value)
+    rng = np.random.default_rng(seed)
+    free = np.ones((8, 8), dtype=bool)
+    free[3, 2:6] = False
+    arena = Arena(free, 1.0)
+    env = simpy.Environment()
+    params = FlightParams(max_speed=2.0, body_noise=0.02, body_radius=0.2)
+    physics = Physics(env, arena, rng, Crowd(rng), params=params)
+    physics.trace = []
+    cells = arena.free_cell_centres()
+
+    def launches():
+        for robot in range(60):
+            physics.fly(robot, cells[rng.integers(len(cells))] + rng.uniform(-0.2, 0.2, 2))
+            yield env.timeout(rng.exponential(0.3))
+
+    env.process(launches())
+    env.run(until=20.0)
+    return physics.trace, physics.robot_collisions, physics.wall_collisions
+
+
+def same_runs(a, b) -> bool:
+    (trace_a, *counts_a), (trace_b, *counts_b) = a, b
+    return counts_a == counts_b and all(
+        ta == tb and np.array_equal(ia, ib) and np.array_equal(pa, pb)
+        for (ta, ia, pa), (tb, ib, pb) in zip(trace_a, trace_b, strict=True)
+    )
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 10_000))
+def test_contacts_from_the_verlet_list_equal_a_search_every_tick(seed):
+    """The skin only saves searches: a run with a zero skin (a fresh cell-list search every
+    tick) moves every flyer and counts every collision exactly as the default does."""
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        every_tick = crowd_run(seed, monkeypatch, CONTACT_SKIN_TICKS=0)
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        reused = crowd_run(seed, monkeypatch)
+    assert reused[1] > 0  # the crowd does collide
+    assert same_runs(every_tick, reused)
+
+
+@settings(max_examples=4, deadline=None)
+@given(st.integers(0, 10_000))
+def test_the_flight_step_split_over_threads_equals_one_pass(seed):
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        one_pass = crowd_run(seed, monkeypatch)
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        threaded = crowd_run(seed, monkeypatch, ROWS_PER_THREAD=3, _CPUS=4)
+    assert same_runs(one_pass, threaded)
+
+
+def test_touching_pairs_are_the_pairs_closer_than_two_radii():
+    """Checked tick by tick against a direct search while flyers join, move and leave."""
+    from abm.neighbours import pairs_within
+
+    rng = np.random.default_rng(3)
+    arena = Arena(np.ones((6, 6), dtype=bool), 1.0)
+    env = simpy.Environment()
+    physics = Physics(env, arena, rng, Crowd(rng), params=FlightParams(max_speed=2.0))
+    cells = arena.free_cell_centres()
+    physics.fly_many(range(40), cells[rng.integers(len(cells), size=40)])
+    touching = 0
+    for step in range(1, 200):
+        env.run(until=step * physics.dt)
+        expected = pairs_within(physics.pos, 2 * physics.params.body_radius)
+        found = physics._touching_pairs()
+        assert all(np.array_equal(f, e) for f, e in zip(found, expected, strict=True))
+        touching += len(found[0])
+    assert touching > 0
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.floats(-1e6, 1e6, allow_nan=False),
+    st.floats(-1e6, 1e6, allow_nan=False),
+    st.floats(1e-13, 1e3),
+    st.floats(0.999, 1.001),
+)
+def test_the_cap_factor_equals_the_measured_one_bit_for_bit(x, y, cap, near):
+    """The flight kernel skips ``hypot`` for vectors clearly under a cap: the factor must be
+    exactly the compiled ``min(1, cap / max(hypot, 1e-12))`` anyway (numba's ``hypot`` can
+    differ from CPython's in the last bit), including vectors right at the cap."""
+    from abm.gridkernels import _cap_below, _capped
+
+    norm = math.hypot(x, y)
+    if norm > 0:  # also try the vector scaled to lie right at the cap
+        for vx, vy in ((x, y), (x * cap * near / norm, y * cap * near / norm)):
+            assert _capped(vx, vy, cap, _cap_below(cap)) == _measured_cap_factor(vx, vy, cap)
+
+
+@njit(cache=True)
+def _measured_cap_factor(x: float, y: float, cap: float) -> float:
+    """The flight kernel's cap factor before the ``hypot`` skip."""
+    return min(1.0, cap / max(math.hypot(x, y), 1e-12))
