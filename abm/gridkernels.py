@@ -5,7 +5,7 @@ numpy's per-call overhead dominates; compiled loops over the rows make a tick te
 cheaper. Every kernel works on the arena's precomputed arrays:
 
 - ``padded``: the free grid with a one-cell ring of wall, ``padded[iy + 1, ix + 1]``;
-- ``runs[d, iy, ix]``: free cells beyond a cell in direction d (N, E, S, W);
+- ``runs[iy, ix, d]``: free cells beyond a cell in direction d (N, E, S, W);
 - ``sat``: summed-area table of wall cells, ``sat[iy, ix]`` = walls below row iy, left of ix.
 
 Geometry is exact for grid walls: rays are walked cell boundary by cell boundary
@@ -106,10 +106,10 @@ def cardinal_distances(padded, runs, res, points, max_range):
         iy = int(math.floor(y / res))
         if not _free(padded, ix, iy):
             continue
-        out[k, 0] = min((iy + 1) * res - y + runs[0, iy, ix] * res, max_range)
-        out[k, 1] = min((ix + 1) * res - x + runs[1, iy, ix] * res, max_range)
-        out[k, 2] = min(y - iy * res + runs[2, iy, ix] * res, max_range)
-        out[k, 3] = min(x - ix * res + runs[3, iy, ix] * res, max_range)
+        out[k, 0] = min((iy + 1) * res - y + runs[iy, ix, 0] * res, max_range)
+        out[k, 1] = min((ix + 1) * res - x + runs[iy, ix, 1] * res, max_range)
+        out[k, 2] = min(y - iy * res + runs[iy, ix, 2] * res, max_range)
+        out[k, 3] = min(x - ix * res + runs[iy, ix, 3] * res, max_range)
     return out
 
 
