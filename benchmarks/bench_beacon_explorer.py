@@ -4,9 +4,9 @@
    beacon/explorer model: median over several seeds.
 2. Flying-robot steps per second at 100 and 1000 robots in an open 100 m x 100 m arena with
    internal walls: our single vectorised physics process (control from four cardinal distance
-   sensors, drag, noise, wall contacts, robot-robot contacts through a KD-tree) beside Mesa's
-   own per-agent idiom on its classic ContinuousSpace (``move_agent`` + ``get_neighbors`` per
-   agent), which does less work (no walls, no sensors, no dynamics).
+   sensors, drag, noise, wall contacts, robot-robot contacts from a cell-list Verlet list)
+   beside Mesa's own per-agent idiom on its classic ContinuousSpace (``move_agent`` +
+   ``get_neighbors`` per agent), which does less work (no walls, no sensors, no dynamics).
 
 Usage: python benchmarks/bench_beacon_explorer.py [--seeds 5] [--ticks 200]
 """
