@@ -18,7 +18,7 @@ from numba import njit
 
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
-from abm.sensors import distance_sensors, ray_sensors, relative_positions
+from abm.sensors import distance_sensors, measured_relative, ray_sensors
 from models.beacon_explorer.flowchart import (
     DIRECTIONS,
     NO_DIRECTION,
@@ -99,9 +99,10 @@ class BeaconNetwork:
         self._links: dict[int, set[int]] = {}
         self._turn: dict[int, int] = {}
         self._turns = 0
+        self._xy = np.empty((64, 2))  # beacon positions by attach turn (the sensor's kernel)
         self._touched: set[int] = set()
-        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until the next update
-        self._members: tuple[np.ndarray, np.ndarray] | None = None  # signals' ids, positions
+        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until its links change
+        self._members: _Members | None = None  # what signals() returns, kept up to date
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
         )
@@ -127,6 +128,9 @@ class BeaconNetwork:
         self.beacons[robot] = beacon
         self._members = None
         self._turn[robot] = self._turns
+        if self._turns == len(self._xy):
+            self._xy = np.concatenate([self._xy, np.empty_like(self._xy)])
+        self._xy[self._turns] = position
         self._turns += 1
         self._touched.add(robot)
         if is_base:
@@ -187,17 +191,19 @@ class BeaconNetwork:
         change is that of its neighbourhood, not of the whole network.
         """
         touched, self._touched = self._touched, set()
-        self._ordered.clear()
+        stale = set(touched)  # beacons whose lattice_neighbours may change: they and their links
         for robot in touched - self.beacons.keys():  # detached
             self._picks.pop(robot, None)
             self._turn.pop(robot, None)
             for other in self._links.pop(robot, ()):
                 self._links[other].discard(robot)
+                stale.add(other)
         present = [robot for robot in touched if robot in self.beacons]
         for robot in present:
             self._picks[robot] = self._pick(robot)
             self._links.setdefault(robot, set())
         for robot in present:
+            stale.update(self._links[robot])
             for other in list(self._links[robot]):
                 if not self._mutual(robot, other):
                     self._links[robot].discard(other)
@@ -206,6 +212,9 @@ class BeaconNetwork:
                 if self._mutual(robot, other):
                     self._links[robot].add(other)
                     self._links[other].add(robot)
+                    stale.add(other)
+        for robot in stale:
+            self._ordered.pop(robot, None)
 
     def _pick(self, robot: int) -> dict[int, int]:
         """The nearest linked beacon in each direction (directions in order of first sight)."""
@@ -314,14 +323,23 @@ class BeaconNetwork:
         others = self.comms.neighbours(robot)
         if not others:
             return {}, set(me.reported_taken)
-        rel = np.array([self.beacons[n].position - me.position for n in others])
+        turn = self._turn
+        rows = np.fromiter((turn[n] for n in others), dtype=np.int64, count=len(others))
         p = self.params
-        measured = relative_positions(
-            rel, self.rng, p.range_noise, p.bearing_noise, p.reference_range
+        reach = p.interspace if me.corridor else p.spot_taken
+        # The same draws relative_positions makes, measured and classified in one compiled call.
+        direction, dist, near_spot = _sense_relatives(
+            self._xy,
+            rows,
+            turn[robot],
+            self.rng.standard_normal((len(others), 2)),
+            p.range_noise,
+            p.bearing_noise,
+            p.reference_range,
+            p.interspace,
+            reach,
         )
-        reach = self.params.interspace if me.corridor else self.params.spot_taken
-        direction, dist, near_spot = _bearings(measured, self.params.interspace, reach)
-        linked = set(self.lattice_neighbours(robot))
+        linked = self.lattice_neighbours(robot)
         found: dict[int, tuple[float, int]] = {}
         for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
             if n in linked and (d not in found or r < found[d][0]):
@@ -361,12 +379,12 @@ class BeaconNetwork:
         beacon.neighbour_dirs, taken = self._sense_beacons(robot)
         if beacon.neighbour_dirs.keys() != before:
             # Whether its desired spot is empty (what explorers read) may change with them.
+            self._signal_changed(beacon)
             self.version += 1
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
-        if not all(
-            g.settled(n) for g in (self.forwards, self.reverse) for n in (robot, *nb.values())
-        ):
+        nodes = (robot, *nb.values())
+        if not (self.forwards.settled_all(nodes) and self.reverse.settled_all(nodes)):
             self.wake_later(robot)
             return
         fwd, rev = self.forwards.value, self.reverse.value
@@ -403,6 +421,7 @@ class BeaconNetwork:
             self.reverse.set_sources(sources)
             self.version += 1
         if changed:
+            self._signal_changed(beacon)
             self.version += 1
             for n in self.lattice_neighbours(robot):
                 self.wake_later(n)
@@ -448,22 +467,57 @@ class BeaconNetwork:
     # ------------------------------------------------------------------ what explorers read
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
-        if self._members is None:  # positions are fixed: rebuilt only when beacons come or go
-            ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
-            pos = np.array([b.position for b in self.beacons.values()]).reshape(-1, 2)
-            self._members = ids, pos
-        ids, pos = self._members
-        beacons = self.beacons.values()
-        desired = np.fromiter((b.desired for b in beacons), dtype=np.int64, count=len(ids))
+        members = self._current_members()
+        desired = members.desired
         vectors = np.where(
             (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
         )
-        to_empty = np.fromiter(
-            (b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons),
-            dtype=bool,
-            count=len(ids),
-        )
-        return ids, pos, vectors, to_empty
+        return members.ids, members.pos, vectors, members.to_empty.copy()
+
+    def corridors(self) -> np.ndarray:
+        """Whether each beacon is a corridor beacon, in the order of :meth:`signals`."""
+        return self._current_members().corridor
+
+    def _current_members(self) -> "_Members":
+        """The beacons' arrays, rebuilt only when beacons come or go (positions are fixed);
+        between two rebuilds :meth:`_signal_changed` keeps their signals up to date.
+        """
+        if self._members is None:
+            beacons = self.beacons.values()
+            n = len(self.beacons)
+            self._members = _Members(
+                ids=np.fromiter(self.beacons, dtype=np.int64, count=n),
+                pos=np.array([b.position for b in beacons]).reshape(-1, 2),
+                corridor=np.fromiter((b.corridor for b in beacons), dtype=bool, count=n),
+                row={robot: i for i, robot in enumerate(self.beacons)},
+                desired=np.fromiter((b.desired for b in beacons), dtype=np.int64, count=n),
+                to_empty=np.fromiter((_to_empty(b) for b in beacons), dtype=bool, count=n),
+            )
+        return self._members
+
+    def _signal_changed(self, beacon: Beacon) -> None:
+        """A beacon's desired direction or its neighbours' directions changed."""
+        if self._members is not None:
+            row = self._members.row[beacon.robot]
+            self._members.desired[row] = beacon.desired
+            self._members.to_empty[row] = _to_empty(beacon)
+
+
+@dataclass
+class _Members:
+    """The beacons as arrays, in the order of ``BeaconNetwork.beacons``."""
+
+    ids: np.ndarray
+    pos: np.ndarray
+    corridor: np.ndarray
+    row: dict[int, int]
+    desired: np.ndarray
+    to_empty: np.ndarray
+
+
+def _to_empty(beacon: Beacon) -> bool:
+    """The beacon signals a direction and no lattice neighbour holds it (its spot is free)."""
+    return beacon.desired >= 0 and beacon.desired not in beacon.neighbour_dirs
 
 
 def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.ndarray:
@@ -471,17 +525,37 @@ def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.
 
 
 @njit(cache=True)
-def _bearings(measured: np.ndarray, interspace: float, reach: float):
-    """Per measured neighbour vector: its compass direction (the cardinal it is most along,
-    first on ties) and length; per direction: whether some neighbour is closer than ``reach``
-    to that direction's lattice spot (I_r away).
+def _sense_relatives(
+    xy: np.ndarray,
+    rows: np.ndarray,
+    me: int,
+    z: np.ndarray,
+    range_noise: float,
+    bearing_noise: float,
+    reference_range: float,
+    interspace: float,
+    reach: float,
+):
+    """The relative-positioning sensor of beacon row ``me`` measuring the beacons in ``rows``
+    of ``xy`` (with the standard normal draws ``z``, as :func:`abm.sensors.relative_positions`
+    makes them), then classified: per neighbour its compass direction (the cardinal it is most
+    along, first on ties) and measured length; per direction whether some neighbour is closer
+    than ``reach`` to that direction's lattice spot (I_r away).
     """
-    k = measured.shape[0]
+    k = rows.shape[0]
     direction = np.empty(k, dtype=np.int64)
     dist = np.empty(k)
     near_spot = np.zeros(4, dtype=np.bool_)
     for i in range(k):
-        x, y = measured[i, 0], measured[i, 1]
+        x, y = measured_relative(
+            xy[rows[i], 0] - xy[me, 0],
+            xy[rows[i], 1] - xy[me, 1],
+            z[i, 0],
+            z[i, 1],
+            range_noise,
+            bearing_noise,
+            reference_range,
+        )
         best = 0
         along = x * CARDINALS[0, 0] + y * CARDINALS[0, 1]
         for d in range(1, 4):
