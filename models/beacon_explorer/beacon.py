@@ -102,6 +102,9 @@ class BeaconNetwork:
         self._xy = np.empty((64, 2))  # beacon positions by attach turn (the sensor's kernel)
         self._touched: set[int] = set()
         self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until its links change
+        # per beacon, until its links change: its comm neighbours, their rows of _xy, and
+        # which of them are lattice neighbours (what the relative-positioning sensor sees)
+        self._near: dict[int, tuple[list[int], np.ndarray, np.ndarray]] = {}
         self._members: _Members | None = None  # what signals() returns, kept up to date
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
@@ -215,6 +218,7 @@ class BeaconNetwork:
                     stale.add(other)
         for robot in stale:
             self._ordered.pop(robot, None)
+            self._near.pop(robot, None)
 
     def _pick(self, robot: int) -> dict[int, int]:
         """The nearest linked beacon in each direction (directions in order of first sight)."""
@@ -320,33 +324,43 @@ class BeaconNetwork:
           corners of mixed worlds, where the lattice is irregular, stalled 6 of 600 runs).
         """
         me = self.beacons[robot]
-        others = self.comms.neighbours(robot)
+        near = self._near.get(robot)
+        if near is None:
+            others = self.comms.neighbours(robot)
+            linked = self.lattice_neighbours(robot)
+            near = self._near[robot] = (
+                others,
+                np.array([self._turn[n] for n in others], dtype=np.int64),
+                np.array([n in linked for n in others], dtype=np.bool_),
+            )
+        others, rows, linked = near
         if not others:
             return {}, set(me.reported_taken)
-        turn = self._turn
-        rows = np.fromiter((turn[n] for n in others), dtype=np.int64, count=len(others))
         p = self.params
-        reach = p.interspace if me.corridor else p.spot_taken
-        # The same draws relative_positions makes, measured and classified in one compiled call.
-        direction, dist, near_spot = _sense_relatives(
+        # The same draws relative_positions makes, measured and classified in one compiled call:
+        # per direction in order of first sight the nearest lattice neighbour, then the spots
+        # some neighbour fills (bits).
+        picked = _sense_relatives(
             self._xy,
             rows,
-            turn[robot],
+            linked,
+            self._turn[robot],
             self.rng.standard_normal((len(others), 2)),
             p.range_noise,
             p.bearing_noise,
             p.reference_range,
             p.interspace,
-            reach,
-        )
-        linked = self.lattice_neighbours(robot)
-        found: dict[int, tuple[float, int]] = {}
-        for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
-            if n in linked and (d not in found or r < found[d][0]):
-                found[d] = (r, n)
-        taken = {d for d in DIRECTIONS if near_spot[d]}
-        neighbours = {d: n for d, (_r, n) in found.items()}
-        return neighbours, (taken | me.reported_taken) - neighbours.keys()
+            p.interspace if me.corridor else p.spot_taken,
+        ).tolist()
+        neighbours = {}
+        for k in range(0, 8, 2):
+            if picked[k] < 0:
+                break
+            neighbours[picked[k]] = others[picked[k + 1]]
+        taken = set(_DIRECTION_SETS[picked[8]])
+        taken |= me.reported_taken
+        taken -= neighbours.keys()
+        return neighbours, taken
 
     def spot_reported_taken(self, robot: int | None, where: np.ndarray) -> None:
         """An explorer that flew to beacon ``robot``'s advertised spot found another beacon
@@ -461,6 +475,8 @@ class BeaconNetwork:
 
     def _link_changed(self, _kind: str, a: int, b: int) -> None:
         self._touched.update((a, b))
+        self._near.pop(a, None)
+        self._near.pop(b, None)
         self.wake(a)
         self.wake(b)
 
@@ -524,10 +540,15 @@ def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.
     return readings
 
 
+#: The set of directions each 4-bit mask names (bit d: direction d).
+_DIRECTION_SETS = tuple(frozenset(d for d in DIRECTIONS if mask >> d & 1) for mask in range(16))
+
+
 @njit(cache=True)
 def _sense_relatives(
     xy: np.ndarray,
     rows: np.ndarray,
+    linked: np.ndarray,
     me: int,
     z: np.ndarray,
     range_noise: float,
@@ -535,18 +556,23 @@ def _sense_relatives(
     reference_range: float,
     interspace: float,
     reach: float,
-):
+) -> np.ndarray:
     """The relative-positioning sensor of beacon row ``me`` measuring the beacons in ``rows``
     of ``xy`` (with the standard normal draws ``z``, as :func:`abm.sensors.relative_positions`
-    makes them), then classified: per neighbour its compass direction (the cardinal it is most
-    along, first on ties) and measured length; per direction whether some neighbour is closer
-    than ``reach`` to that direction's lattice spot (I_r away).
+    makes them), then classified. Each neighbour lies in the compass direction it is most
+    along (the first cardinal on ties); in each direction the nearest measured neighbour among
+    the ``linked`` ones (the first of equals) is the lattice neighbour there.
+
+    Returns 9 integers: (direction, neighbour index) for each direction holding a lattice
+    neighbour, in the order the directions were first seen, padded with -1; then a bit mask
+    of the directions whose lattice spot (I_r away) some neighbour is closer than ``reach`` to.
     """
-    k = rows.shape[0]
-    direction = np.empty(k, dtype=np.int64)
-    dist = np.empty(k)
-    near_spot = np.zeros(4, dtype=np.bool_)
-    for i in range(k):
+    best = np.full(4, -1, dtype=np.int64)
+    best_dist = np.zeros(4)
+    first = np.full(4, -1, dtype=np.int64)
+    seen = 0
+    taken = 0
+    for i in range(rows.shape[0]):
         x, y = measured_relative(
             xy[rows[i], 0] - xy[me, 0],
             xy[rows[i], 1] - xy[me, 1],
@@ -556,18 +582,29 @@ def _sense_relatives(
             bearing_noise,
             reference_range,
         )
-        best = 0
+        d = 0
         along = x * CARDINALS[0, 0] + y * CARDINALS[0, 1]
-        for d in range(1, 4):
-            v = x * CARDINALS[d, 0] + y * CARDINALS[d, 1]
+        for c in range(1, 4):
+            v = x * CARDINALS[c, 0] + y * CARDINALS[c, 1]
             if v > along:
-                best, along = d, v
-        direction[i] = best
-        dist[i] = math.hypot(x, y)
-        for d in range(4):
+                d, along = c, v
+        r = math.hypot(x, y)
+        if linked[i]:
+            if best[d] < 0:
+                first[seen] = d
+                seen += 1
+                best[d], best_dist[d] = i, r
+            elif r < best_dist[d]:
+                best[d], best_dist[d] = i, r
+        for c in range(4):
             if (
-                math.hypot(CARDINALS[d, 0] * interspace - x, CARDINALS[d, 1] * interspace - y)
+                math.hypot(CARDINALS[c, 0] * interspace - x, CARDINALS[c, 1] * interspace - y)
                 < reach
             ):
-                near_spot[d] = True
-    return direction, dist, near_spot
+                taken |= 1 << c
+    out = np.full(9, -1, dtype=np.int64)
+    for k in range(seen):
+        out[2 * k] = first[k]
+        out[2 * k + 1] = best[first[k]]
+    out[8] = taken
+    return out
