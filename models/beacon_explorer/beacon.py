@@ -484,11 +484,7 @@ class BeaconNetwork:
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
         members = self._current_members()
-        desired = members.desired
-        vectors = np.where(
-            (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
-        )
-        return members.ids, members.pos, vectors, members.to_empty.copy()
+        return members.ids, members.pos, members.vectors.copy(), members.to_empty.copy()
 
     def corridors(self) -> np.ndarray:
         """Whether each beacon is a corridor beacon, in the order of :meth:`signals`."""
@@ -506,16 +502,22 @@ class BeaconNetwork:
                 pos=np.array([b.position for b in beacons]).reshape(-1, 2),
                 corridor=np.fromiter((b.corridor for b in beacons), dtype=bool, count=n),
                 row={robot: i for i, robot in enumerate(self.beacons)},
-                desired=np.fromiter((b.desired for b in beacons), dtype=np.int64, count=n),
+                vectors=np.array([self._vector(b.desired) for b in beacons]).reshape(-1, 2),
                 to_empty=np.fromiter((_to_empty(b) for b in beacons), dtype=bool, count=n),
             )
         return self._members
+
+    def _vector(self, desired: int) -> np.ndarray:
+        """The desired vector D of a direction: I_r along it (zero for none)."""
+        if desired < 0:
+            return np.zeros(2)
+        return CARDINALS[desired] * self.params.interspace
 
     def _signal_changed(self, beacon: Beacon) -> None:
         """A beacon's desired direction or its neighbours' directions changed."""
         if self._members is not None:
             row = self._members.row[beacon.robot]
-            self._members.desired[row] = beacon.desired
+            self._members.vectors[row] = self._vector(beacon.desired)
             self._members.to_empty[row] = _to_empty(beacon)
 
 
@@ -527,7 +529,7 @@ class _Members:
     pos: np.ndarray
     corridor: np.ndarray
     row: dict[int, int]
-    desired: np.ndarray
+    vectors: np.ndarray
     to_empty: np.ndarray
 
 
