@@ -649,7 +649,10 @@ class GradientFlood:
     def settled_all(self, nodes: Iterable[Node]) -> bool:
         """True once the newest wave reached every one of ``nodes`` (see :meth:`settled`)."""
         epoch_of, epoch = self._epoch_of, self.epoch
-        return all(epoch_of.get(node, 0) == epoch for node in nodes)
+        for node in nodes:  # a loop, not all(...): this runs for every beacon decision
+            if epoch_of.get(node, 0) != epoch:
+                return False
+        return True
 
     def value(self, node: Node) -> int:
         """The node's current value (``floor`` if it has none yet)."""
