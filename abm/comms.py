@@ -646,6 +646,14 @@ class GradientFlood:
         """True once the newest wave reached the node (or its soft state expired)."""
         return self._epoch_of.get(node, 0) == self.epoch
 
+    def settled_all(self, nodes: Iterable[Node]) -> bool:
+        """True once the newest wave reached every one of ``nodes`` (see :meth:`settled`)."""
+        epoch_of, epoch = self._epoch_of, self.epoch
+        for node in nodes:  # a loop, not all(...): this runs for every beacon decision
+            if epoch_of.get(node, 0) != epoch:
+                return False
+        return True
+
     def value(self, node: Node) -> int:
         """The node's current value (``floor`` if it has none yet)."""
         return self.values.get(node, self.floor)
@@ -691,6 +699,10 @@ class GradientFlood:
             return
         if epoch == current_epoch and not self._better(value, self.values[node]):
             return
+        self._take(node, epoch, value)
+
+    def _take(self, node: Node, epoch: int, value: int) -> None:
+        """``node`` adopts ``value`` of wave ``epoch`` and passes it on."""
         self._epoch_of[node] = epoch
         self._set(node, value)
         onward = value + self.step
@@ -701,9 +713,15 @@ class GradientFlood:
         self.network.send_many(node, others, (epoch, onward), self._deliver, self._dropped)
 
     def _deliver(self, _src: Node, dst: Node, payload: tuple[int, int]) -> None:
+        # _receive inlined: most copies of a wave arrive where a value as good is already held
         self.in_flight -= 1
         epoch, value = payload
-        self._receive(dst, epoch, value)
+        current_epoch = self._epoch_of.get(dst, 0)
+        if epoch < current_epoch:
+            return
+        if epoch == current_epoch and (value - self.values[dst]) * self.step >= 0:
+            return
+        self._take(dst, epoch, value)
 
     def _dropped(self, _src: Node, _dst: Node, _payload: tuple[int, int]) -> None:
         self.in_flight -= 1

@@ -23,7 +23,9 @@ the same script times older revisions of the framework.
 With ``--compare DIR`` every case also runs on the code checked out in DIR (e.g. a worktree
 of main: ``git worktree add /tmp/before main``), both revisions side by side at the same time
 in two processes, so both see the same machine load; the table then shows both and their
-ratio.
+ratio, of wall times and of CPU times (on a machine shared with other work the two processes
+need not get the same share of the cores: the CPU-time ratio is the steadier one, valid when
+both runs reached the same simulated time).
 
 Usage: python benchmarks/bench_scale.py [--quick] [--models beacon-explorer stigmergy]
     [--sizes 50 200 1000 2000] [--budget 600] [--seed 1] [--profile out/scale.prof]
@@ -109,7 +111,7 @@ def time_run(
     params, duration = CASES[name](n)
     cls = model_class(name)
     profiler = cProfile.Profile() if profile else None
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     if profiler:
         profiler.enable()
     model = cls(seed=seed, **params)
@@ -123,12 +125,14 @@ def time_run(
         profiler.disable()
         profiler.dump_stats(profile)
     wall = time.perf_counter() - start
+    cpu = time.process_time() - cpu_start
     simulated = float(model.env.now)
     return {
         "model": name,
         "robots": n,
         "simulated": simulated,
         "wall": wall,
+        "cpu": cpu,
         "per_robot_us": 1e6 * wall / simulated / n,
         "rtf": simulated / wall,
         "truncated": simulated < duration and model.running,
@@ -197,7 +201,7 @@ def main() -> None:
             print(
                 f"  {'robots':>7} {'sim s':>7} {'us/robot/sim-s':>15} {'x real time':>11}   "
                 f"{'before: sim s':>13} {'us/robot/sim-s':>15} {'x real time':>11}  "
-                f"speed-up (wall to the same sim time)"
+                f"speed-up (wall to the same sim time; CPU)"
             )
             pairs = []
             for n in sizes:
@@ -210,7 +214,7 @@ def main() -> None:
                     f"  {n:>7} {after['simulated']:>7.0f}{cut[0]}{after['per_robot_us']:>13.1f} "
                     f"{after['rtf']:>11.1f}   {before['simulated']:>13.0f}{cut[1]}"
                     f"{before['per_robot_us']:>13.1f} {before['rtf']:>11.1f}  "
-                    f"{speedup(after, before):>6.1f}x",
+                    f"{speedup(after, before):>6.1f}x; {before['cpu'] / after['cpu']:.2f}x",
                     flush=True,
                 )
             for label, rows in (

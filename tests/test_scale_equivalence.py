@@ -5,6 +5,8 @@
 - The beacon lattice is updated around each change: same lattice, same neighbour order as
   rebuilding it from all beacons.
 - A broadcast shares one SimPy event: same deliveries in the same order as one send each.
+- A beacon's view of its neighbours (comm neighbours, their positions, which are lattice
+  neighbours) is kept until its links change: the same as looking them up afresh.
 """
 
 import networkx as nx
@@ -125,3 +127,29 @@ def test_incremental_lattice_equals_rebuild_through_attaches_and_detaches():
     model.run()
     detaches = (model.events()["event"] == "detach").sum()
     assert detaches > 0 and len(checks) > 20
+
+
+def test_a_beacons_cached_view_of_its_neighbours_equals_a_fresh_look():
+    model = BeaconExplorerModel(world="corridor", complexity="high", seed=3)
+    network = model.beacons
+    sense = network._sense_beacons
+    checks = []
+
+    def checked(robot):
+        cached = network._near.get(robot)
+        if cached is not None:
+            others, rows, linked = cached
+            fresh = network.comms.neighbours(robot)
+            assert others == fresh
+            assert rows.tolist() == [network._turn[n] for n in fresh]
+            assert network._xy[rows].tolist() == [
+                network.beacons[n].position.tolist() for n in fresh
+            ]
+            lattice = network.lattice_neighbours(robot)
+            assert linked.tolist() == [n in lattice for n in fresh]
+            checks.append(robot)
+        return sense(robot)
+
+    network._sense_beacons = checked
+    model.run()
+    assert (model.events()["event"] == "detach").sum() > 0 and len(checks) > 100

@@ -18,7 +18,7 @@ from numba import njit
 
 from abm.arena import CARDINALS, Arena
 from abm.comms import CommNetwork, GradientFlood
-from abm.sensors import distance_sensors, ray_sensors, relative_positions
+from abm.sensors import distance_sensors, measured_relative, ray_sensors
 from models.beacon_explorer.flowchart import (
     DIRECTIONS,
     NO_DIRECTION,
@@ -99,9 +99,13 @@ class BeaconNetwork:
         self._links: dict[int, set[int]] = {}
         self._turn: dict[int, int] = {}
         self._turns = 0
+        self._xy = np.empty((64, 2))  # beacon positions by attach turn (the sensor's kernel)
         self._touched: set[int] = set()
-        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until the next update
-        self._members: tuple[np.ndarray, np.ndarray] | None = None  # signals' ids, positions
+        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until its links change
+        # per beacon, until its links change: its comm neighbours, their rows of _xy, and
+        # which of them are lattice neighbours (what the relative-positioning sensor sees)
+        self._near: dict[int, tuple[list[int], np.ndarray, np.ndarray]] = {}
+        self._members: _Members | None = None  # what signals() returns, kept up to date
         self.forwards = GradientFlood(
             comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
         )
@@ -127,6 +131,9 @@ class BeaconNetwork:
         self.beacons[robot] = beacon
         self._members = None
         self._turn[robot] = self._turns
+        if self._turns == len(self._xy):
+            self._xy = np.concatenate([self._xy, np.empty_like(self._xy)])
+        self._xy[self._turns] = position
         self._turns += 1
         self._touched.add(robot)
         if is_base:
@@ -187,17 +194,19 @@ class BeaconNetwork:
         change is that of its neighbourhood, not of the whole network.
         """
         touched, self._touched = self._touched, set()
-        self._ordered.clear()
+        stale = set(touched)  # beacons whose lattice_neighbours may change: they and their links
         for robot in touched - self.beacons.keys():  # detached
             self._picks.pop(robot, None)
             self._turn.pop(robot, None)
             for other in self._links.pop(robot, ()):
                 self._links[other].discard(robot)
+                stale.add(other)
         present = [robot for robot in touched if robot in self.beacons]
         for robot in present:
             self._picks[robot] = self._pick(robot)
             self._links.setdefault(robot, set())
         for robot in present:
+            stale.update(self._links[robot])
             for other in list(self._links[robot]):
                 if not self._mutual(robot, other):
                     self._links[robot].discard(other)
@@ -206,6 +215,10 @@ class BeaconNetwork:
                 if self._mutual(robot, other):
                     self._links[robot].add(other)
                     self._links[other].add(robot)
+                    stale.add(other)
+        for robot in stale:
+            self._ordered.pop(robot, None)
+            self._near.pop(robot, None)
 
     def _pick(self, robot: int) -> dict[int, int]:
         """The nearest linked beacon in each direction (directions in order of first sight)."""
@@ -311,24 +324,43 @@ class BeaconNetwork:
           corners of mixed worlds, where the lattice is irregular, stalled 6 of 600 runs).
         """
         me = self.beacons[robot]
-        others = self.comms.neighbours(robot)
+        near = self._near.get(robot)
+        if near is None:
+            others = self.comms.neighbours(robot)
+            linked = self.lattice_neighbours(robot)
+            near = self._near[robot] = (
+                others,
+                np.array([self._turn[n] for n in others], dtype=np.int64),
+                np.array([n in linked for n in others], dtype=np.bool_),
+            )
+        others, rows, linked = near
         if not others:
             return {}, set(me.reported_taken)
-        rel = np.array([self.beacons[n].position - me.position for n in others])
         p = self.params
-        measured = relative_positions(
-            rel, self.rng, p.range_noise, p.bearing_noise, p.reference_range
-        )
-        reach = self.params.interspace if me.corridor else self.params.spot_taken
-        direction, dist, near_spot = _bearings(measured, self.params.interspace, reach)
-        linked = set(self.lattice_neighbours(robot))
-        found: dict[int, tuple[float, int]] = {}
-        for n, d, r in zip(others, direction.tolist(), dist.tolist(), strict=True):
-            if n in linked and (d not in found or r < found[d][0]):
-                found[d] = (r, n)
-        taken = {d for d in DIRECTIONS if near_spot[d]}
-        neighbours = {d: n for d, (_r, n) in found.items()}
-        return neighbours, (taken | me.reported_taken) - neighbours.keys()
+        # The same draws relative_positions makes, measured and classified in one compiled call:
+        # per direction in order of first sight the nearest lattice neighbour, then the spots
+        # some neighbour fills (bits).
+        picked = _sense_relatives(
+            self._xy,
+            rows,
+            linked,
+            self._turn[robot],
+            self.rng.standard_normal((len(others), 2)),
+            p.range_noise,
+            p.bearing_noise,
+            p.reference_range,
+            p.interspace,
+            p.interspace if me.corridor else p.spot_taken,
+        ).tolist()
+        neighbours = {}
+        for k in range(0, 8, 2):
+            if picked[k] < 0:
+                break
+            neighbours[picked[k]] = others[picked[k + 1]]
+        taken = set(_DIRECTION_SETS[picked[8]])
+        taken |= me.reported_taken
+        taken -= neighbours.keys()
+        return neighbours, taken
 
     def spot_reported_taken(self, robot: int | None, where: np.ndarray) -> None:
         """An explorer that flew to beacon ``robot``'s advertised spot found another beacon
@@ -361,12 +393,12 @@ class BeaconNetwork:
         beacon.neighbour_dirs, taken = self._sense_beacons(robot)
         if beacon.neighbour_dirs.keys() != before:
             # Whether its desired spot is empty (what explorers read) may change with them.
+            self._signal_changed(beacon)
             self.version += 1
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
-        if not all(
-            g.settled(n) for g in (self.forwards, self.reverse) for n in (robot, *nb.values())
-        ):
+        nodes = (robot, *nb.values())
+        if not (self.forwards.settled_all(nodes) and self.reverse.settled_all(nodes)):
             self.wake_later(robot)
             return
         fwd, rev = self.forwards.value, self.reverse.value
@@ -403,6 +435,7 @@ class BeaconNetwork:
             self.reverse.set_sources(sources)
             self.version += 1
         if changed:
+            self._signal_changed(beacon)
             self.version += 1
             for n in self.lattice_neighbours(robot):
                 self.wake_later(n)
@@ -442,58 +475,138 @@ class BeaconNetwork:
 
     def _link_changed(self, _kind: str, a: int, b: int) -> None:
         self._touched.update((a, b))
+        self._near.pop(a, None)
+        self._near.pop(b, None)
         self.wake(a)
         self.wake(b)
 
     # ------------------------------------------------------------------ what explorers read
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Arrays for the explorers: robot ids, positions, desired vectors D, target-is-empty."""
-        if self._members is None:  # positions are fixed: rebuilt only when beacons come or go
-            ids = np.fromiter(self.beacons, dtype=np.int64, count=len(self.beacons))
-            pos = np.array([b.position for b in self.beacons.values()]).reshape(-1, 2)
-            self._members = ids, pos
-        ids, pos = self._members
-        beacons = self.beacons.values()
-        desired = np.fromiter((b.desired for b in beacons), dtype=np.int64, count=len(ids))
-        vectors = np.where(
-            (desired >= 0)[:, None], CARDINALS[np.maximum(desired, 0)] * self.params.interspace, 0.0
-        )
-        to_empty = np.fromiter(
-            (b.desired >= 0 and b.desired not in b.neighbour_dirs for b in beacons),
-            dtype=bool,
-            count=len(ids),
-        )
-        return ids, pos, vectors, to_empty
+        members = self._current_members()
+        return members.ids, members.pos, members.vectors.copy(), members.to_empty.copy()
+
+    def corridors(self) -> np.ndarray:
+        """Whether each beacon is a corridor beacon, in the order of :meth:`signals`."""
+        return self._current_members().corridor
+
+    def _current_members(self) -> "_Members":
+        """The beacons' arrays, rebuilt only when beacons come or go (positions are fixed);
+        between two rebuilds :meth:`_signal_changed` keeps their signals up to date.
+        """
+        if self._members is None:
+            beacons = self.beacons.values()
+            n = len(self.beacons)
+            self._members = _Members(
+                ids=np.fromiter(self.beacons, dtype=np.int64, count=n),
+                pos=np.array([b.position for b in beacons]).reshape(-1, 2),
+                corridor=np.fromiter((b.corridor for b in beacons), dtype=bool, count=n),
+                row={robot: i for i, robot in enumerate(self.beacons)},
+                vectors=np.array([self._vector(b.desired) for b in beacons]).reshape(-1, 2),
+                to_empty=np.fromiter((_to_empty(b) for b in beacons), dtype=bool, count=n),
+            )
+        return self._members
+
+    def _vector(self, desired: int) -> np.ndarray:
+        """The desired vector D of a direction: I_r along it (zero for none)."""
+        if desired < 0:
+            return np.zeros(2)
+        return CARDINALS[desired] * self.params.interspace
+
+    def _signal_changed(self, beacon: Beacon) -> None:
+        """A beacon's desired direction or its neighbours' directions changed."""
+        if self._members is not None:
+            row = self._members.row[beacon.robot]
+            self._members.vectors[row] = self._vector(beacon.desired)
+            self._members.to_empty[row] = _to_empty(beacon)
+
+
+@dataclass
+class _Members:
+    """The beacons as arrays, in the order of ``BeaconNetwork.beacons``."""
+
+    ids: np.ndarray
+    pos: np.ndarray
+    corridor: np.ndarray
+    row: dict[int, int]
+    vectors: np.ndarray
+    to_empty: np.ndarray
+
+
+def _to_empty(beacon: Beacon) -> bool:
+    """The beacon signals a direction and no lattice neighbour holds it (its spot is free)."""
+    return beacon.desired >= 0 and beacon.desired not in beacon.neighbour_dirs
 
 
 def _as_measured(_channel: str, _robots: list[int], readings: np.ndarray) -> np.ndarray:
     return readings
 
 
+#: The set of directions each 4-bit mask names (bit d: direction d).
+_DIRECTION_SETS = tuple(frozenset(d for d in DIRECTIONS if mask >> d & 1) for mask in range(16))
+
+
 @njit(cache=True)
-def _bearings(measured: np.ndarray, interspace: float, reach: float):
-    """Per measured neighbour vector: its compass direction (the cardinal it is most along,
-    first on ties) and length; per direction: whether some neighbour is closer than ``reach``
-    to that direction's lattice spot (I_r away).
+def _sense_relatives(
+    xy: np.ndarray,
+    rows: np.ndarray,
+    linked: np.ndarray,
+    me: int,
+    z: np.ndarray,
+    range_noise: float,
+    bearing_noise: float,
+    reference_range: float,
+    interspace: float,
+    reach: float,
+) -> np.ndarray:
+    """The relative-positioning sensor of beacon row ``me`` measuring the beacons in ``rows``
+    of ``xy`` (with the standard normal draws ``z``, as :func:`abm.sensors.relative_positions`
+    makes them), then classified. Each neighbour lies in the compass direction it is most
+    along (the first cardinal on ties); in each direction the nearest measured neighbour among
+    the ``linked`` ones (the first of equals) is the lattice neighbour there.
+
+    Returns 9 integers: (direction, neighbour index) for each direction holding a lattice
+    neighbour, in the order the directions were first seen, padded with -1; then a bit mask
+    of the directions whose lattice spot (I_r away) some neighbour is closer than ``reach`` to.
     """
-    k = measured.shape[0]
-    direction = np.empty(k, dtype=np.int64)
-    dist = np.empty(k)
-    near_spot = np.zeros(4, dtype=np.bool_)
-    for i in range(k):
-        x, y = measured[i, 0], measured[i, 1]
-        best = 0
+    best = np.full(4, -1, dtype=np.int64)
+    best_dist = np.zeros(4)
+    first = np.full(4, -1, dtype=np.int64)
+    seen = 0
+    taken = 0
+    for i in range(rows.shape[0]):
+        x, y = measured_relative(
+            xy[rows[i], 0] - xy[me, 0],
+            xy[rows[i], 1] - xy[me, 1],
+            z[i, 0],
+            z[i, 1],
+            range_noise,
+            bearing_noise,
+            reference_range,
+        )
+        d = 0
         along = x * CARDINALS[0, 0] + y * CARDINALS[0, 1]
-        for d in range(1, 4):
-            v = x * CARDINALS[d, 0] + y * CARDINALS[d, 1]
+        for c in range(1, 4):
+            v = x * CARDINALS[c, 0] + y * CARDINALS[c, 1]
             if v > along:
-                best, along = d, v
-        direction[i] = best
-        dist[i] = math.hypot(x, y)
-        for d in range(4):
+                d, along = c, v
+        r = math.hypot(x, y)
+        if linked[i]:
+            if best[d] < 0:
+                first[seen] = d
+                seen += 1
+                best[d], best_dist[d] = i, r
+            elif r < best_dist[d]:
+                best[d], best_dist[d] = i, r
+        for c in range(4):
             if (
-                math.hypot(CARDINALS[d, 0] * interspace - x, CARDINALS[d, 1] * interspace - y)
+                math.hypot(CARDINALS[c, 0] * interspace - x, CARDINALS[c, 1] * interspace - y)
                 < reach
             ):
-                near_spot[d] = True
-    return direction, dist, near_spot
+                taken |= 1 << c
+    out = np.full(9, -1, dtype=np.int64)
+    for k in range(seen):
+        out[2 * k] = first[k]
+        out[2 * k + 1] = best[first[k]]
+    out[8] = taken
+    return out

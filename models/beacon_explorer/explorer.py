@@ -113,11 +113,7 @@ class ExplorerController:
     def _current_signals(self):
         if self._version != self.beacons.version:
             self._signals = self.beacons.signals()
-            self._corridor = np.fromiter(
-                (b.corridor for b in self.beacons.beacons.values()),
-                dtype=bool,
-                count=len(self.beacons.beacons),
-            )
+            self._corridor = self.beacons.corridors()
             self._version = self.beacons.version
         return self._signals
 
