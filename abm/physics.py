@@ -300,8 +300,8 @@ class Physics:
 
         The body noise is drawn as ``rng.standard_normal`` into a reused buffer and scaled in
         the kernel: the same numbers as ``rng.normal(0, body_noise)``, without a new array per
-        tick. With :data:`THREADED_FLYERS` flyers or more the rows are split over threads
-        (rows are independent, so the result is the same as one pass).
+        tick. From twice :data:`ROWS_PER_THREAD` flyers the rows are split over threads (rows
+        are independent, so the result is the same as one pass).
         """
         n = self.n_flying
         p = self.params
@@ -332,8 +332,8 @@ class Physics:
         pool = _thread_pool() if others else None
         elsewhere = [pool.submit(gridkernels.flight_rows, *args, *rows) for rows in others]
         gridkernels.flight_rows(*args, first, last)
-        for done in elsewhere:
-            done.result()
+        for job in elsewhere:
+            job.result()
         return contact
 
     def _count_wall_contacts(self, contact: np.ndarray) -> None:
