@@ -10,8 +10,9 @@ Three controllers:
   random direction): the physics alone, no controller work per tick;
 - ``hold``: each flyer keeps its velocity plus a small random turn (two normal draws per flyer
   per tick from the model's generator);
-- ``sensing``: wander pushed away from walls by the four cardinal distance sensors (as
-  ``bench_beacon_explorer.py``), a controller's typical per-tick work.
+- ``sensing``: wander pushed away from walls by the four cardinal distance sensors
+  (``bench_beacon_explorer.py``'s ``WallAvoidingWanderer``), a controller's typical per-tick
+  work.
 
 Real time at dt = 0.1 s means 10 ticks per simulated second: 100,000 flyers at 10x real time
 is 1e7 flyer-steps per second.
@@ -35,8 +36,9 @@ from pathlib import Path
 
 import numpy as np
 import simpy
+from bench_beacon_explorer import WallAvoidingWanderer  # the "sensing" controller
 
-from abm.arena import CARDINALS, Arena
+from abm.arena import Arena
 from abm.physics import FlightParams, Physics
 
 
@@ -72,20 +74,6 @@ class Hold:
         return desired, np.zeros(physics.n_flying, dtype=bool)
 
 
-class Sensing:
-    """Wander, pushed away from walls seen by the four cardinal distance sensors."""
-
-    def __init__(self, arena: Arena, rng: np.random.Generator) -> None:
-        self.arena = arena
-        self.rng = rng
-
-    def control(self, physics: Physics):
-        reading = self.arena.cardinal_distances(physics.pos, 3.5)
-        push = np.maximum(0.0, 1.0 / np.maximum(reading, 0.05) - 1.0 / 3.5)
-        heading = physics.vel + self.rng.normal(0.0, 0.3, physics.vel.shape) - push @ CARDINALS
-        return heading, np.zeros(physics.n_flying, dtype=bool)
-
-
 def launch(physics: Physics, positions: np.ndarray) -> None:
     """Put every flyer in the air at once.
 
@@ -113,7 +101,7 @@ def steps_per_second(n: int, ticks: int, controller: str, seed: int) -> float:
     control = {
         "cruise": lambda: Cruise(rng, n),
         "hold": lambda: Hold(rng),
-        "sensing": lambda: Sensing(arena, rng),
+        "sensing": lambda: WallAvoidingWanderer(arena, rng),
     }[controller]()
     physics = Physics(env, arena, rng, control, params=FlightParams(body_noise=0.025))
     cells = arena.free_cell_centres()
