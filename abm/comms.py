@@ -34,6 +34,7 @@ import simpy
 from scipy.special import ndtr
 
 from abm.arena import Arena
+from abm.clock import call_later
 from abm.errors import LinkError, check_range
 from abm.neighbours import NeighbourIndex
 
@@ -540,41 +541,121 @@ class CommNetwork:
         event, not one per receiver.
         """
         dsts = list(dsts)
-        if self.loss > 0.0 or self._burst is not None:
+        described = (kind, items, nbytes, phase, origin, hop)
+        if self._copies_travel_alone:
             for dst in dsts:
-                self.send(
-                    src,
-                    dst,
-                    payload,
-                    handler,
-                    on_drop,
-                    kind=kind,
-                    items=items,
-                    nbytes=nbytes,
-                    phase=phase,
-                    origin=origin,
-                    hop=hop,
-                )
+                self._send_described(src, dst, payload, handler, on_drop, described)
             return
-        if self.policy is not None:  # refuse the whole broadcast before any copy is logged
-            for dst in dsts:
-                self._check_policy(src, dst, kind)
-        if self.log is not None:
-            for dst in dsts:
-                self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
-        self.messages_sent += len(dsts)
+        self._record_broadcast(src, dsts, described)
         if not dsts:
             return
         graph = self.graph
 
-        def deliver(_event: simpy.Event) -> None:
+        def deliver(_event: object) -> None:
+            adj = graph._adj  # graph.has_edge(src, dst) without the call, for every copy
             for dst in dsts:
-                if graph.has_edge(src, dst):
+                if dst in adj.get(src, ()):
                     handler(src, dst, payload)
                 elif on_drop is not None:
                     on_drop(src, dst, payload)
 
-        self.env.timeout(self.latency, value=payload).callbacks.append(deliver)
+        call_later(self.env, self.latency, deliver)
+
+    def broadcast(
+        self,
+        src: Node,
+        dsts: Iterable[Node],
+        payload: object,
+        on_arrival: Callable[[Node, list[Node], int, object], None],
+        *,
+        kind: str = "message",
+        items: int = 0,
+        nbytes: int = 0,
+        phase: str = "task",
+        origin: Node | None = None,
+        hop: int = 0,
+    ) -> int:
+        """Send ``payload`` from ``src`` to each of ``dsts`` and hand the copies over in bulk:
+        ``on_arrival(src, delivered, dropped, payload)`` runs once per arrival instant with the
+        receivers whose link held (in ``dsts`` order) and the number of copies dropped.
+
+        The same messages, log rows and random draws as :meth:`send_many`; the links of all
+        copies that arrive together are checked when they arrive, before any is handled (with
+        :meth:`send_many` a handler that breaks a link drops the copies handled after it).
+        With message loss or in a loss burst each copy travels alone and arrives on its own.
+        A flood's millions of copies then cost one call per broadcast, not one per copy.
+
+        Returns:
+            The number of copies sent (``len(dsts)``).
+
+        """
+        dsts = list(dsts)
+        described = (kind, items, nbytes, phase, origin, hop)
+        if self._copies_travel_alone:
+            arrived = lambda s, d, p: on_arrival(s, [d], 0, p)  # noqa: E731
+            dropped = lambda s, _d, p: on_arrival(s, [], 1, p)  # noqa: E731
+            for dst in dsts:
+                self._send_described(src, dst, payload, arrived, dropped, described)
+            return len(dsts)
+        self._record_broadcast(src, dsts, described)
+        if dsts:
+            arrival = (src, dsts, payload, on_arrival)
+            call_later(self.env, self.latency, self._arrive_together, arrival)
+        return len(dsts)
+
+    @property
+    def _copies_travel_alone(self) -> bool:
+        """With message loss or in a loss burst each copy of a broadcast is delayed or dropped
+        on its own, so each is one :meth:`send`.
+        """
+        return self.loss > 0.0 or self._burst is not None
+
+    def _send_described(
+        self,
+        src: Node,
+        dst: Node,
+        payload: object,
+        handler: Callable[[Node, Node, object], None],
+        on_drop: Callable[[Node, Node, object], None] | None,
+        described: tuple,
+    ) -> None:
+        """:meth:`send` with the log's description as a tuple (kind, items, nbytes, phase,
+        origin, hop).
+        """
+        kind, items, nbytes, phase, origin, hop = described
+        self.send(
+            src,
+            dst,
+            payload,
+            handler,
+            on_drop,
+            kind=kind,
+            items=items,
+            nbytes=nbytes,
+            phase=phase,
+            origin=origin,
+            hop=hop,
+        )
+
+    def _record_broadcast(self, src: Node, dsts: list[Node], described: tuple) -> None:
+        """Check the policy for every copy (refusing the whole broadcast before any copy is
+        logged), then log and count them all; ``described``: (kind, items, nbytes, phase,
+        origin, hop).
+        """
+        if self.policy is not None:
+            for dst in dsts:
+                self._check_policy(src, dst, described[0])
+        if self.log is not None:
+            now = self.env.now
+            for dst in dsts:
+                self.log.record(now, src, dst, *described)
+        self.messages_sent += len(dsts)
+
+    def _arrive_together(self, event: object) -> None:
+        src, dsts, payload, on_arrival = event.value
+        linked = self.graph._adj.get(src, ())  # src's links now (none if it left)
+        delivered = [dst for dst in dsts if dst in linked]
+        on_arrival(src, delivered, len(dsts) - len(delivered), payload)
 
 
 class GradientFlood:
@@ -679,8 +760,7 @@ class GradientFlood:
         for source in self.sources:
             if source in self.network.graph:
                 self._receive(source, epoch, self.start)
-        expiry = self.network.env.timeout(self.ttl)
-        expiry.callbacks.append(lambda _ev: self._expire(epoch))
+        call_later(self.network.env, self.ttl, lambda _ev: self._expire(epoch))
 
     @property
     def ttl(self) -> float:
@@ -708,24 +788,24 @@ class GradientFlood:
         onward = value + self.step
         if onward < self.floor:
             return
-        others = list(self.links(node))
-        self.in_flight += len(others)
-        self.network.send_many(node, others, (epoch, onward), self._deliver, self._dropped)
+        payload = (epoch, onward)
+        self.in_flight += self.network.broadcast(node, self.links(node), payload, self._arrive)
 
-    def _deliver(self, _src: Node, dst: Node, payload: tuple[int, int]) -> None:
-        # _receive inlined: most copies of a wave arrive where a value as good is already held
-        self.in_flight -= 1
+    def _arrive(self, _src: Node, delivered: list[Node], dropped: int, payload: tuple) -> None:
+        """Copies of one node's broadcast arrived (in sending order) or were dropped."""
+        self.in_flight -= len(delivered) + dropped
+        if dropped:
+            self._lost_since_restart = True
         epoch, value = payload
-        current_epoch = self._epoch_of.get(dst, 0)
-        if epoch < current_epoch:
-            return
-        if epoch == current_epoch and (value - self.values[dst]) * self.step >= 0:
-            return
-        self._take(dst, epoch, value)
-
-    def _dropped(self, _src: Node, _dst: Node, _payload: tuple[int, int]) -> None:
-        self.in_flight -= 1
-        self._lost_since_restart = True
+        epoch_of, values, step = self._epoch_of, self.values, self.step
+        for dst in delivered:
+            # _receive inlined: most copies of a wave arrive where a value as good is held
+            current_epoch = epoch_of.get(dst, 0)
+            if epoch < current_epoch:
+                continue
+            if epoch == current_epoch and (value - values[dst]) * step >= 0:
+                continue
+            self._take(dst, epoch, value)
 
     def _after_burst(self) -> None:
         """The sources re-emit continually: what a loss burst dropped arrives with the next

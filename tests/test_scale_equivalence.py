@@ -4,7 +4,8 @@
   order messages go out in) as measuring every node.
 - The beacon lattice is updated around each change: same lattice, same neighbour order as
   rebuilding it from all beacons.
-- A broadcast shares one SimPy event: same deliveries in the same order as one send each.
+- A broadcast shares one SimPy event: same deliveries in the same order as one send each;
+  handed over in bulk, the same copies again (links checked when they arrive together).
 - A beacon's view of its neighbours (comm neighbours, their positions, which are lattice
   neighbours) is kept until its links change: the same as looking them up afresh.
 """
@@ -86,6 +87,61 @@ def test_broadcast_delivers_like_one_send_each():
         deliveries.append((got, net.messages_sent, net.log.frame().to_dict("records")))
     assert deliveries[0] == deliveries[1]
     assert ("dropped", 1, 3, "p") in deliveries[0][0]
+
+
+def bulk_and_single_deliveries(loss: float, breaker: int | None, seed: int):
+    """Each node of a small line broadcasts to the others; what broadcast() hands over (as
+    one entry per copy) and what send_many() delivers, with the same log and random draws.
+    ``breaker``: a receiver whose handling removes node 3 (its link breaks mid-arrival).
+    """
+    results = []
+    for bulk in (True, False):
+        env = simpy.Environment()
+        net = CommNetwork(
+            env, walled_arena(), np.random.default_rng(seed), 9.0, 0.1, loss, log=MessageLog()
+        )
+        for node, x in enumerate((2.0, 4.0, 6.0, 8.0, 10.0)):
+            net.add(node, np.array([x, 2.0]))
+        got = []
+
+        def handle(src, dst, payload, got=got, net=net):
+            got.append((net.env.now, src, dst, payload))
+            if dst == breaker and 3 in net.graph:
+                net.remove(3)
+
+        def dropped(src, dst, payload, got=got, net=net):
+            got.append((net.env.now, "dropped", src, payload))
+
+        def arrival(src, delivered, n_dropped, payload, got=got, net=net):
+            for dst in delivered:
+                handle(src, dst, payload)
+            got.extend([(net.env.now, "dropped", src, payload)] * n_dropped)
+
+        for src in range(5):
+            others = [n for n in (4, 0, 2, 1, 3) if n != src]
+            if bulk:
+                assert net.broadcast(src, others, src, arrival, kind="k") == len(others)
+            else:
+                net.send_many(src, others, src, handle, dropped, kind="k")
+        env.run()
+        results.append((got, net.messages_sent, net.log.frame().to_dict("records")))
+    return results
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.sampled_from([0.0, 0.3]), st.integers(0, 2**32 - 1))
+def test_a_bulk_broadcast_delivers_what_single_copies_deliver(loss, seed):
+    bulk, single = bulk_and_single_deliveries(loss, None, seed)
+    assert bulk == single
+    assert len(bulk[0]) == 20  # every copy delivered once (loss only delays)
+
+
+def test_a_bulk_broadcast_checks_the_links_of_copies_arriving_together_on_arrival():
+    bulk, single = bulk_and_single_deliveries(0.0, 2, 0)
+    # node 0's copies go out 4, 2, 1, 3: handling the copy to 2 breaks the link to 3; one
+    # copy at a time drops the copy to 3, in bulk all four had arrived before any handling
+    assert (0.1, 0, 3, 0) in bulk[0] and (0.1, "dropped", 0, 0) in single[0]
+    assert bulk[1:] == single[1:]  # the same messages sent and logged
 
 
 def rebuilt_lattice(network) -> dict[int, list[int]]:

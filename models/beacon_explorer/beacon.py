@@ -17,6 +17,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import CARDINALS, Arena
+from abm.clock import call_later
 from abm.comms import CommNetwork, GradientFlood
 from abm.sensors import distance_sensors, measured_relative, ray_sensors
 from models.beacon_explorer.flowchart import (
@@ -381,8 +382,7 @@ class BeaconNetwork:
         if robot in self._pending or robot not in self.beacons:
             return
         self._pending.add(robot)
-        event = self.env.timeout(self.control_period)
-        event.callbacks.append(lambda _ev: self._evaluate(robot))
+        call_later(self.env, self.control_period, lambda _ev: self._evaluate(robot))
 
     def _evaluate(self, robot: int) -> None:
         self._pending.discard(robot)
@@ -447,8 +447,7 @@ class BeaconNetwork:
     def wake_later(self, robot: int) -> None:
         """Wake a beacon once a message has reached it."""
         self._wakes_in_flight += 1
-        event = self.env.timeout(self.comms.latency)
-        event.callbacks.append(lambda _ev: self._woken_by_message(robot))
+        call_later(self.env, self.comms.latency, lambda _ev: self._woken_by_message(robot))
 
     def _woken_by_message(self, robot: int) -> None:
         self._wakes_in_flight -= 1
