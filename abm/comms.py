@@ -34,7 +34,7 @@ import simpy
 from scipy.special import ndtr
 
 from abm.arena import Arena
-from abm.clock import call_later
+from abm.clock import Clock, call_again_now, call_later, urgent_now
 from abm.errors import LinkError, check_range
 from abm.neighbours import NeighbourIndex
 
@@ -303,6 +303,11 @@ class CommNetwork:
         self._seq: dict[Node, int] = {}
         self._added = 0
         self._unplaced: dict[Node, None] = {}
+        # broadcasts arriving at one instant, gathered in one event (on a Clock only: it
+        # knows whether that event is still the last one scheduled)
+        self._grouping = isinstance(env, Clock)
+        self._open_group = None
+        self._open_at = -1.0
 
     def on_link_change(self, listener: Callable[[str, Node, Node], None]) -> None:
         """Call ``listener("up"|"down", a, b)`` whenever a link appears or disappears."""
@@ -542,7 +547,7 @@ class CommNetwork:
         """
         dsts = list(dsts)
         described = (kind, items, nbytes, phase, origin, hop)
-        if self._copies_travel_alone:
+        if self.loss > 0.0 or self._burst is not None:  # each copy travels alone
             for dst in dsts:
                 self._send_described(src, dst, payload, handler, on_drop, described)
             return
@@ -590,25 +595,38 @@ class CommNetwork:
 
         """
         dsts = list(dsts)
-        described = (kind, items, nbytes, phase, origin, hop)
-        if self._copies_travel_alone:
+        if self.loss > 0.0 or self._burst is not None:  # each copy travels alone
             arrived = lambda s, d, p: on_arrival(s, [d], 0, p)  # noqa: E731
             dropped = lambda s, _d, p: on_arrival(s, [], 1, p)  # noqa: E731
+            described = (kind, items, nbytes, phase, origin, hop)
             for dst in dsts:
                 self._send_described(src, dst, payload, arrived, dropped, described)
             return len(dsts)
-        self._record_broadcast(src, dsts, described)
+        if self.policy is None and self.log is None:
+            self.messages_sent += len(dsts)
+        else:
+            self._record_broadcast(src, dsts, (kind, items, nbytes, phase, origin, hop))
         if dsts:
-            arrival = (src, dsts, payload, on_arrival)
-            call_later(self.env, self.latency, self._arrive_together, arrival)
+            self._arrival_after_latency((src, dsts, payload, on_arrival))
         return len(dsts)
 
-    @property
-    def _copies_travel_alone(self) -> bool:
-        """With message loss or in a loss burst each copy of a broadcast is delayed or dropped
-        on its own, so each is one :meth:`send`.
+    def _arrival_after_latency(self, arrival: tuple) -> None:
+        """Schedule ``arrival`` (src, dsts, payload, on_arrival) one latency from now.
+
+        On a :class:`~abm.clock.Clock` it joins the group of arrivals scheduled last if that
+        group is the last event scheduled at all and due at the same time: as an event of its
+        own it would run right after the group, so it runs in the same place (one event per
+        flood step, not one per broadcast).
         """
-        return self.loss > 0.0 or self._burst is not None
+        env = self.env
+        at = env._now + self.latency
+        group = self._open_group
+        if self._grouping and group is not None and self._open_at == at:
+            if env.last_scheduled is group:
+                group.value.append(arrival)
+                return
+        self._open_group = call_later(env, self.latency, self._arrive_together, [arrival])
+        self._open_at = at
 
     def _send_described(
         self,
@@ -652,10 +670,19 @@ class CommNetwork:
         self.messages_sent += len(dsts)
 
     def _arrive_together(self, event: object) -> None:
-        src, dsts, payload, on_arrival = event.value
-        linked = self.graph._adj.get(src, ())  # src's links now (none if it left)
-        delivered = [dst for dst in dsts if dst in linked]
-        on_arrival(src, delivered, len(dsts) - len(delivered), payload)
+        """A group of broadcasts arrives: each in turn, its copies' links checked together."""
+        if event is self._open_group:
+            self._open_group = None  # running: nothing joins it any more
+        arrivals = event.value
+        adj = self.graph._adj
+        for k, (src, dsts, payload, on_arrival) in enumerate(arrivals):
+            linked = adj.get(src, ())  # src's links now (none if it left)
+            delivered = [dst for dst in dsts if dst in linked]
+            on_arrival(src, delivered, len(dsts) - len(delivered), payload)
+            if k + 1 < len(arrivals) and urgent_now(self.env):
+                # as events of their own the rest would run after the urgent one
+                call_again_now(self.env, event, self._arrive_together, arrivals[k + 1 :])
+                return
 
 
 class GradientFlood:

@@ -18,10 +18,10 @@ from typing import ClassVar
 import mesa
 import numpy as np
 import pandas as pd
-import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
+from abm.clock import Clock
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
@@ -144,7 +144,7 @@ class SwarmModel(mesa.Model):
         del self.step
         self.params = params
         self.seed = seed
-        self.env = simpy.Environment()
+        self.env = Clock()
         if not isinstance(arena, Arena):
             arena = arena(self.rng)
         self.arena = arena

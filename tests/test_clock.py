@@ -1,5 +1,6 @@
 """call_later schedules like a SimPy timeout: same instants, same order among ties, also when
-events schedule further events and the run stops and resumes at chosen times.
+events schedule further events and the run stops and resumes at chosen times; a Clock runs
+like SimPy's environment and knows the event it scheduled last.
 """
 
 import pytest
@@ -7,7 +8,7 @@ import simpy
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abm.clock import call_later
+from abm.clock import Clock, call_later
 
 #: Few distinct delays, so many events share an instant and their order is the eid order.
 DELAYS = st.sampled_from([0.0, 0.1, 0.2, 0.30000000000000004, 1.0])
@@ -15,9 +16,10 @@ DELAYS = st.sampled_from([0.0, 0.1, 0.2, 0.30000000000000004, 1.0])
 PLAN = st.lists(st.tuples(DELAYS, st.lists(DELAYS, max_size=3)), min_size=1, max_size=25)
 
 
-def fired(plan, use_call_later: list[bool], stops: list[float]) -> list[tuple[float, str]]:
+def fired(
+    plan, use_call_later: list[bool], stops: list[float], env: simpy.Environment
+) -> list[tuple[float, str]]:
     """Run the plan; the k-th scheduling uses call_later if ``use_call_later[k % len]``."""
-    env = simpy.Environment()
     log: list[tuple[float, str]] = []
     count = iter(range(10**6))
 
@@ -28,9 +30,12 @@ def fired(plan, use_call_later: list[bool], stops: list[float]) -> list[tuple[fl
                 schedule(child, f"{name}.{i}", [])
 
         if use_call_later[next(count) % len(use_call_later)]:
-            call_later(env, delay, run)
+            event = call_later(env, delay, run)
         else:
-            env.timeout(delay).callbacks.append(run)
+            event = env.timeout(delay)
+            event.callbacks.append(run)
+        if isinstance(env, Clock):
+            assert env.last_scheduled is event
 
     for i, (delay, children) in enumerate(plan):
         schedule(delay, str(i), children)
@@ -48,7 +53,9 @@ def fired(plan, use_call_later: list[bool], stops: list[float]) -> list[tuple[fl
     st.lists(st.sampled_from([0.1, 0.2, 0.5, 1.0]), max_size=3),
 )
 def test_call_later_fires_in_the_order_timeouts_would(plan, mix, stops):
-    assert fired(plan, mix, sorted(stops)) == fired(plan, [False], sorted(stops))
+    timeouts = fired(plan, [False], sorted(stops), simpy.Environment())
+    assert fired(plan, mix, sorted(stops), simpy.Environment()) == timeouts
+    assert fired(plan, mix, sorted(stops), Clock()) == timeouts
 
 
 def test_the_event_carries_its_value_and_a_negative_delay_is_refused():

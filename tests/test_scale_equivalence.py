@@ -5,6 +5,7 @@
 - The beacon lattice is updated around each change: same lattice, same neighbour order as
   rebuilding it from all beacons.
 - A broadcast shares one SimPy event: same deliveries in the same order as one send each;
+  a Clock gathers a flood's broadcasts per instant: the same run as one event each;
   handed over in bulk, the same copies again (links checked when they arrive together).
 - A beacon's view of its neighbours (comm neighbours, their positions, which are lattice
   neighbours) is kept until its links change: the same as looking them up afresh.
@@ -17,7 +18,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.arena import CARDINALS, Arena
-from abm.comms import CommNetwork, MessageLog
+from abm.clock import Clock, call_later
+from abm.comms import CommNetwork, GradientFlood, MessageLog
 from models.beacon_explorer import BeaconExplorerModel
 from models.beacon_explorer.flowchart import opposite
 
@@ -142,6 +144,62 @@ def test_a_bulk_broadcast_checks_the_links_of_copies_arriving_together_on_arriva
     # copy at a time drops the copy to 3, in bulk all four had arrived before any handling
     assert (0.1, 0, 3, 0) in bulk[0] and (0.1, "dropped", 0, 0) in single[0]
     assert bulk[1:] == single[1:]  # the same messages sent and logged
+
+
+def flood_trace(env: simpy.Environment, points, moves, starts_process: int) -> list:
+    """Two floods over moving nodes, whose hop changes wake nodes a latency later and start a
+    process (an urgent event) at every ``starts_process``-th change; everything that runs is
+    logged with its time, in the order it runs.
+    """
+    net = CommNetwork(env, Arena(np.ones((20, 20), dtype=bool), 1.0), None, 4.0, 0.1)
+    forwards = GradientFlood(net, "forwards", 1, +1)
+    reverse = GradientFlood(net, "reverse", 127, -1, floor=0)
+    log = []
+
+    def started(node):
+        log.append((env.now, "process", node))
+        yield env.timeout(0.1)
+        log.append((env.now, "process ends", node))
+
+    changes = iter(range(1, 10**9))
+
+    def changed(node, old, new):
+        log.append((env.now, "change", node, old, new))
+        call_later(env, 0.1, lambda _ev: log.append((env.now, "woken", node)))
+        if next(changes) % starts_process == 0:
+            env.process(started(node))
+
+    forwards.on_change(changed)
+    reverse.on_change(changed)
+
+    def mover():
+        for node, (x, y) in moves:
+            yield env.timeout(0.1)
+            log.append((env.now, "move", node))
+            net.move(node % len(points), np.array([x, y]))
+            forwards.restart()
+            reverse.set_sources({0, node % len(points)})
+
+    for i, p in enumerate(points):
+        net.add(i, np.array(p))
+    forwards.set_sources({0})
+    reverse.set_sources({len(points) - 1})
+    env.process(mover())
+    env.run(until=10.0)
+    log.append((net.messages_sent, forwards.values, reverse.values))
+    return log
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(0.5, 19.5), st.floats(0.5, 19.5)), min_size=2, max_size=30),
+    st.lists(st.tuples(st.integers(0, 29), st.tuples(st.floats(0.5, 19.5), st.floats(0.5, 19.5)))),
+    st.integers(1, 7),
+)
+def test_broadcasts_gathered_per_instant_run_as_one_event_each_would(points, moves, every):
+    assert flood_trace(Clock(), points, moves, every) == flood_trace(
+        simpy.Environment(), points, moves, every
+    )
 
 
 def rebuilt_lattice(network) -> dict[int, list[int]]:
