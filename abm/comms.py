@@ -34,7 +34,7 @@ import simpy
 from scipy.special import ndtr
 
 from abm.arena import Arena
-from abm.clock import Clock, call_again_now, call_later, urgent_now
+from abm.clock import scheduler
 from abm.errors import LinkError, check_range
 from abm.neighbours import NeighbourIndex
 
@@ -303,11 +303,7 @@ class CommNetwork:
         self._seq: dict[Node, int] = {}
         self._added = 0
         self._unplaced: dict[Node, None] = {}
-        # broadcasts arriving at one instant, gathered in one event (on a Clock only: it
-        # knows whether that event is still the last one scheduled)
-        self._grouping = isinstance(env, Clock)
-        self._open_group = None
-        self._open_at = -1.0
+        self._call_later = scheduler(env)
 
     def on_link_change(self, listener: Callable[[str, Node, Node], None]) -> None:
         """Call ``listener("up"|"down", a, b)`` whenever a link appears or disappears."""
@@ -556,7 +552,7 @@ class CommNetwork:
             return
         graph = self.graph
 
-        def deliver(_event: object) -> None:
+        def deliver(_value: None) -> None:
             adj = graph._adj  # graph.has_edge(src, dst) without the call, for every copy
             for dst in dsts:
                 if dst in adj.get(src, ()):
@@ -564,7 +560,7 @@ class CommNetwork:
                 elif on_drop is not None:
                     on_drop(src, dst, payload)
 
-        call_later(self.env, self.latency, deliver)
+        self._call_later(self.latency, deliver)
 
     def broadcast(
         self,
@@ -607,26 +603,9 @@ class CommNetwork:
         else:
             self._record_broadcast(src, dsts, (kind, items, nbytes, phase, origin, hop))
         if dsts:
-            self._arrival_after_latency((src, dsts, payload, on_arrival))
+            arrival = (src, dsts, payload, on_arrival)
+            self._call_later(self.latency, self._arrive_together, arrival)
         return len(dsts)
-
-    def _arrival_after_latency(self, arrival: tuple) -> None:
-        """Schedule ``arrival`` (src, dsts, payload, on_arrival) one latency from now.
-
-        On a :class:`~abm.clock.Clock` it joins the group of arrivals scheduled last if that
-        group is the last event scheduled at all and due at the same time: as an event of its
-        own it would run right after the group, so it runs in the same place (one event per
-        flood step, not one per broadcast).
-        """
-        env = self.env
-        at = env._now + self.latency
-        group = self._open_group
-        if self._grouping and group is not None and self._open_at == at:
-            if env.last_scheduled is group:
-                group.value.append(arrival)
-                return
-        self._open_group = call_later(env, self.latency, self._arrive_together, [arrival])
-        self._open_at = at
 
     def _send_described(
         self,
@@ -669,20 +648,12 @@ class CommNetwork:
                 self.log.record(now, src, dst, *described)
         self.messages_sent += len(dsts)
 
-    def _arrive_together(self, event: object) -> None:
-        """A group of broadcasts arrives: each in turn, its copies' links checked together."""
-        if event is self._open_group:
-            self._open_group = None  # running: nothing joins it any more
-        arrivals = event.value
-        adj = self.graph._adj
-        for k, (src, dsts, payload, on_arrival) in enumerate(arrivals):
-            linked = adj.get(src, ())  # src's links now (none if it left)
-            delivered = [dst for dst in dsts if dst in linked]
-            on_arrival(src, delivered, len(dsts) - len(delivered), payload)
-            if k + 1 < len(arrivals) and urgent_now(self.env):
-                # as events of their own the rest would run after the urgent one
-                call_again_now(self.env, event, self._arrive_together, arrivals[k + 1 :])
-                return
+    def _arrive_together(self, arrival: tuple) -> None:
+        """The copies of one broadcast arrive: their links checked together, then handed over."""
+        src, dsts, payload, on_arrival = arrival
+        linked = self.graph._adj.get(src, ())  # src's links now (none if it left)
+        delivered = [dst for dst in dsts if dst in linked]
+        on_arrival(src, delivered, len(dsts) - len(delivered), payload)
 
 
 class GradientFlood:
@@ -787,7 +758,7 @@ class GradientFlood:
         for source in self.sources:
             if source in self.network.graph:
                 self._receive(source, epoch, self.start)
-        call_later(self.network.env, self.ttl, lambda _ev: self._expire(epoch))
+        self.network._call_later(self.ttl, self._expire, epoch)
 
     @property
     def ttl(self) -> float:

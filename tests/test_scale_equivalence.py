@@ -165,7 +165,7 @@ def flood_trace(env: simpy.Environment, points, moves, starts_process: int) -> l
 
     def changed(node, old, new):
         log.append((env.now, "change", node, old, new))
-        call_later(env, 0.1, lambda _ev: log.append((env.now, "woken", node)))
+        call_later(env, 0.1, lambda _value: log.append((env.now, "woken", node)))
         if next(changes) % starts_process == 0:
             env.process(started(node))
 

@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import CARDINALS, Arena
-from abm.clock import call_later
+from abm.clock import scheduler
 from abm.comms import CommNetwork, GradientFlood
 from abm.sensors import distance_sensors, measured_relative, ray_sensors
 from models.beacon_explorer.flowchart import (
@@ -86,6 +86,7 @@ class BeaconNetwork:
         on_may_detach: Callable[[int], None],
     ) -> None:
         self.env = env
+        self._call_later = scheduler(env)
         self.arena = arena
         self.comms = comms
         self.rng = rng
@@ -382,7 +383,7 @@ class BeaconNetwork:
         if robot in self._pending or robot not in self.beacons:
             return
         self._pending.add(robot)
-        call_later(self.env, self.control_period, lambda _ev: self._evaluate(robot))
+        self._call_later(self.control_period, self._evaluate, robot)
 
     def _evaluate(self, robot: int) -> None:
         self._pending.discard(robot)
@@ -447,7 +448,7 @@ class BeaconNetwork:
     def wake_later(self, robot: int) -> None:
         """Wake a beacon once a message has reached it."""
         self._wakes_in_flight += 1
-        call_later(self.env, self.comms.latency, lambda _ev: self._woken_by_message(robot))
+        self._call_later(self.comms.latency, self._woken_by_message, robot)
 
     def _woken_by_message(self, robot: int) -> None:
         self._wakes_in_flight -= 1
