@@ -519,49 +519,6 @@ class CommNetwork:
         if self.policy is not None and not self.policy.allows(src, dst):
             raise LinkError(f"no link may carry {kind} from {src!r} to {dst!r}")
 
-    def send_many(
-        self,
-        src: Node,
-        dsts: Iterable[Node],
-        payload: object,
-        handler: Callable[[Node, Node, object], None],
-        on_drop: Callable[[Node, Node, object], None] | None = None,
-        *,
-        kind: str = "message",
-        items: int = 0,
-        nbytes: int = 0,
-        phase: str = "task",
-        origin: Node | None = None,
-        hop: int = 0,
-    ) -> None:
-        """:meth:`send` the same ``payload`` from ``src`` to each of ``dsts`` in turn.
-
-        Exactly as many calls of :meth:`send` would (same log rows, same deliveries in the
-        same order at the same instant, same random draws), but without message loss (and
-        outside a loss burst) all the copies share one SimPy event: a broadcast costs one
-        event, not one per receiver.
-        """
-        dsts = list(dsts)
-        described = (kind, items, nbytes, phase, origin, hop)
-        if self.loss > 0.0 or self._burst is not None:  # each copy travels alone
-            for dst in dsts:
-                self._send_described(src, dst, payload, handler, on_drop, described)
-            return
-        self._record_broadcast(src, dsts, described)
-        if not dsts:
-            return
-        graph = self.graph
-
-        def deliver(_value: None) -> None:
-            adj = graph._adj  # graph.has_edge(src, dst) without the call, for every copy
-            for dst in dsts:
-                if dst in adj.get(src, ()):
-                    handler(src, dst, payload)
-                elif on_drop is not None:
-                    on_drop(src, dst, payload)
-
-        self._call_later(self.latency, deliver)
-
     def broadcast(
         self,
         src: Node,
@@ -580,11 +537,12 @@ class CommNetwork:
         ``on_arrival(src, delivered, dropped, payload)`` runs once per arrival instant with the
         receivers whose link held (in ``dsts`` order) and the number of copies dropped.
 
-        The same messages, log rows and random draws as :meth:`send_many`; the links of all
-        copies that arrive together are checked when they arrive, before any is handled (with
-        :meth:`send_many` a handler that breaks a link drops the copies handled after it).
-        With message loss or in a loss burst each copy travels alone and arrives on its own.
-        A flood's millions of copies then cost one call per broadcast, not one per copy.
+        The same messages, log rows and random draws as one :meth:`send` per copy, in ``dsts``
+        order; without message loss (and outside a loss burst) the copies share one event and
+        their links are checked together when they arrive, before any is handled (one send
+        per copy would drop the copies handled after a handler that breaks their link). With
+        loss or in a burst each copy travels alone and arrives on its own. A flood's millions
+        of copies then cost one call per broadcast, not one per copy.
 
         Returns:
             The number of copies sent (``len(dsts)``).
@@ -592,61 +550,33 @@ class CommNetwork:
         """
         dsts = list(dsts)
         if self.loss > 0.0 or self._burst is not None:  # each copy travels alone
-            arrived = lambda s, d, p: on_arrival(s, [d], 0, p)  # noqa: E731
-            dropped = lambda s, _d, p: on_arrival(s, [], 1, p)  # noqa: E731
-            described = (kind, items, nbytes, phase, origin, hop)
             for dst in dsts:
-                self._send_described(src, dst, payload, arrived, dropped, described)
+                self.send(
+                    src,
+                    dst,
+                    payload,
+                    lambda s, d, p: on_arrival(s, [d], 0, p),
+                    lambda s, _d, p: on_arrival(s, [], 1, p),
+                    kind=kind,
+                    items=items,
+                    nbytes=nbytes,
+                    phase=phase,
+                    origin=origin,
+                    hop=hop,
+                )
             return len(dsts)
-        if self.policy is None and self.log is None:
-            self.messages_sent += len(dsts)
-        else:
-            self._record_broadcast(src, dsts, (kind, items, nbytes, phase, origin, hop))
+        if self.policy is not None:  # refuse the whole broadcast before any copy is logged
+            for dst in dsts:
+                self._check_policy(src, dst, kind)
+        if self.log is not None:
+            now = self.env.now
+            for dst in dsts:
+                self.log.record(now, src, dst, kind, items, nbytes, phase, origin, hop)
+        self.messages_sent += len(dsts)
         if dsts:
             arrival = (src, dsts, payload, on_arrival)
             self._call_later(self.latency, self._arrive_together, arrival)
         return len(dsts)
-
-    def _send_described(
-        self,
-        src: Node,
-        dst: Node,
-        payload: object,
-        handler: Callable[[Node, Node, object], None],
-        on_drop: Callable[[Node, Node, object], None] | None,
-        described: tuple,
-    ) -> None:
-        """:meth:`send` with the log's description as a tuple (kind, items, nbytes, phase,
-        origin, hop).
-        """
-        kind, items, nbytes, phase, origin, hop = described
-        self.send(
-            src,
-            dst,
-            payload,
-            handler,
-            on_drop,
-            kind=kind,
-            items=items,
-            nbytes=nbytes,
-            phase=phase,
-            origin=origin,
-            hop=hop,
-        )
-
-    def _record_broadcast(self, src: Node, dsts: list[Node], described: tuple) -> None:
-        """Check the policy for every copy (refusing the whole broadcast before any copy is
-        logged), then log and count them all; ``described``: (kind, items, nbytes, phase,
-        origin, hop).
-        """
-        if self.policy is not None:
-            for dst in dsts:
-                self._check_policy(src, dst, described[0])
-        if self.log is not None:
-            now = self.env.now
-            for dst in dsts:
-                self.log.record(now, src, dst, *described)
-        self.messages_sent += len(dsts)
 
     def _arrive_together(self, arrival: tuple) -> None:
         """The copies of one broadcast arrive: their links checked together, then handed over."""
@@ -691,6 +621,7 @@ class GradientFlood:
         if step not in (1, -1):
             raise ValueError(f"step must be +1 or -1, got {step}")
         self.network = network
+        self._call_later = scheduler(network.env)
         self.name = name
         self.start = int(start)
         self.step = int(step)
@@ -758,7 +689,7 @@ class GradientFlood:
         for source in self.sources:
             if source in self.network.graph:
                 self._receive(source, epoch, self.start)
-        self.network._call_later(self.ttl, self._expire, epoch)
+        self._call_later(self.ttl, self._expire, epoch)
 
     @property
     def ttl(self) -> float:

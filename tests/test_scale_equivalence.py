@@ -4,9 +4,9 @@
   order messages go out in) as measuring every node.
 - The beacon lattice is updated around each change: same lattice, same neighbour order as
   rebuilding it from all beacons.
-- A broadcast shares one SimPy event: same deliveries in the same order as one send each;
-  a Clock gathers a flood's broadcasts per instant: the same run as one event each;
-  handed over in bulk, the same copies again (links checked when they arrive together).
+- A broadcast shares one event and hands its copies over in bulk: the same deliveries in the
+  same order as one send each (links checked when the copies arrive together); a Clock
+  gathers a flood's broadcasts per instant: the same run as one event each.
 - A beacon's view of its neighbours (comm neighbours, their positions, which are lattice
   neighbours) is kept until its links change: the same as looking them up afresh.
 """
@@ -63,37 +63,10 @@ def test_comm_graph_with_index_equals_full_scan(seed, comm_range):
     assert {n: list(a.adj[n]) for n in a} == {n: list(b.adj[n]) for n in b}
 
 
-def test_broadcast_delivers_like_one_send_each():
-    deliveries = []
-    for batched in (True, False):
-        env = simpy.Environment()
-        net = CommNetwork(env, walled_arena(), np.random.default_rng(0), 5.0, 0.1, log=MessageLog())
-        for node, x in enumerate((2.0, 4.0, 6.0, 8.0)):
-            net.add(node, np.array([x, 2.0]))
-        got = []
-
-        def handler(src, dst, payload, got=got, net=net):
-            got.append((net.env.now, src, dst, payload))
-            if dst == 2:
-                net.remove(3)  # the link to 3 breaks while the copy to 3 is in flight
-
-        def dropped(src, dst, payload, got=got):
-            got.append(("dropped", src, dst, payload))
-
-        if batched:
-            net.send_many(1, [2, 3, 0], "p", handler, dropped, kind="k")
-        else:
-            for dst in (2, 3, 0):
-                net.send(1, dst, "p", handler, dropped, kind="k")
-        env.run()
-        deliveries.append((got, net.messages_sent, net.log.frame().to_dict("records")))
-    assert deliveries[0] == deliveries[1]
-    assert ("dropped", 1, 3, "p") in deliveries[0][0]
-
-
 def bulk_and_single_deliveries(loss: float, breaker: int | None, seed: int):
     """Each node of a small line broadcasts to the others; what broadcast() hands over (as
-    one entry per copy) and what send_many() delivers, with the same log and random draws.
+    one entry per copy) and what one send() per copy delivers, with the same log and random
+    draws.
     ``breaker``: a receiver whose handling removes node 3 (its link breaks mid-arrival).
     """
     results = []
@@ -124,7 +97,8 @@ def bulk_and_single_deliveries(loss: float, breaker: int | None, seed: int):
             if bulk:
                 assert net.broadcast(src, others, src, arrival, kind="k") == len(others)
             else:
-                net.send_many(src, others, src, handle, dropped, kind="k")
+                for dst in others:
+                    net.send(src, dst, src, handle, dropped, kind="k")
         env.run()
         results.append((got, net.messages_sent, net.log.frame().to_dict("records")))
     return results
