@@ -64,10 +64,10 @@ def test_comm_graph_with_index_equals_full_scan(seed, comm_range):
 
 
 def bulk_and_single_deliveries(loss: float, breaker: int | None, seed: int):
-    """Each node of a small line broadcasts to the others; what broadcast() hands over (as
-    one entry per copy) and what one send() per copy delivers, with the same log and random
-    draws.
-    ``breaker``: a receiver whose handling removes node 3 (its link breaks mid-arrival).
+    """Each node of a small line broadcasts to the others: what broadcast() hands over (as
+    one entry per copy) and what one send() per copy delivers, with the messages sent and
+    logged. ``breaker``: a receiver whose handling removes node 3 (its link breaks while
+    copies to it are arriving).
     """
     results = []
     for bulk in (True, False):
