@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import pandas as pd
 import simpy
 
+from abm.clock import call_later
 from abm.errors import ConfigError, check_range
 
 __all__ = ["PowerModes", "EnergyLedger", "Battery"]
@@ -192,8 +193,7 @@ class Battery:
             return
         delay = self.charge(robot_id) / power
         generation = self._generation[robot_id]
-        event = self.ledger.env.timeout(delay)
-        event.callbacks.append(lambda _ev: self._expire(robot_id, generation))
+        call_later(self.ledger.env, delay, lambda _value: self._expire(robot_id, generation))
 
     def _expire(self, robot_id: int, generation: int) -> None:
         if self._generation[robot_id] != generation or robot_id in self.depleted:

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from abm.clock import call_later
 from abm.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -100,7 +101,7 @@ class FaultInjector:
         self._sensor_broken: dict[int, float] = {}  # robot -> time its sensors broke
         self._stuck: dict[tuple[int, str], np.ndarray] = {}
         for t in p.fault_times:
-            self.env.timeout(t).callbacks.append(lambda _ev: self._scheduled_failure())
+            call_later(self.env, t, lambda _value: self._scheduled_failure())
         if p.link_outage_rate > 0:
             self.env.process(self._link_outages(p.link_outage_rate, p.link_outage_duration))
         if p.loss_burst_rate > 0:
@@ -147,9 +148,7 @@ class FaultInjector:
             self._since[rid] = self.env.now
             generation = self._generation[rid]
             left = max(0.0, self._life[rid] - self._exposure[rid])
-            self.env.timeout(left).callbacks.append(
-                lambda _ev: self._hazard_failure(rid, generation)
-            )
+            call_later(self.env, left, lambda _value: self._hazard_failure(rid, generation))
 
     def robot_removed(self, robot: "Robot") -> None:
         """A robot left the model (``Robot.remove``): nothing more is injected into it."""
@@ -206,7 +205,7 @@ class FaultInjector:
         if process is not None and process.is_alive:
             if process is self.env.active_process:
                 # A process cannot interrupt itself: stop it as soon as it yields.
-                self.env.timeout(0).callbacks.append(lambda _ev: _interrupt(process, cause))
+                call_later(self.env, 0, lambda _value: _interrupt(process, cause))
             else:
                 process.interrupt(cause)
         model.on_robot_failed(robot)
@@ -225,7 +224,7 @@ class FaultInjector:
             self.model.recorder.log("link_down", a, other=b, duration=duration)
             comms.block(a, b)
             self.model.on_link_fault(a, b, up=False)
-            self.env.timeout(duration).callbacks.append(lambda _ev, a=a, b=b: self._restore(a, b))
+            call_later(self.env, duration, lambda _value, a=a, b=b: self._restore(a, b))
 
     def _restore(self, a, b) -> None:
         comms = self.model.comms
@@ -249,7 +248,7 @@ class FaultInjector:
         """Draw when this robot's sensors break (exponential, rate ``sensor_fault_rate``)."""
         rid = robot.unique_id
         life = float(self.rng.exponential(1.0 / self.model.params.sensor_fault_rate))
-        self.env.timeout(life).callbacks.append(lambda _ev: self._break_sensor(rid))
+        call_later(self.env, life, self._break_sensor, rid)
 
     def _break_sensor(self, rid: int) -> None:
         if rid not in self._robots:

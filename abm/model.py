@@ -21,7 +21,7 @@ import pandas as pd
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
-from abm.clock import Clock
+from abm.clock import Clock, call_later
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
@@ -179,8 +179,7 @@ class SwarmModel(mesa.Model):
             )
         self.done = self.env.event()
         self.end_reason: str | None = None
-        limit = self.env.timeout(self.time_limit)
-        limit.callbacks.append(lambda _ev: self.finish("time limit"))
+        call_later(self.env, self.time_limit, self.finish, "time limit")
         self._datacollector: mesa.DataCollector | None = None
         if params.trace_interval is not None:
             self.env.process(self._trace(params.trace_interval))

@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
+from abm.clock import call_later
 from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
 from abm.model import SwarmModel
 from abm.pathfollow import PathFollower, ground_robot
@@ -236,8 +237,7 @@ class HierarchyModel(SwarmModel):
         """
         node = self.nodes[robot.unique_id]
         self.director_maps.pop(node.id, None)
-        timer = self.env.timeout(self.params.heartbeat_timeout)
-        timer.callbacks.append(lambda _ev: self._heartbeat_lost(node))
+        call_later(self.env, self.params.heartbeat_timeout, self._heartbeat_lost, node)
 
     def _heartbeat_lost(self, node: Node) -> None:
         """Every live neighbour of the failed ``node`` finds a LinkLost in its inbox."""
