@@ -14,6 +14,7 @@ __all__ = [
     "ContractError",
     "LinkError",
     "MapError",
+    "OutputError",
     "check_choice",
     "check_range",
 ]
@@ -29,6 +30,14 @@ class ConfigError(ABMError, ValueError):
 
 class MapError(ABMError, ValueError):
     """A map (cell list, bitmap file or array) cannot be turned into an arena."""
+
+
+class OutputError(ABMError, OSError):
+    """A file or folder could not be written or read where the user pointed (full disk,
+    read-only folder, a file where a folder was expected, a folder another sweep holds).
+
+    The message names the path and what to do; whatever was finished before stays on disk.
+    """
 
 
 class LinkError(ABMError, ValueError):

@@ -6,6 +6,7 @@ purpose are printed as one clear line (no traceback) unless ``--debug`` is given
 """
 
 import argparse
+import errno
 import importlib
 import sys
 
@@ -54,14 +55,33 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     try:
         return int(args.handler(args) or 0)
-    except (ABMError, FileNotFoundError, KeyboardInterrupt) as exc:
+    except (ABMError, OSError, KeyboardInterrupt) as exc:
         if args.debug:
             raise
         if isinstance(exc, KeyboardInterrupt):
             print("abm: interrupted", file=sys.stderr)
             return 130
-        print(f"abm {args.verb}: error: {exc}", file=sys.stderr)
+        print(f"abm {args.verb}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+
+
+#: What to do about an operating-system error, by errno.
+_OS_ADVICE = {
+    errno.ENOSPC: "free some space and run the same command again (finished work is kept)",
+    errno.EDQUOT: "free some space and run the same command again (finished work is kept)",
+    errno.EROFS: "the folder is read-only: choose a writable place (--out)",
+    errno.EACCES: "no permission: choose a place you can write (--out)",
+    errno.EPERM: "no permission: choose a place you can write (--out)",
+}
+
+
+def _one_line(exc: BaseException) -> str:
+    """The error as one line; an OSError names its file and what to do about it."""
+    if isinstance(exc, OSError) and not isinstance(exc, ABMError) and exc.strerror:
+        where = f" {exc.filename}" if exc.filename else ""
+        advice = _OS_ADVICE.get(exc.errno)
+        return f"{exc.strerror}:{where}" + (f"; {advice}" if advice else "")
+    return " ".join(str(exc).split("\n")).strip() if str(exc) else type(exc).__name__
 
 
 if __name__ == "__main__":
