@@ -22,9 +22,12 @@ from abm.errors import ABMError, ConfigError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from analysis import stats
+from analysis.anova import RESAMPLES
 from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
+from analysis.statistics_table import anova_items, pearson_rows, statistics_frame, tests_on_page
+from analysis.statistics_table import write_csv as write_statistics
 from analysis.sweep import load_results, swept_keys
 
 __all__ = ["layout_for", "write_report"]
@@ -139,6 +142,8 @@ def write_report(
     published = list(cls.PUBLISHED) if cls is not None else []
     claims = list(cls.CLAIMS) if cls is not None else []
     names = ", ".join(s.name for s in sweeps)
+    blocks = [_block(s, cls, published, len(sweeps) > 1) for s in sweeps]
+    statistics = _statistics(blocks, out)
     return render_page(
         "sweep_report.html.j2",
         out,
@@ -149,7 +154,8 @@ def write_report(
         comparison=_comparison(every, published),
         claims=_claims(sweeps, claims),
         not_in_sweep=NOT_IN_SWEEP,
-        blocks=[_block(s, cls, published, len(sweeps) > 1) for s in sweeps],
+        blocks=blocks,
+        statistics=statistics,
     )
 
 
@@ -158,6 +164,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     runs = stats.ok_runs(sweep.runs)
     failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]
     layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)
+    layout = replace(layout, metrics=tuple(_metrics(runs, layout)))
     folder = sweep.folder / "figures"
     figures = save_figures(runs, layout, folder) if len(runs) else {}
     shown = [
@@ -184,7 +191,10 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         + f"; {sweep.manifest.get('replications', '?')} runs each, sweep seed "
         + f"{sweep.manifest.get('seed', '?')}",
         "figures": shown,
-        "anova": _anova(runs, layout) if len(runs) else [],
+        "name": sweep.name,
+        "labels": {m: label(layout, m).replace("(kJ)", "(J)") for m in runs.columns},
+        "anova": _anova(runs, layout, _seed(sweep)) if len(runs) else [],
+        "correlation": _correlation(runs, layout, _seed(sweep)) if len(runs) else None,
         "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
         "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
@@ -298,25 +308,76 @@ def _factors(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
 
 
 def _metrics(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
-    wanted = [*layout.metrics, *([layout.total] if layout.total else [])]
-    return [m for m in dict.fromkeys(wanted) if m in runs and _numeric(runs, m)]
+    """The layout's numeric metrics these runs measured (not NaN in every run); when they
+    measured none of them (a custom grid the paper never ran, runs cut before the model's own
+    metrics exist), the common summary keys they did measure, so that every sweep shows its
+    metrics against its swept keys.
+    """
+
+    def measured(columns) -> list[str]:
+        return [m for m in dict.fromkeys(columns) if m in runs and _numeric(runs, m)
+                and runs[m].notna().any()]  # fmt: skip
+
+    declared = measured([*layout.metrics, *([layout.total] if layout.total else [])])
+    return declared or measured(COMMON_METRICS)
 
 
-def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
+def _seed(sweep: _Sweep) -> int:
+    """The seed of the report's bootstrap intervals: the sweep's own seed (0 when unknown)."""
+    seed = sweep.manifest.get("seed")
+    return seed if isinstance(seed, int) and seed >= 0 else 0
+
+
+def _anova(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> list[stats.Anova]:
+    """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused."""
     factors = _factors(runs, layout)
     if not factors:
         return []
-    out = []
-    for metric in _metrics(runs, layout):
-        measured = runs.dropna(subset=[metric])  # a metric some conditions do not have
-        if measured.empty or (measured[factors].nunique() < 2).any():
-            continue
-        result = stats.anova(measured, metric, factors)
-        if not result.empty:
-            shown = result.reset_index(names="source")
-            out.append({"title": label(layout, metric).replace("(kJ)", "(J)"),
-                        "table": table(shown, text_columns=("source",))})  # fmt: skip
-    return out
+    return [stats.anova(runs, metric, factors, seed=seed) for metric in _metrics(runs, layout)]
+
+
+def _correlation(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> dict | None:
+    """Pearson's r of the layout's two correlated columns over the condition means."""
+    if not (layout.correlate and all(c in runs for c in layout.correlate)):
+        return None
+    x, y = layout.correlate
+    return {"x": x, "y": y, **stats.pearson(runs, x, y, by=_factors(runs, layout), seed=seed)}
+
+
+def _statistics(blocks: list[dict], out: Path) -> dict:
+    """Every test of the page in one table (Holm over all of them), written as
+    ``statistics.csv`` beside the HTML; each block gets its ANOVA items and correlation line.
+    """
+    anovas = [(block["name"], result) for block in blocks for result in block["anova"]]
+    extra = [
+        row
+        for block in blocks
+        if block["correlation"] is not None
+        for row in pearson_rows(block["name"], block["correlation"]["x"],
+                                block["correlation"]["y"], block["correlation"])
+    ]  # fmt: skip
+    frame = statistics_frame(anovas, extra)
+    path = write_statistics(frame, out.parent / "statistics.csv")
+    for block in blocks:
+        block["anova"] = anova_items(frame, block["name"], block["labels"])
+        block["correlation"] = _correlation_note(frame, block["name"])
+    return {"tests": tests_on_page(frame), "csv": path.name, "resamples": RESAMPLES}
+
+
+def _correlation_note(frame: pd.DataFrame, sweep: str) -> str | None:
+    rows = frame[(frame["sweep"] == sweep) & (frame["test"] == "Pearson r")]
+    if rows.empty:
+        return None
+    row = rows.iloc[0]
+    x, y = row["metric"].split(" ~ ")
+    if not row["computed"]:
+        return f"Pearson r of the condition means of {x} and {y}: not computed: {row['reason']}."
+    return (
+        f"Pearson r of the condition means of {x} and {y} across {row['source']}: "
+        f"r = {row['r']:.3f} (95 % bootstrap interval {row['ci_low']:.3f} to "
+        f"{row['ci_high']:.3f}; df = {row['df']:.0f}, p = {row['p']:.2g}, "
+        f"Holm-adjusted p = {row['p_holm']:.2g})."
+    )
 
 
 def _groupable(runs: pd.DataFrame, factors: list[str]) -> pd.DataFrame:
@@ -370,15 +431,6 @@ def _factor_sections(
                     "(Stirling et al. Sect. 5). analysis.stats.optimal_period takes other weights."
                 )
                 sections.append({"title": f"Optimal {x}", "note": note, "table": table(best)})
-    if layout.correlate and all(c in runs for c in layout.correlate):
-        r = stats.pearson(runs, *layout.correlate, by=_factors(runs, layout))
-        if r["n"] >= 3:
-            note = (
-                f"Pearson r of the condition means of {layout.correlate[0]} and "
-                f"{layout.correlate[1]} across {r['n']} conditions: r = {r['r']:.3f} "
-                f"(df = {r['df']}, p = {r['p']:.2g})."
-            )
-            sections.append({"title": "Correlation", "note": note, "table": None})
     factors = list(dict.fromkeys([*_factors(runs, layout), *(conditions or [])]))
     extra = [m for m in ("coverage_area", "energy_total", *layout.stacked) if m in runs]
     shown = [m for m in dict.fromkeys([*metrics, *extra]) if _numeric(runs, m)]
