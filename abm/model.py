@@ -22,6 +22,7 @@ from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
 from abm.clock import Clock, call_later
+from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
@@ -195,12 +196,13 @@ class SwarmModel(mesa.Model):
         return cls(seed=seed, **params.as_dict())
 
     @property
-    def datacollector(self) -> mesa.DataCollector:
-        """Mesa's DataCollector of :meth:`reporters` (made on first use, once the model is
-        built).
+    def datacollector(self) -> StepCollector:
+        """Mesa's DataCollector of :meth:`reporters` and ``time`` (s), keyed by the step count
+        (so ``mesa.batch_run``'s ``Step`` counts steps); made on first use, once the model is
+        built.
         """
         if self._datacollector is None:
-            self._datacollector = mesa.DataCollector(model_reporters=self.reporters())
+            self._datacollector = StepCollector(self.reporters())
         return self._datacollector
 
     @property
