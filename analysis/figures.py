@@ -138,10 +138,23 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     unit = "kJ" if "(kJ)" in label(layout, parts[0]) else ""
     axes[0][0].set_ylabel(f"Mean per run {f'({unit})' if unit else ''}".strip())
     handles, labels = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=len(parts), frameon=False,
-               title="Component (error bar: standard error of the total)")  # fmt: skip
-    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    _legend_below(fig, handles, labels, "Component (error bar: standard error of the total)")
     return fig
+
+
+def _legend_below(fig: plt.Figure, handles: list, labels: list[str], title: str) -> None:
+    """A legend under the panels in as many columns as fit the figure's width (one panel is
+    narrower than three labels side by side), the panels laid out above it.
+    """
+    for ncol in range(len(labels), 0, -1):
+        legend = fig.legend(handles, labels, loc="lower center", ncol=ncol, frameon=False,
+                            title=title)  # fmt: skip
+        fig.canvas.draw()
+        box = legend.get_window_extent()
+        if box.width <= 0.98 * fig.bbox.width or ncol == 1:
+            break
+        legend.remove()
+    fig.tight_layout(rect=(0, min(0.6, box.height / fig.bbox.height + 0.02), 1, 1))
 
 
 def compare_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:

@@ -201,3 +201,25 @@ def test_a_custom_sugarmap_grid_gets_figures_and_statistics(tmp_path, capsys):
     stats = pd.read_csv(tmp_path / "statistics.csv")
     tested = stats[stats["computed"] & (stats["source"] == "n_anchors")]
     assert set(tested["metric"]) == {"coverage_area", "collisions"}
+
+
+@pytest.mark.parametrize("complexities", [["low"], ["low", "medium", "high"]])
+def test_the_stacked_energy_legend_is_not_cut(complexities):
+    """One panel is narrower than three labels side by side ("Ground energ" was cut off)."""
+    from dataclasses import replace
+
+    from analysis.figures import stacked_bars
+
+    runs = corridor_results()
+    runs = runs[runs["complexity"].isin(complexities)]
+    fig = stacked_bars(runs, replace(REPORT, hue=None if len(complexities) == 1 else "complexity"))
+    fig.canvas.draw()
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == [
+        "Flight energy", "Beacon energy", "Ground energy"]  # fmt: skip
+    page = fig.bbox
+    for text in [*legend.get_texts(), legend.get_title()]:
+        box = text.get_window_extent()
+        assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0, text.get_text()
+    for ax in fig.axes:  # the panels stay above the legend
+        assert ax.get_tightbbox().y0 >= legend.get_window_extent().y1 - 1
