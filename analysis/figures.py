@@ -65,7 +65,7 @@ def _hue_levels(df: pd.DataFrame, layout: ReportLayout) -> list:
 
 def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     """Each of ``layout.metrics`` against ``layout.x`` (mean +- standard error), side by side."""
-    runs = ok_runs(df)
+    runs, names = _positions(ok_runs(df), layout.x)
     metrics = [m for m in layout.metrics if m in runs]
     hues = _hue_levels(runs, layout)
     fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 4.2), squeeze=False)
@@ -83,10 +83,11 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             err_kws={"capsize": 3},
             ax=ax,
             color=None if len(hues) > 1 else "#00798c",
+            linestyle="" if names else "-",  # names in alphabetical order: no line between
         )
         xs = sorted(runs[layout.x].unique())
         if len(xs) <= MAX_TICKS:  # a tick per condition; beyond that matplotlib's own ticks
-            ticks = [f"{x:g}" for x in xs]
+            ticks = [names[int(x)] if names else f"{x:g}" for x in xs]
             ax.set_xticks(xs)
             # long labels (small rates such as 0.0005) would run into each other: slant them
             crowded = sum(len(t) for t in ticks) > 24
@@ -110,6 +111,17 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     return fig
 
 
+def _positions(runs: pd.DataFrame, x: str) -> tuple[pd.DataFrame, list[str]]:
+    """``runs`` with a non-numeric ``x`` (names, e.g. arenas) as positions 0, 1, ... and the
+    names in that order; a numeric ``x`` unchanged, with no names.
+    """
+    column = runs[x]
+    if pd.api.types.is_numeric_dtype(column) and column.dtype != bool:
+        return runs, []
+    names = sorted(column.astype(str).unique())
+    return runs.assign(**{x: column.astype(str).map(names.index)}), names
+
+
 def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     """``layout.stacked`` stacked per ``x`` value; one panel per ``hue`` value."""
     runs = ok_runs(df)
@@ -130,7 +142,8 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             bottom += means[name].to_numpy()
         ax.errorbar(x, bottom, yerr=total.to_numpy(), fmt="none", ecolor="black", capsize=3)
         ax.set_xticks(x)
-        ax.set_xticklabels([f"{p:g}" for p in means.index])
+        ax.set_xticklabels([f"{p:g}" if isinstance(p, int | float) else str(p)
+                            for p in means.index])  # fmt: skip
         ax.set_xlabel(label(layout, layout.x))
         if level is not None:
             ax.set_title(f"{label(layout, layout.hue)}: {level}")

@@ -21,6 +21,7 @@ import pandas as pd
 from abm.errors import ABMError, ConfigError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
+from abm.units import unit_of
 from analysis import stats
 from analysis.anova import RESAMPLES
 from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
@@ -164,7 +165,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     runs = stats.ok_runs(sweep.runs)
     failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]
     layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)
-    layout = replace(layout, metrics=tuple(_metrics(runs, layout)))
+    layout = _for_this_grid(layout, runs, swept_keys(sweep.manifest, runs), cls)
     folder = sweep.folder / "figures"
     figures = save_figures(runs, layout, folder) if len(runs) else {}
     shown = [
@@ -307,6 +308,26 @@ def _factors(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
     return [f for f in (layout.x, layout.hue) if f is not None and f in runs]
 
 
+def _for_this_grid(
+    layout: ReportLayout, runs: pd.DataFrame, swept: list[str], cls: type | None
+) -> ReportLayout:
+    """The layout made to show what this grid swept and measured: its metrics those the runs
+    measured (:func:`_metrics`); against the first swept key that varies when the layout's
+    ``x`` does not (a custom grid of names, e.g. arenas); every column labelled with its unit.
+    """
+    x = layout.x
+    if x is None:
+        x = next((k for k in swept if k in runs and runs[k].nunique() > 1), None)
+    units = {} if cls is None else cls.SUMMARY_UNITS
+    labels = {
+        column: f"{column.replace('_', ' ')} ({unit})"
+        for column in runs.columns
+        if (unit := unit_of(column, units)) and unit not in ("text", "id", "flag")
+    }
+    layout = replace(layout, x=x, labels={**labels, **layout.labels})
+    return replace(layout, metrics=tuple(_metrics(runs, layout)))
+
+
 def _metrics(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
     """The layout's numeric metrics these runs measured (not NaN in every run); when they
     measured none of them (a custom grid the paper never ran, runs cut before the model's own
@@ -443,7 +464,7 @@ def _factor_sections(
             if factors
             else means[["metric", "mean", "sem", "n"]]
         )
-        note = "Times in s, energies in J, coverage in % of the free area."
+        note = "; ".join(f"{m}: {label(layout, m)}" for m in shown if label(layout, m) != m)
         sections.append({"title": "Condition means", "note": note,
                          "table": table(wide.replace({np.nan: None}), digits=4)})  # fmt: skip
     return sections

@@ -223,3 +223,20 @@ def test_the_stacked_energy_legend_is_not_cut(complexities):
         assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0, text.get_text()
     for ax in fig.axes:  # the panels stay above the legend
         assert ax.get_tightbbox().y0 >= legend.get_window_extent().y1 - 1
+
+
+def test_a_custom_grid_of_names_is_drawn_and_tested_against_them(tmp_path, capsys):
+    """A grid of arenas only: the swept key is not a number and not the layout's x."""
+    runs = sugarmap_cut_runs()
+    runs["arena"] = runs["n_anchors"].map({2: "testbed", 6: "open"})
+    runs["n_anchors"] = 5
+    manifest = {"name": "arenas", "model": "sugarmap", "seed": 5, "replications": 3,
+                "target": "models.sugarmap.model:SugarMapModel",
+                "grid": {"arena": ["testbed", "open"], "time_limit": [20.0]}}  # fmt: skip
+    _sweep(tmp_path, runs, manifest)
+    page = _report_quietly(tmp_path, capsys)
+    assert (tmp_path / "figures" / "metrics.png").is_file()
+    assert "against arena" in page
+    stats = pd.read_csv(tmp_path / "statistics.csv")
+    assert set(stats.loc[stats["source"] == "arena", "metric"]) == {"coverage_area", "collisions"}
+    assert "<h4>coverage area (%)</h4>" in page  # its unit, from the model's declaration
