@@ -117,7 +117,7 @@ def anova(
         )
     data = pd.DataFrame({"y": y, **{f"f{i}": c for i, c in enumerate(codes)}})
     formula = " + ".join(":".join(f"C(f{i})" for i in term) for term in terms)
-    with warnings.catch_warnings(record=True) as caught, np.errstate(all="ignore"):
+    with warnings.catch_warnings(record=True) as caught, np.errstate(all="warn"):
         warnings.simplefilter("always")
         table = anova_lm(ols(f"y ~ {formula}", data=data).fit(), typ=2)
     for message in dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught):

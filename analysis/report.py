@@ -9,9 +9,11 @@ Pearson's r, the condition means and the runs that failed. A model without a lay
 from its swept parameters.
 """
 
+import contextlib
 import datetime
 import json
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -167,7 +169,8 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)
     layout = _for_this_grid(layout, runs, swept_keys(sweep.manifest, runs), cls)
     folder = sweep.folder / "figures"
-    figures = save_figures(runs, layout, folder) if len(runs) else {}
+    with _noted() as warned:
+        figures = save_figures(runs, layout, folder) if len(runs) else {}
     shown = [
         {
             "src": image_data(path),
@@ -194,8 +197,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         "figures": shown,
         "name": sweep.name,
         "labels": {m: label(layout, m).replace("(kJ)", "(J)") for m in runs.columns},
-        "anova": _anova(runs, layout, _seed(sweep)) if len(runs) else [],
-        "correlation": _correlation(runs, layout, _seed(sweep)) if len(runs) else None,
+        **_tests(runs, layout, _seed(sweep), warned),
         "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
         "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
@@ -341,6 +343,30 @@ def _metrics(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
 
     declared = measured([*layout.metrics, *([layout.total] if layout.total else [])])
     return declared or measured(COMMON_METRICS)
+
+
+@contextlib.contextmanager
+def _noted(notes: list[str] | None = None) -> Iterator[list[str]]:
+    """Record the warnings numpy, statsmodels, pandas or matplotlib raise inside, as notes for
+    the page (each once), instead of letting them reach the terminal.
+    """
+    notes = [] if notes is None else notes
+    with warnings.catch_warnings(record=True) as caught, np.errstate(all="warn"):
+        warnings.simplefilter("always")
+        yield notes
+    for w in caught:
+        text = f"{w.category.__name__}: {w.message}"
+        if text not in notes:
+            notes.append(text)
+
+
+def _tests(runs: pd.DataFrame, layout: ReportLayout, seed: int, notes: list[str]) -> dict:
+    """The block's ANOVAs and correlation, and every warning raised while drawing and testing."""
+    if not len(runs):
+        return {"anova": [], "correlation": None, "warnings": notes}
+    with _noted(notes):
+        return {"anova": _anova(runs, layout, seed), "warnings": notes,
+                "correlation": _correlation(runs, layout, seed)}  # fmt: skip
 
 
 def _seed(sweep: _Sweep) -> int:

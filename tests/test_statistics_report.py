@@ -240,3 +240,22 @@ def test_a_custom_grid_of_names_is_drawn_and_tested_against_them(tmp_path, capsy
     stats = pd.read_csv(tmp_path / "statistics.csv")
     assert set(stats.loc[stats["source"] == "arena", "metric"]) == {"coverage_area", "collisions"}
     assert "<h4>coverage area (%)</h4>" in page  # its unit, from the model's declaration
+
+
+def test_a_warning_while_drawing_or_testing_becomes_a_note_of_the_page(
+    tmp_path, capsys, monkeypatch
+):
+    import analysis.report
+
+    def warning_anova(*args, **kwargs):
+        np.log(np.zeros(1))  # numpy: divide by zero
+        warnings.warn("covariance of constraints does not have full rank", stacklevel=2)
+        return original(*args, **kwargs)
+
+    original = analysis.report.stats.anova
+    monkeypatch.setattr(analysis.report.stats, "anova", warning_anova)
+    write_sweep(tmp_path, corridor_results())
+    page = _report_quietly(tmp_path, capsys)
+    assert "UserWarning: covariance of constraints does not have full rank" in page
+    assert page.count("covariance of constraints") == 1  # each once
+    assert "RuntimeWarning: divide by zero encountered in log" in page
