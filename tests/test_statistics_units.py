@@ -46,8 +46,10 @@ def test_abm_run_prints_each_models_units():
     assert unit_of("coverage_500") == "%"  # a SugarMap checkpoint, by its pattern
     assert unit_of("coverage_time") == "s"  # the exact key wins over that pattern
     assert unit_of("scout_drive") == "cm"  # the hierarchy's report's own unit, said
-    assert unit_of("n_robots") == unit_of("robots") == "count"
-    assert unit_of("end_reason") == unit_of("seed") == ""
+    assert unit_of("bytes") == "byte" and unit_of("entropy") == "bit"
+    # names, seeds, flags, counts and plain numbers print bare
+    for key in ("end_reason", "seed", "complete", "n_robots", "polarisation"):
+        assert unit_of(key) == "", key
     text = format_summary({"n_robots": 20, "robots": 21, "energy_flight": 2.5})
     assert text.splitlines()[2].split()[-1] == "J"
 

@@ -82,12 +82,13 @@ def _title(name: str, summary: dict) -> str:
 
 def unit_of(key: str) -> str:
     """The unit of a summary key as the framework (``abm.units.COMMON``) or the model
-    (``SUMMARY_UNITS``) declares it; nothing for names, identifiers and true/false keys.
+    (``SUMMARY_UNITS``) declares it; nothing for names, identifiers, true/false keys, counts
+    and plain numbers.
     """
     from abm.units import unit_of as declared
 
     unit = declared(key)
-    return "" if unit in ("text", "id", "flag") else unit
+    return "" if unit in ("text", "id", "flag", "count", "1") else unit
 
 
 def format_summary(summary: dict) -> str:
