@@ -490,7 +490,9 @@ def _factor_sections(
             if factors
             else means[["metric", "mean", "sem", "n"]]
         )
-        note = "; ".join(f"{m}: {label(layout, m)}" for m in shown if label(layout, m) != m)
+        # the means are of the runs' own values: energies in J even where a figure draws kJ
+        units = {m: label(layout, m).replace("(kJ)", "(J)") for m in shown}
+        note = "; ".join(f"{m}: {text}" for m, text in units.items() if text != m)
         sections.append({"title": "Condition means", "note": note,
                          "table": table(wide.replace({np.nan: None}), digits=4)})  # fmt: skip
     return sections

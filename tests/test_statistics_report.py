@@ -168,6 +168,8 @@ def test_statistics_csv_holds_what_the_page_shows(tmp_path):
     tested = stats["p"].notna()
     assert stats.loc[tested, "p_holm"].to_numpy() == pytest.approx(holm(stats.loc[tested, "p"]))
     assert f"{int(tested.sum())} tests on this page" in page
+    # the condition means are in J where the figures draw kJ, and the page says so
+    assert "energy_total: Total swarm energy (J)" in page
     # the effect sizes' intervals come from the sweep's seed: the same report, the same numbers
     write_report(tmp_path)
     pd.testing.assert_frame_equal(stats, pd.read_csv(tmp_path / "statistics.csv"))
