@@ -197,7 +197,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         "figures": shown,
         "name": sweep.name,
         "labels": {m: label(layout, m).replace("(kJ)", "(J)") for m in runs.columns},
-        **_tests(runs, layout, _seed(sweep), warned),
+        **_tests(runs, layout, _seed(sweep), conditions, warned),
         "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
         "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
@@ -360,12 +360,14 @@ def _noted(notes: list[str] | None = None) -> Iterator[list[str]]:
             notes.append(text)
 
 
-def _tests(runs: pd.DataFrame, layout: ReportLayout, seed: int, notes: list[str]) -> dict:
+def _tests(
+    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: list[str], notes: list[str]
+) -> dict:
     """The block's ANOVAs and correlation, and every warning raised while drawing and testing."""
     if not len(runs):
         return {"anova": [], "correlation": None, "warnings": notes}
     with _noted(notes):
-        return {"anova": _anova(runs, layout, seed), "warnings": notes,
+        return {"anova": _anova(runs, layout, seed, conditions), "warnings": notes,
                 "correlation": _correlation(runs, layout, seed)}  # fmt: skip
 
 
@@ -375,12 +377,24 @@ def _seed(sweep: _Sweep) -> int:
     return seed if isinstance(seed, int) and seed >= 0 else 0
 
 
-def _anova(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> list[stats.Anova]:
-    """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused."""
+def _anova(
+    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: Sequence[str] = ()
+) -> list[stats.Anova]:
+    """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused;
+    then, when the grid swept other keys (at most two, e.g. the hierarchy's W and S beside
+    its drawn N = 1 + W + W S), over those.
+    """
     factors = _factors(runs, layout)
-    if not factors:
-        return []
-    return [stats.anova(runs, metric, factors, seed=seed) for metric in _metrics(runs, layout)]
+    swept = [k for k in conditions if k in runs and _groupable(runs, [k])[k].nunique() > 1]
+    sets = [factors] if factors else []
+    if swept and len(swept) <= 2 and set(swept) != set(factors):
+        sets.append(swept)
+    grouped = _groupable(runs, swept)
+    return [
+        stats.anova(grouped, metric, chosen, seed=seed)
+        for chosen in sets
+        for metric in _metrics(runs, layout)
+    ]
 
 
 def _correlation(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> dict | None:

@@ -29,7 +29,7 @@ __all__ = [
 
 #: The columns of statistics.csv, in order.
 COLUMNS = (
-    "sweep", "metric", "test", "source", "df", "sum_sq", "F", "r", "p", "p_holm",
+    "sweep", "metric", "test", "factors", "source", "df", "sum_sq", "F", "r", "p", "p_holm",
     "effect", "effect_value", "ci_low", "ci_high", "computed", "reason", "notes",
 )  # fmt: skip
 
@@ -50,9 +50,10 @@ def holm(p: Sequence[float]) -> np.ndarray:
 
 def _anova_rows(sweep: str, result: Anova) -> list[dict]:
     notes = " ".join(result.notes)
+    factors = " x ".join(result.factors)
     if result.table is None:
-        return [{"sweep": sweep, "metric": result.metric, "test": "ANOVA", "computed": False,
-                 "reason": result.reason, "notes": notes}]  # fmt: skip
+        return [{"sweep": sweep, "metric": result.metric, "test": "ANOVA", "factors": factors,
+                 "computed": False, "reason": result.reason, "notes": notes}]  # fmt: skip
     rows = []
     for source, row in result.table.iterrows():
         residual = source == "Residual"
@@ -61,6 +62,7 @@ def _anova_rows(sweep: str, result: Anova) -> list[dict]:
                 "sweep": sweep,
                 "metric": result.metric,
                 "test": "ANOVA",
+                "factors": factors,
                 "source": source,
                 "df": row["df"],
                 "sum_sq": row["sum_sq"],
@@ -121,13 +123,18 @@ def tests_on_page(frame: pd.DataFrame) -> int:
 
 
 def anova_items(frame: pd.DataFrame, sweep: str, labels: dict[str, str]) -> list[dict]:
-    """One sweep's ANOVA tables for the page (title, table or the refusal, notes)."""
+    """One sweep's ANOVA tables for the page (title, table or the refusal, notes); titles name
+    the factors when the sweep is tested over more than one set of them.
+    """
     part = frame[(frame["sweep"] == sweep) & (frame["test"] == "ANOVA")]
+    several = part["factors"].fillna("").nunique() > 1
     items = []
-    for metric, rows in part.groupby("metric", sort=False):
+    for (factors, metric), rows in part.groupby(["factors", "metric"], sort=False, dropna=False):
         first = rows.iloc[0]
-        item = {"title": labels.get(metric, metric), "table": None, "reason": None,
-                "notes": first["notes"] or ""}  # fmt: skip
+        title = labels.get(metric, metric)
+        if several and isinstance(factors, str) and factors:
+            title = f"{title}, over {factors}"
+        item = {"title": title, "table": None, "reason": None, "notes": first["notes"] or ""}
         if not first["computed"]:
             item["reason"] = f"not computed: {first['reason']}"
         else:

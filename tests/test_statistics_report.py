@@ -111,10 +111,14 @@ def test_the_hierarchy_collinear_n_is_refused_without_a_warning(tmp_path, capsys
     _sweep(tmp_path, hierarchy_runs(), HIERARCHY)
     page = _report_quietly(tmp_path, capsys)
     assert page.count("not computed: W is fixed by N") == 4  # one line per metric
-    assert "F</th>" not in page.split("<h3>Statistics</h3>")[1].split("<h3>")[0]
     stats = pd.read_csv(tmp_path / "statistics.csv")
-    assert len(stats) == 4 and not stats["computed"].any()
-    assert stats["reason"].str.startswith("W is fixed by N").all()
+    drawn = stats[stats["factors"] == "N x W"]
+    assert len(drawn) == 4 and not drawn["computed"].any()
+    assert drawn["reason"].str.startswith("W is fixed by N").all()
+    # the keys the grid swept, W and S, are crossed: those ANOVAs are computed
+    swept = stats[stats["factors"] == "workers x scouts_per_worker"]
+    assert swept["computed"].all() and set(swept["metric"]) == set(drawn["metric"])
+    assert "Scout drive distance (cm), over workers x scouts_per_worker</h4>" in page
 
 
 @pytest.mark.slow
