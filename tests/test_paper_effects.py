@@ -17,6 +17,8 @@ import itertools
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from models.hierarchy import HierarchyModel
 from models.sugarmap import SugarMapModel
@@ -40,7 +42,7 @@ def sign_flip_p(diffs: np.ndarray) -> float:
 
 
 def assert_paired_effect(better: np.ndarray, worse: np.ndarray, what: str) -> None:
-    """``better`` exceeds ``worse`` seed by seed, by the sign-flip test at ALPHA."""
+    """``better`` exceeds ``worse`` (paired by seed) by the sign-flip test at ALPHA."""
     diffs = np.asarray(better, dtype=float) - np.asarray(worse, dtype=float)
     p = sign_flip_p(diffs)
     print(f"{what}: differences {np.round(diffs, 2).tolist()}, p = {p:.3g}")
@@ -52,6 +54,15 @@ def test_sign_flip_p_counts_the_assignments_at_least_as_extreme():
     assert sign_flip_p([-1.0, 2.0, 3.0, 4.0, 5.0]) == 2 / 32  # itself and all positive
     assert sign_flip_p([0.0, 2.0, 3.0, 4.0, 5.0]) == 2 / 32  # a tie's sign is no evidence
     assert sign_flip_p([-5.0, -4.0, -3.0, -2.0, -1.0]) == 1.0
+
+
+@given(st.lists(st.floats(-100.0, 100.0), min_size=1, max_size=10))
+def test_sign_flip_p_is_a_p_value_of_a_symmetric_null(diffs):
+    # never below 2^-n (the observed signs are one of 2^n), and the two one-sided p-values
+    # cover the whole null between them (P(S >= s) + P(S <= s) >= 1)
+    p, q = sign_flip_p(diffs), sign_flip_p([-d for d in diffs])
+    assert 2.0 ** -len(diffs) <= p <= 1.0
+    assert p + q >= 1.0
 
 
 # ---------------------------------------------------------------- SugarMap (Purohit et al. 2013)
