@@ -2,7 +2,8 @@
 checksums) and to verify a folder of finished runs on restart (``analysis.sweep.integrity``).
 
 Writes ``RUNS`` copies of one real run's row under fresh run ids and seeds, then times the
-restart scan (each file is also matched against the plan). Usage: ``.venv/bin/python benchmarks/bench_sweep_verify.py [RUNS]``.
+restart scan (each file is also matched against the plan). Usage:
+``.venv/bin/python benchmarks/bench_sweep_verify.py [RUNS]``.
 """
 
 import sys
