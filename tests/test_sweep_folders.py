@@ -316,6 +316,20 @@ def test_module_class_targets_are_checked_before_import(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def test_a_sweep_json_naming_another_module_is_refused_by_report_before_import(tmp_path):
+    sweep_file = tmp_path / "s.toml"
+    sweep_file.write_text(SMALL)
+    out = tmp_path / "o"
+    assert main(["sweep", str(sweep_file), "--executor", "serial", "--out", str(out)]) == 0
+    manifest = json.loads((out / "sweep.json").read_text())
+    (out / "sweep.json").write_text(json.dumps({**manifest, "target": "this:X"}))
+    done = subprocess.run([sys.executable, "-c", ABM, "report", str(out)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert done.returncode == 2 and "Beautiful is better" not in done.stdout + done.stderr
+    (line,) = _errors(done.stderr, "report")
+    assert f"{out / 'sweep.json'}: model 'this:X'" in line
+
+
 def test_a_registered_models_target_still_loads():
     sweep = Sweep("models.beacon_explorer:BeaconExplorerModel", {"world": ["open"]})
     assert sweep.model_cls.__name__ == "BeaconExplorerModel"

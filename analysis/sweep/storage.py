@@ -27,7 +27,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from abm.errors import ABMError
+from abm.errors import ABMError, ConfigError
 from analysis.sweep.integrity import (
     RESULT_FOLDERS,
     CorruptResultError,
@@ -37,6 +37,7 @@ from analysis.sweep.integrity import (
 )
 from analysis.sweep.membership import PlanIndex
 from analysis.sweep.spec import Sweep
+from analysis.sweep.targets import check_target
 
 __all__ = [
     "SweepError",
@@ -254,6 +255,12 @@ def read_manifest(out: str | Path) -> dict:
             f"{path} is damaged ({type(exc).__name__}: {exc}); run the sweep again: it sets "
             "the file aside and writes it anew"
         ) from exc
+    target = manifest.get("target")
+    if isinstance(target, str):
+        try:
+            check_target(target)  # a report imports it: never a module that is not a model's
+        except ConfigError as exc:
+            raise SweepError(f"{path}: {exc}") from exc
     return manifest
 
 
