@@ -118,8 +118,11 @@ class SweepLock:
             tmp.unlink(missing_ok=True)
 
     def __exit__(self, *exc: object) -> None:
-        if self._holder() == self.me:
-            self.path.unlink(missing_ok=True)
+        try:
+            if self._holder() == self.me:
+                self.path.unlink(missing_ok=True)
+        except OSError:
+            pass  # a folder gone read-only: the next sweep sees this process gone and breaks it
 
     def _holder(self) -> dict | None:
         try:

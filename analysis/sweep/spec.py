@@ -65,7 +65,8 @@ class Sweep:
         replications: runs per grid point.
         points: parameter sets taken together, each combined with every grid point.
         seed: the sweep seed; per-run seeds are spawned from it.
-        name: the sweep's name (default output folder ``out/sweeps/<name>``).
+        name: the sweep's name, a plain folder name (:data:`NAME_RULE`); the default output
+            folder is ``out/sweeps/<name>``.
         time_series: also keep each run's state counts over time.
         description: free text, shown in reports.
 
@@ -214,8 +215,11 @@ def check_grid(model_cls: type, grid: Mapping, allow_empty: bool = False) -> dic
 def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
     """Read and validate a sweep file (TOML); ``replications`` overrides the file's value.
 
-    The file holds ``model``, ``seed``, ``replications``, optional ``name``, ``description`` and
-    ``time_series``, and a ``[grid]`` table of parameter -> list of values.
+    The file (UTF-8, as TOML requires) holds ``model``, ``seed``, ``replications``, optional
+    ``name`` (default: the file's stem), ``description`` and ``time_series``, and a ``[grid]``
+    table of parameter -> list of values. Everything is checked here, before any folder is
+    made or any run starts; a ``"module:Class"`` model before its module is imported
+    (:mod:`analysis.sweep.targets`).
     """
     path = Path(path)
     if not path.is_file():
