@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from abm.errors import ConfigError
 from analysis.cli import main
@@ -423,3 +425,35 @@ def test_a_real_full_disk_and_read_only_folder_keep_finished_runs(tmp_path):
         assert steps[step]["rc"] == 2 and steps[step]["runs"] == resumed["runs"]
         (line,) = _errors(steps[step]["err"], verb)
         assert f"Read-only file system: {disk / 'o'}" in line and "read-only" in line
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, database=None)
+@given(periods=st.lists(st.sampled_from([6.0, 12.0, 24.0, 48.0]), min_size=1, max_size=3,
+                        unique=True),
+       reps=st.integers(1, 3), seed=st.integers(0, 2**40), pick=st.integers(0, 99),
+       change=st.sampled_from(["seed", "param", "run_id", "rep"]))  # fmt: skip
+def test_a_plan_accepts_exactly_its_own_rows(tmp_path_factory, periods, reps, seed, pick, change):
+    from analysis.sweep.integrity import CorruptResultError
+    from analysis.sweep.membership import PlanIndex
+
+    sweep = Sweep("beacon-explorer", {"launch_period": periods, "world": ["corridor", "open"]},
+                  reps, seed)  # fmt: skip
+    specs = plan(sweep)
+    index = PlanIndex(sweep.manifest())
+    spec = specs[pick % len(specs)]
+    row = {"run_id": spec.run_id, "rep": spec.rep, "seed": spec.seed, **spec.params}
+    path = tmp_path_factory.mktemp("row") / "row.parquet"
+    pd.DataFrame([row]).to_parquet(path, index=False)
+    read = pd.read_parquet(path).iloc[0].to_dict()  # numpy scalars, as a scan reads them
+    assert index.match(read, spec.run_id) == (spec.params, spec.rep)
+    rid = spec.run_id
+    if change == "seed":
+        read["seed"] += 1
+    elif change == "param":
+        read["launch_period"] = 96.0
+    elif change == "rep":
+        read["rep"] = reps
+    else:
+        rid = next((s.run_id for s in specs if s.run_id != rid), "0123456789abcdef")
+    with pytest.raises(CorruptResultError):
+        index.match(read, rid)
