@@ -10,7 +10,6 @@ from its swept parameters.
 """
 
 import datetime
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -25,7 +24,7 @@ from analysis import stats
 from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
-from analysis.sweep import load_results, swept_keys
+from analysis.sweep import load_results, read_manifest, swept_keys
 
 __all__ = ["layout_for", "write_report"]
 
@@ -98,10 +97,7 @@ class _Sweep:
 
 def _load(folder: str | Path) -> _Sweep:
     folder = Path(folder)
-    manifest_path = folder / "sweep.json"
-    if not manifest_path.is_file():
-        raise ABMError(f"{folder} is not a sweep folder (no sweep.json); run `abm sweep` first")
-    manifest = json.loads(manifest_path.read_text())
+    manifest = read_manifest(folder)  # one line for a missing, damaged or non-UTF-8 sweep.json
     name = manifest.get("name", folder.name)
     runs = load_results(folder).assign(sweep=name)
     samples = load_results(folder, samples=True)

@@ -43,14 +43,29 @@ def corridor_results(n: int = 4) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def write_sweep(folder, df: pd.DataFrame) -> None:
+def write_sweep(folder, df: pd.DataFrame, points: list[dict] | None = None) -> None:
+    """Fake runs written as the runs of a sweep: each row gets the run id, replication and seed
+    the plan gives its parameters (a report refuses run files that are not its sweep's). With
+    ``points``, the grid is the complexity and each row takes the first point it matches.
+    """
+    from analysis.sweep.seeding import run_id, spawned_seed
+
+    grid = {"complexity": ["low", "medium", "high"], "launch_period": [6.0, 12.0, 24.0]}
+    if points:
+        del grid["launch_period"]
     (folder / "runs").mkdir(parents=True)
-    for run_id, row in df.groupby("run_id"):
-        row.to_parquet(folder / "runs" / f"{run_id}.parquet", index=False)
+    reps: dict[str, int] = {}
+    for _, row in df.iterrows():
+        params = {k: next(v for v in values if v == row[k]) for k, values in grid.items()}
+        params |= next((p for p in points or [] if all(row[k] == v for k, v in p.items())), {})
+        key = json.dumps(params, sort_keys=True)
+        rep = reps[key] = reps.get(key, -1) + 1
+        rid = run_id(params, rep)
+        one = row.to_frame().T.assign(run_id=rid, rep=rep, seed=spawned_seed(1, params, rep)[0])
+        one.infer_objects().to_parquet(folder / "runs" / f"{rid}.parquet", index=False)
     manifest = {"name": "fake", "model": "beacon-explorer", "seed": 1, "replications": 4,
                 "target": "models.beacon_explorer.model:BeaconExplorerModel",
-                "grid": {"complexity": ["low", "medium", "high"],
-                         "launch_period": [6.0, 12.0, 24.0]}}  # fmt: skip
+                "grid": grid, "points": points or []}  # fmt: skip
     (folder / "sweep.json").write_text(json.dumps(manifest))
 
 
@@ -138,12 +153,10 @@ def test_a_points_only_key_is_a_condition_of_its_own_in_the_means(tmp_path):
     df["hover_beacons"] = np.where(df["launch_period"] == 6.0, True, None)
     df.loc[df["hover_beacons"].notna(), "energy_total"] = 1e9
     folder = tmp_path / "points"
-    write_sweep(folder, df)
-    manifest = json.loads((folder / "sweep.json").read_text())
-    manifest["points"] = [{"hover_beacons": True}]
-    (folder / "sweep.json").write_text(json.dumps(manifest))
+    write_sweep(folder, df, [{"hover_beacons": True, "launch_period": 6.0},
+                             {"launch_period": 12.0}, {"launch_period": 24.0}])  # fmt: skip
     text = write_report(folder).read_text()
-    assert "(hover_beacons=True)" in text  # the set-up line names the points
+    assert "(hover_beacons=True, launch_period=6.0)" in text  # the set-up line names the points
     assert "(default)" in text and "1e+09" in text  # their means are not mixed with the rest
 
 
@@ -156,10 +169,8 @@ def test_a_list_valued_points_key_is_a_condition_of_its_own(tmp_path):
     df["fault_states"] = [["beacon"] if flag else None for flag in on]
     df.loc[on, "energy_total"] = 1e9
     folder = tmp_path / "lists"
-    write_sweep(folder, df)
-    manifest = json.loads((folder / "sweep.json").read_text())
-    manifest["points"] = [{"fault_states": ["beacon"]}]
-    (folder / "sweep.json").write_text(json.dumps(manifest))
+    write_sweep(folder, df, [{"fault_states": ["beacon"], "launch_period": 6.0},
+                             {"launch_period": 12.0}, {"launch_period": 24.0}])  # fmt: skip
     text = write_report(folder).read_text()
     assert "[&#39;beacon&#39;]" in text or "['beacon']" in text
     assert "(default)" in text and "1e+09" in text
