@@ -21,6 +21,7 @@ __all__ = [
     "check_choice",
     "check_range",
     "check_seed",
+    "parse_seed",
 ]
 
 #: Largest seed accepted: seeds are stored as 64-bit signed integers (Parquet ``int64``
@@ -118,26 +119,38 @@ def check_seed(value: object, name: str = "seed", *, allow_none: bool = True) ->
     A seed is an integer in ``[0, 2**63 - 1]`` (or None, fresh entropy, where ``allow_none``):
     numpy's ``SeedSequence`` takes any non-negative integer, but a run's seed is stored beside
     its results as a 64-bit integer, so a larger one would fail only once the run is over.
-    Text (from a command line) is read as a decimal integer. This is the one check model
-    constructors and ``abm run`` use.
+    This is the one check model constructors and ``abm run`` (through :func:`parse_seed`) use.
 
     Raises:
         ConfigError: naming ``name``, the value and the accepted range.
 
     """
-    rule = f"{name} must be an integer in [0, 2**63 - 1]" + (" or None" if allow_none else "")
     if value is None and allow_none:
         return None
-    if isinstance(value, str):
-        try:
-            value = int(value.strip(), 10)
-        except ValueError:
-            raise ConfigError(f"{rule}, got {_shown(value)}") from None
-    if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise ConfigError(f"{rule}, got {_shown(value)}")
-    if not 0 <= value <= SEED_MAX:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | np.integer)
+        or not 0 <= value <= SEED_MAX
+    ):
+        rule = f"{name} must be an integer in [0, 2**63 - 1]" + (" or None" if allow_none else "")
         raise ConfigError(f"{rule}, got {_shown(value)}")
     return int(value)
+
+
+def parse_seed(text: str, name: str = "seed") -> int:
+    """A seed given as text (a command line's): a decimal integer that :func:`check_seed`
+    accepts.
+
+    Raises:
+        ConfigError: the text is not a decimal integer, or the integer is out of range.
+
+    """
+    try:
+        value = int(text.strip(), 10)
+    except ValueError:
+        rule = f"{name} must be an integer in [0, 2**63 - 1]"
+        raise ConfigError(f"{rule}, got {_shown(text)}") from None
+    return check_seed(value, name, allow_none=False)
 
 
 def _shown(value: object) -> str:

@@ -242,18 +242,18 @@ def load_run(out_dir: str | Path) -> SavedRun:
                 f"run folder {str(folder)!r} was saved by an older version (no state styles); "
                 f"re-run it with `abm run MODEL --out {folder}`"
             )
-        with np.load(folder / "arena.npz", allow_pickle=False) as data:
+        with _opened(folder / "arena.npz", "rb") as file, np.load(file, allow_pickle=False) as data:
             arena = Arena(
                 data["free"].astype(bool), float(data["resolution"]), name=str(data["name"])
             )
             first = data["first_covered"] if "first_covered" in data.files else None
-        summary = pd.read_parquet(folder / "summary.parquet").iloc[0].to_dict()
+        summary = _parquet(folder / "summary.parquet").iloc[0].to_dict()
         return SavedRun(
             folder=folder,
             arena=arena,
-            events=pd.read_parquet(folder / "events.parquet"),
-            positions=pd.read_parquet(folder / "positions.parquet"),
-            state_counts=pd.read_parquet(folder / "state_counts.parquet"),
+            events=_parquet(folder / "events.parquet"),
+            positions=_parquet(folder / "positions.parquet"),
+            state_counts=_parquet(folder / "state_counts.parquet"),
             summary=summary,
             meta=meta,
             first_covered=first,
@@ -264,6 +264,12 @@ def load_run(out_dir: str | Path) -> SavedRun:
             f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'}); "
             f"re-run it with `abm run MODEL --out {folder}`"
         ) from exc
+
+
+def _parquet(path: Path) -> pd.DataFrame:
+    """A Parquet file read through Python's ``open`` (any name the file system takes)."""
+    with _opened(path, "rb") as file:
+        return pd.read_parquet(file)
 
 
 def runs_in(folder: str | Path) -> list[Path]:

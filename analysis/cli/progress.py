@@ -47,7 +47,7 @@ class RunProgress:
             total=limit if math.isfinite(limit) else None,
             delay=delay,
             file=file if file is not None else sys.stderr,
-            bar_format="{percentage:3.0f}%|{bar:16}| {postfix} [{elapsed}<{remaining}]",
+            bar_format="{percentage:3.0f}%|{bar:16}| {desc} [{elapsed}<{remaining}]",
             mininterval=_REDRAW,
         )
         self._start = time.monotonic()
@@ -93,7 +93,7 @@ class RunProgress:
     def _draw(self, wall: float) -> None:
         self._last = wall
         self._bar.n = min(float(self.model.env.now), self._bar.total or math.inf)
-        self._bar.set_postfix_str(self.line(), refresh=False)
+        self._bar.set_description_str(self.line(), refresh=False)
         if wall - self._start >= self._bar.delay:
             self._bar.refresh()
             self.redraws += 1

@@ -113,10 +113,10 @@ def main(args: argparse.Namespace) -> int:
 
 def _seed(text: str) -> int:
     """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
-    from abm.errors import ConfigError, check_seed
+    from abm.errors import ConfigError, parse_seed
 
     try:
-        return check_seed(text, allow_none=False)
+        return parse_seed(text)
     except ConfigError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
