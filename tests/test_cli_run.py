@@ -128,20 +128,22 @@ def test_out_refuses_a_folder_of_other_files_a_file_and_a_path_through_a_file(he
 
 
 def test_out_in_a_place_that_cannot_be_written_is_one_line_before_the_run(here, capsys):
-    Path("ro").mkdir()
     real_mkdtemp = tempfile.mkdtemp
 
     def read_only(*args, dir=None, **kwargs):  # noqa: A002 - tempfile's own keyword
-        if dir is not None and Path(dir).resolve() == (here / "ro").resolve():
+        if dir is not None and "ro" in Path(dir).parts:
             raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(dir))
         return real_mkdtemp(*args, dir=dir, **kwargs)
 
-    # root may write anywhere, so the read-only file system is simulated where the check probes
+    # root may write anywhere, so a read-only file system is simulated where the check writes
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(tempfile, "mkdtemp", read_only)
-        rc, out, err = _run([*TINY, "--out", "ro/run"], capsys)
+        rc, out, err = _run([*TINY, "--out", "ro"], capsys)
     line = _one_line_error(rc, err)
-    assert "Read-only file system: ro" in line and "--out" in line
+    assert "Read-only file system: ro; the folder is read-only: choose a writable place" in line
+    assert out == "" and not Path("ro").exists()  # nothing ran; the folder made is gone
+    rc, out, err = _run([*TINY, "--out", "x" * 300], capsys)
+    assert "File name too long: " + "x" * 300 in _one_line_error(rc, err)
     assert out == ""
 
 

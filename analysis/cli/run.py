@@ -86,22 +86,25 @@ def main(args: argparse.Namespace) -> int:
     # default (fast sweeps) is not to.
     params.setdefault("trace_interval", cls.Params().trace_interval or 1.0)
     planned = cls.make_params(**params)  # every parameter checked before the run
-    started = datetime.now()
     if options.out is not None:
         check_run_target(options.out)
         _check_same_run(options.out, cls, options.seed, planned)
-        _check_writable(options.out)
+        out, made = _prepare(options.out)
     else:
-        _check_writable(RUNS)
-    model = cls(seed=options.seed, **params)
-    with RunProgress(model) if options.progress else nullcontext():
-        model.run()
-    summary = model.summary()
-    print(f"{name}, seed {options.seed}:")
-    print(format_summary(summary))
-    again = shlex.join(["abm", "run", name, *args.options])
-    out = options.out if options.out is not None else _default_folder(name, options.seed, started)
-    written = save_or_rescue(model, out, again)
+        out, made = _prepare(None, name, options.seed)
+    try:
+        model = cls(seed=options.seed, **params)
+        with RunProgress(model) if options.progress else nullcontext():
+            model.run()
+        summary = model.summary()
+        print(f"{name}, seed {options.seed}:")
+        print(format_summary(summary))
+        again = shlex.join(["abm", "run", name, *args.options])
+        written = save_or_rescue(model, out, again)
+    except BaseException:
+        if made and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()  # the folder made for this run stays only with the run in it
+        raise
     print()
     for path in written:
         print(f"wrote {path}")
@@ -109,6 +112,35 @@ def main(args: argparse.Namespace) -> int:
     print(f"wrote {png}")
     print(f"next: abm render {out}")
     return 0
+
+
+def _prepare(out: Path | None, name: str = "", seed: int = 0) -> tuple[Path, bool]:
+    """Make the run's folder before the run (``out``, or a new one under :data:`RUNS`) and
+    check that files can be written in it; return it and whether it was made here.
+
+    Any place that cannot take the run (read-only, no permission, a name too long, a full
+    disk) is refused now rather than after the run.
+
+    Raises:
+        OutputError: naming the folder, the reason and what to do.
+
+    """
+    from abm.errors import OutputError
+
+    try:
+        if out is None:
+            out, made = new_run_folder(name, seed, datetime.now()), True
+        else:
+            made = not out.exists()
+            out.mkdir(parents=True, exist_ok=True)
+        Path(tempfile.mkdtemp(prefix=".abm-check-", dir=out)).rmdir()
+    except OSError as exc:
+        if out is not None and made and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()
+        if isinstance(exc, OutputError):
+            raise
+        raise OutputError(exc.errno, exc.strerror or str(exc), exc.filename or str(out)) from exc
+    return out, made
 
 
 def _seed(text: str) -> int:
@@ -144,16 +176,6 @@ def _stem(name: str, seed: int, started: datetime) -> str:
     return f"{re.sub(r'[^A-Za-z0-9_.-]+', '_', name)}-{started:%Y%m%d-%H%M%S}-{seed}"
 
 
-def _default_folder(name: str, seed: int, started: datetime) -> Path:
-    """The new folder of this run under :data:`RUNS` (a Path that cannot be made is returned
-    as is, for :func:`save_or_rescue` to report and rescue).
-    """
-    try:
-        return new_run_folder(name, seed, started)
-    except OSError:
-        return RUNS / _stem(name, seed, started)
-
-
 def _check_same_run(out: Path, cls: type, seed: int, params) -> None:
     """Refuse an ``--out`` folder that holds anything but this same run (model, seed and
     parameters): two runs in one folder would mix their files and renders.
@@ -187,19 +209,6 @@ def _check_same_run(out: Path, cls: type, seed: int, params) -> None:
         )
 
 
-def _check_writable(out: Path) -> None:
-    """Raise OutputError unless a folder can be made where ``out`` goes (tried in its nearest
-    existing folder, with a temporary folder removed at once): before the run, not after.
-    """
-    from abm.errors import OutputError
-
-    place = next((p for p in (out, *out.parents) if p.exists()), Path("."))
-    try:
-        Path(tempfile.mkdtemp(prefix=".abm-check-", dir=place)).rmdir()
-    except OSError as exc:
-        raise OutputError(exc.errno, exc.strerror or str(exc), str(place)) from exc
-
-
 def save_or_rescue(model, out: Path, again: str) -> list:
     """Save the finished run to ``out``; if that fails, save it to a new folder in the system's
     temporary folder instead and say both, so the finished simulation is not lost.
@@ -222,8 +231,6 @@ def save_or_rescue(model, out: Path, again: str) -> list:
     except OSError as exc:
         failed = one_line(exc)
         first = exc
-    if out.is_dir() and not any(out.iterdir()):
-        out.rmdir()
     try:
         rescue = Path(tempfile.mkdtemp(prefix="abm-rescued-")) / out.name
         save_run(model, rescue)
