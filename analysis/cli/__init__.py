@@ -95,12 +95,22 @@ _OS_ADVICE = {
 
 
 def one_line(exc: BaseException) -> str:
-    """The error as one line; an OSError names its file and what to do about it."""
+    """The error as one line; an OSError names its file and what to do about it.
+
+    Line breaks in the message become spaces, and any other character that is not printable
+    (a control character or an undecodable byte in a file name) is written as an escape, so
+    the line stays one line whatever names it quotes.
+    """
     if isinstance(exc, OSError) and exc.strerror:
         where = f" {exc.filename}" if exc.filename else ""
         advice = _OS_ADVICE.get(exc.errno)
-        return f"{exc.strerror}:{where}" + (f"; {advice}" if advice else "")
-    return " ".join(str(exc).split("\n")).strip() if str(exc) else type(exc).__name__
+        text = f"{exc.strerror}:{where}" + (f"; {advice}" if advice else "")
+    else:
+        text = " ".join(str(exc).split("\n")).strip() or type(exc).__name__
+    return "".join(
+        c if c.isprintable() else c.encode("unicode_escape", "backslashreplace").decode("ascii")
+        for c in text
+    )
 
 
 def _never_fail_on_encoding(stream) -> None:
