@@ -48,11 +48,10 @@ class RunProgress:
             delay=delay,
             file=file if file is not None else sys.stderr,
             bar_format="{percentage:3.0f}%|{bar:16}| {desc} [{elapsed}<{remaining}]",
-            mininterval=_REDRAW,
+            mininterval=0.0,  # _watch already redraws at most every _REDRAW seconds
         )
         self._start = time.monotonic()
         self._last = self._start
-        self.redraws = 0
         model.env.process(self._watch(float(model.step_duration)))
 
     def __enter__(self) -> "RunProgress":
@@ -92,8 +91,6 @@ class RunProgress:
 
     def _draw(self, wall: float) -> None:
         self._last = wall
-        self._bar.n = min(float(self.model.env.now), self._bar.total or math.inf)
+        now = min(float(self.model.env.now), self._bar.total or math.inf)
         self._bar.set_description_str(self.line(), refresh=False)
-        if wall - self._start >= self._bar.delay:
-            self._bar.refresh()
-            self.redraws += 1
+        self._bar.update(now - self._bar.n)  # tqdm draws it once ``delay`` has passed
