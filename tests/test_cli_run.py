@@ -221,6 +221,14 @@ def test_a_failure_while_replacing_a_run_keeps_the_run_that_was_there(tmp_path, 
 
 
 # ----------------------------------------------------------------- encodings
+def test_a_folder_name_in_no_encoding_is_saved_and_rendered(here, capsys):
+    name = os.fsdecode(b"run-\xff")  # not UTF-8: the file system takes it, pyarrow would not
+    rc, out, _ = _run([*TINY, "--out", name], capsys)
+    assert rc == 0 and load_run(Path(name)).meta["seed"] == 1
+    assert main(["render", name, "--no-gif", "--snapshots", "1"]) == 0
+
+
+@pytest.mark.slow
 def test_a_non_utf8_folder_name_and_an_ascii_terminal(tmp_path, tiny_package):
     name = os.fsdecode(b"run-\xff-\xc3\xa9")  # an undecodable byte, then an e-acute
     command = [sys.executable, "-c", "import sys; from analysis.cli import main; sys.exit(main())"]
