@@ -94,8 +94,8 @@ _OS_ADVICE = {
 }
 
 
-def one_line(exc: BaseException) -> str:
-    """The error as one line; an OSError names its file and what to do about it.
+def one_line(exc: BaseException, advice: bool = True) -> str:
+    """The error as one line; an OSError names its file and (with ``advice``) what to do.
 
     Line breaks in the message become spaces, and any other character that is not printable
     (a control character or an undecodable byte in a file name) is written as an escape, so
@@ -103,8 +103,8 @@ def one_line(exc: BaseException) -> str:
     """
     if isinstance(exc, OSError) and exc.strerror:
         where = f" {exc.filename}" if exc.filename else ""
-        advice = _OS_ADVICE.get(exc.errno)
-        text = f"{exc.strerror}:{where}" + (f"; {advice}" if advice else "")
+        todo = _OS_ADVICE.get(exc.errno) if advice else None
+        text = f"{exc.strerror}:{where}" + (f"; {todo}" if todo else "")
     else:
         text = " ".join(str(exc).split("\n")).strip() or type(exc).__name__
     return "".join(

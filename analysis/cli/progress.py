@@ -65,6 +65,11 @@ class RunProgress:
         self._draw(time.monotonic())
         self._bar.close()
 
+    @property
+    def shown(self) -> bool:
+        """Whether the run lasted long enough for the line to appear."""
+        return time.monotonic() - self._start >= self._bar.delay
+
     def line(self) -> str:
         """The text after the bar: simulated time, robots per state, events, speed."""
         model = self.model

@@ -10,6 +10,7 @@ finished run is never lost to a failure while saving (see :func:`save_or_rescue`
 import argparse
 import re
 import shlex
+import sys
 import tempfile
 from contextlib import nullcontext
 from datetime import datetime
@@ -94,11 +95,14 @@ def main(args: argparse.Namespace) -> int:
         out, made = _prepare(None, name, options.seed)
     try:
         model = cls(seed=options.seed, **params)
-        with RunProgress(model) if options.progress else nullcontext():
+        progress = RunProgress(model) if options.progress else None
+        with progress or nullcontext():
             model.run()
         summary = model.summary()
         print(f"{name}, seed {options.seed}:")
-        print(format_summary(summary))
+        print(format_summary(summary), flush=True)
+        if progress is not None and progress.shown:  # a long run: its files take a while too
+            print(f"saving the run in {out} ...", file=sys.stderr)
         again = shlex.join(["abm", "run", name, *args.options])
         written = save_or_rescue(model, out, again)
     except BaseException:
@@ -214,7 +218,7 @@ def save_or_rescue(model, out: Path, again: str) -> list:
     temporary folder instead and say both, so the finished simulation is not lost.
 
     The data written to ``out`` is removed on failure (no half-written run folder, its space
-    given back), and an empty folder made for the run is removed too.
+    given back; see :func:`analysis.runio.save_run`).
 
     Raises:
         OutputError: always when ``out`` failed: naming the file that could not be written,
@@ -229,19 +233,20 @@ def save_or_rescue(model, out: Path, again: str) -> list:
     try:
         return save_run(model, out)
     except OSError as exc:
-        failed = one_line(exc)
+        failed = one_line(exc, advice=False)
         first = exc
     try:
         rescue = Path(tempfile.mkdtemp(prefix="abm-rescued-")) / out.name
         save_run(model, rescue)
     except OSError as exc:
+        also = one_line(exc, advice=False)
         raise OutputError(
-            f"{failed}; saving it to the temporary folder failed too ({one_line(exc)}): the run "
-            f"is not saved; its summary is above, and `{again}` repeats it event for event"
+            f"{failed}; saving it to the temporary folder failed too ({also}): the run is not "
+            f"saved; its summary is above, and `{again}` repeats it event for event"
         ) from first
     raise OutputError(
-        f"{failed}; the finished run was saved to {rescue} instead: "
-        f"`mv {rescue} {out}` once there is room (or `abm render {rescue}`)"
+        f"{failed}; the finished run was saved to {rescue} instead: `mv {rescue} {out}` "
+        f"once the problem is fixed (`abm render {rescue}` draws it where it is)"
     ) from first
 
 
