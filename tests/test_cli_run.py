@@ -73,6 +73,20 @@ def test_a_model_refuses_a_bad_seed_before_any_work():
     assert type(model.seed) is int  # stored in run.json as it is
 
 
+def test_mesa_batch_run_meets_the_same_seed_rule(tiny_package):
+    import mesa
+    from tiny_model import TinyModel
+
+    def batch(seed: int) -> list[dict]:
+        return mesa.batch_run(
+            TinyModel, {"time_limit": 2.0}, rng=[seed], max_steps=3, display_progress=False
+        )
+
+    with pytest.raises(ConfigError, match=r"seed must be an integer in \[0, 2\*\*63 - 1\]"):
+        batch(-1)
+    assert batch(2**63 - 1)[0]["seed"] == 2**63 - 1
+
+
 def test_the_largest_seed_runs_and_is_saved(here, capsys):
     rc, out, _ = _run([*TINY, "--seed", str(2**63 - 1)], capsys)
     assert rc == 0
