@@ -18,8 +18,9 @@ Everything a picture needs is in the folder: drawing a run imports no model code
 
 import json
 import os
+import secrets
 import shutil
-import tempfile
+import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -125,9 +126,11 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
     """
     out = Path(out_dir)
     check_run_target(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+    # a name of its own beside the run folder (same file system: the move is a rename), made
+    # as any folder is, so the run folder gets the usual permissions
+    staging = out.parent / f".{out.name}.partial-{os.getpid()}-{secrets.token_hex(4)}"
     try:
+        staging.mkdir(parents=True)
         _write_run(model, staging)
         if out.is_dir():
             for name in RUN_FILES:  # run.json last: a run folder is complete once it has one
@@ -137,10 +140,12 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
             staging.rename(out)
     except OSError as exc:
         shutil.rmtree(staging, ignore_errors=True)
-        if isinstance(exc, OutputError):
-            raise
-        where = out / Path(exc.filename).name if exc.filename else out
-        raise OutputError(exc.errno, exc.strerror or str(exc), str(where)) from exc
+        where = exc.filename
+        if where is not None and staging in (Path(where), Path(where).parent):
+            where = (
+                out / Path(where).name if Path(where) != staging else out
+            )  # as the user knows it
+        raise OutputError(exc.errno, exc.strerror or str(exc), str(where or out)) from exc
     return [out / name for name in RUN_FILES]
 
 
@@ -237,7 +242,9 @@ def load_run(out_dir: str | Path) -> SavedRun:
     _check_run_folder(folder)
     try:
         meta = json.loads((folder / "run.json").read_text(encoding="utf-8"))
-        if not isinstance(meta, dict) or "styles" not in meta:
+        if not isinstance(meta, dict):
+            raise ValueError("run.json holds no JSON object")
+        if "styles" not in meta:
             raise RunFolderError(
                 f"run folder {str(folder)!r} was saved by an older version (no state styles); "
                 f"re-run it with `abm run MODEL --out {folder}`"
@@ -258,7 +265,7 @@ def load_run(out_dir: str | Path) -> SavedRun:
             meta=meta,
             first_covered=first,
         )
-    except (ValueError, KeyError, IndexError, EOFError) as exc:  # undecodable or cut short
+    except (ValueError, KeyError, IndexError, EOFError, zipfile.BadZipFile) as exc:  # cut short
         raise RunFolderError(
             f"run folder {str(folder)!r} is damaged ({type(exc).__name__}: "
             f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'}); "

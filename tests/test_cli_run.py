@@ -265,6 +265,29 @@ def test_render_of_a_run_json_in_another_encoding_is_one_line(here, capsys):
     assert "run folder 'r' is damaged (UnicodeDecodeError" in line
 
 
+@pytest.mark.parametrize(
+    ("name", "damage"),
+    [("arena.npz", b"PK\x03\x04cut"), ("events.parquet", b"PAR1cut"), ("run.json", b"[]")],
+)
+def test_render_of_a_damaged_run_folder_is_one_line(here, capsys, name, damage):
+    assert main([*TINY, "--out", "r"]) == 0
+    Path("r", name).write_bytes(damage)
+    capsys.readouterr()
+    rc, _, err = _run(["render", "r"], capsys)
+    line = _one_line_error(rc, err, "render")
+    assert line.startswith("abm render: error: run folder 'r' is damaged (")
+    assert "re-run it with `abm run MODEL --out r`" in line
+
+
+def test_saved_files_get_the_usual_permissions(tmp_path, tiny_package):
+    from tiny_model import TinyModel
+
+    plain = tmp_path / "plain"
+    plain.mkdir()
+    save_run(TinyModel(seed=1, time_limit=2.0).run(), tmp_path / "run")
+    assert (tmp_path / "run").stat().st_mode == plain.stat().st_mode
+
+
 # ----------------------------------------------------------------- render's one-liners
 def test_render_says_what_it_got_and_what_it_takes(here, capsys):
     Path("afile").write_text("x")
@@ -283,6 +306,8 @@ def test_render_says_what_it_got_and_what_it_takes(here, capsys):
     rc, _, err = _run(["render", "out/runs"], capsys)
     line = _one_line_error(rc, err, "render")
     assert "'out/runs' holds 1 run folder(s), not one run; name one" in line
+    rc, _, err = _run(["render", "--out", "afile"], capsys)
+    assert "--out 'afile' is a file; give a folder" in _one_line_error(rc, err, "render")
     rc, _, err = _run(["render", "--frames", "many"], capsys)
     assert "argument --frames: invalid int value: 'many'" in _one_line_error(rc, err, "render")
 
