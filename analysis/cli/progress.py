@@ -52,6 +52,7 @@ class RunProgress:
         )
         self._start = time.monotonic()
         self._last = self._start
+        self._ran = 0.0
         model.env.process(self._watch(float(model.step_duration)))
 
     def __enter__(self) -> "RunProgress":
@@ -62,13 +63,15 @@ class RunProgress:
 
     def close(self) -> None:
         """Draw the final state (if the line is shown) and end the line."""
-        self._draw(time.monotonic())
+        wall = time.monotonic()
+        self._draw(wall)
         self._bar.close()
+        self._ran = wall - self._start
 
     @property
     def shown(self) -> bool:
-        """Whether the run lasted long enough for the line to appear."""
-        return time.monotonic() - self._start >= self._bar.delay
+        """Whether the run (until :meth:`close`) lasted long enough for the line to appear."""
+        return self._ran >= self._bar.delay
 
     def line(self) -> str:
         """The text after the bar: simulated time, robots per state, events, speed."""
