@@ -25,7 +25,7 @@ from abm.clock import Clock, call_later
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
-from abm.errors import ConfigError
+from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
 from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
@@ -127,8 +127,7 @@ class SwarmModel(mesa.Model):
         torus: bool = False,
         failures: bool = False,
     ) -> None:
-        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
-            raise ConfigError(f"seed must be an integer or None, got {seed!r}")
+        seed = check_seed(seed)
         if not isinstance(params, self.Params):
             raise ConfigError(
                 f"params must be a {self.Params.__name__}, got {type(params).__name__}"
