@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from abm.errors import ConfigError
+from abm.errors import ConfigError, check_seed
 from abm.params import check_value, param_fields
 from abm.registry import model_class, name_of, target_of
 from analysis.sweep.targets import check_target
@@ -89,7 +89,7 @@ class Sweep:
         cls = model_class(self.model)
         object.__setattr__(self, "model_cls", cls)
         check_int("replications", self.replications, 1)
-        check_int("seed", self.seed, 0)
+        check_seed(self.seed, allow_none=False)
         if not isinstance(self.time_series, bool):
             raise ConfigError(f"time_series must be true or false, got {self.time_series!r}")
         points = check_points(cls, self.points, self.grid)
