@@ -52,6 +52,23 @@ def _next(out: str) -> Path:
     return Path(line.removeprefix("next: abm render "))
 
 
+# ----------------------------------------------------------------- model targets
+def test_a_module_class_target_is_checked_before_its_module_runs(tmp_path, monkeypatch, capsys):
+    """``abm run module:Class`` reads the module's source first: a module that does not define
+    the class is never imported (importing runs its code; ``this:X`` prints the Zen of Python).
+    """
+    marker = tmp_path / "imported"
+    (tmp_path / "side_effect_module.py").write_text(
+        f"from pathlib import Path\nPath({str(marker)!r}).write_text('ran')\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = _run(["run", "side_effect_module:Model"], capsys)
+    line = _one_line_error(rc, err)
+    assert "has no class 'Model' at its top level, so it was not imported" in line
+    assert not marker.exists() and out == ""
+
+
 # ----------------------------------------------------------------- seeds
 @pytest.mark.parametrize(
     "seed", ["-1", "9223372036854775808", "99999999999999999999999999999999999", "1.5", "x"]

@@ -8,7 +8,6 @@ raises becomes a recorded failure. The modules, by job:
 
 - :mod:`~analysis.sweep.spec`: the :class:`Sweep`, grid validation, sweep files (TOML);
 - :mod:`~analysis.sweep.seeding`: run identities and per-run seeds (``SeedSequence``);
-- :mod:`~analysis.sweep.targets`: a ``"module:Class"`` model checked before it is imported;
 - :mod:`~analysis.sweep.storage`: the dataset folder (Parquet);
 - :mod:`~analysis.sweep.integrity` and :mod:`~analysis.sweep.membership`: every file in it
   verified, and a run of it only if it is a run of its plan;

@@ -20,7 +20,6 @@ import numpy as np
 from abm.errors import ConfigError, check_seed
 from abm.params import check_value, param_fields
 from abm.registry import model_class, name_of, target_of
-from analysis.sweep.targets import check_target
 
 __all__ = [
     "MAX_RUNS",
@@ -84,9 +83,7 @@ class Sweep:
 
     def __post_init__(self) -> None:
         check_name(self.name)
-        if isinstance(self.model, str):
-            check_target(self.model)
-        cls = model_class(self.model)
+        cls = model_class(self.model)  # a "module:Class" is checked before it is imported
         object.__setattr__(self, "model_cls", cls)
         check_int("replications", self.replications, 1)
         check_seed(self.seed, allow_none=False)

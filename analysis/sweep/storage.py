@@ -28,6 +28,7 @@ from pathlib import Path
 import pandas as pd
 
 from abm.errors import ABMError, ConfigError
+from abm.targets import check_target
 from analysis.sweep.integrity import (
     RESULT_FOLDERS,
     CorruptResultError,
@@ -37,7 +38,6 @@ from analysis.sweep.integrity import (
 )
 from analysis.sweep.membership import PlanIndex
 from analysis.sweep.spec import Sweep
-from analysis.sweep.targets import check_target
 
 __all__ = [
     "SweepError",

@@ -1,8 +1,9 @@
 """Checking a ``"module:Class"`` model target before anything is imported.
 
-A sweep file's ``model`` may be ``"module:Class"`` instead of a registered name. Importing a
-module runs its code, so a typo or a hostile file (``model = "this:X"`` prints the Zen of
-Python; ``"antigravity:X"`` opens a browser) must be refused before the import. The rule:
+A model may be named ``"module:Class"`` instead of by its registered name (``abm run``, a
+sweep file, a sweep folder's ``sweep.json``). Importing a module runs its code, so a typo or a
+hostile file (``model = "this:X"`` prints the Zen of Python; ``"antigravity:X"`` opens a
+browser) must be refused before the import. The rule:
 
 * a registered model name is trusted (the user installed it);
 * a module already imported has already run: only the class is checked (after import);
@@ -34,7 +35,7 @@ def check_target(model: str) -> None:
     """Raise ConfigError unless ``model`` (a name or ``"module:Class"``) is safe to import.
 
     Args:
-        model: the ``model`` value of a sweep.
+        model: a model as a user gave it (a registered name or ``"module:Class"``).
 
     """
     if ":" not in model or model in model_names():
