@@ -87,10 +87,13 @@ def level(
     common = {"rule": rule, "mean": mean, "low": low, "high": high, "runs": runs}
     if not np.isfinite(low) or not np.isfinite(high):
         return Verdict(shown, None, "fewer than two runs: no interval", **common)
-    bottom, top = (value, value) if spread is None else (value - spread, value + spread)
     off = f"ours differs from the paper's {value:g} by {mean - value:+.3g}"
+    if spread is None:
+        inside = low <= value <= high
+        return Verdict(shown, inside, "" if inside else off, **common)
+    bottom, top = value - spread, value + spread
     if bottom <= low and high <= top:
-        return Verdict(shown, True, "" if spread is None else off, **common)
+        return Verdict(shown, True, off, **common)
     if high < bottom or low > top:
         return Verdict(shown, False, off, **common)
     return Verdict(shown, None, f"our interval crosses the band's edge; {off}", **common)

@@ -12,6 +12,7 @@ are written as ``comparison.csv`` beside the report (:func:`comparison_csv`).
 
 import dataclasses
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -144,12 +145,19 @@ def _values(runs: pd.DataFrame, metric: str) -> tuple[np.ndarray, bool]:
     return column.astype(float).to_numpy(), share
 
 
-def _mean_text(values: np.ndarray, share: bool) -> str:
+def _described(values: np.ndarray, share: bool) -> Verdict:
+    """Our mean and its 95 % interval as a Verdict without a decision (a row that is shown,
+    not judged), so that the CSV carries the numbers too.
+    """
     scale = 100.0 if share else 1.0
     mean, low, high = (scale * v for v in verdicts.interval(values, share=share))
-    if not np.isfinite(low):
-        return f"{mean:.4g} (1 run)"
-    return f"{mean:.4g} (95 % interval {low:.4g} to {high:.4g})"
+    n = int(np.sum(~np.isnan(values)))
+    text = (
+        f"{mean:.4g} (1 run)"
+        if not np.isfinite(low)
+        else (f"{mean:.4g} (95 % interval {low:.4g} to {high:.4g})")
+    )
+    return Verdict(text, None, mean=mean, low=low, high=high, runs=n)
 
 
 def _published_text(item: Published) -> str:
@@ -264,19 +272,21 @@ def _judge(item: Published, runs: pd.DataFrame, before: pd.DataFrame | None, spe
     if item.measure == "mean" and item.kind == "level":
         values, share = _values(runs, item.metric)
         if item.check == "shown":
-            return _row(item, "shown only", item.note, _mean_text(values, share), n,
-                        censored=share_of_censored)  # fmt: skip
+            described = _described(values, share)
+            return _row(item, "shown only", item.note, described.ours, n, described,
+                        share_of_censored)  # fmt: skip
         judged = verdicts.band(values, item.value, item.spread, share, 100.0 if share else 1.0)
         return _verdict_row(item, judged, judged.ours, n, share_of_censored)
     if item.measure == "mean":  # an ordering against the previous condition
         values, share = _values(runs, item.metric)
+        described = _described(values, share)
         if before is None:
             return _row(item, "(reference)", "the first of this ordering in these runs",
-                        _mean_text(values, share), n, censored=share_of_censored)  # fmt: skip
+                        described.ours, n, described, share_of_censored)  # fmt: skip
         first, _ = _values(before, item.metric)
         judged = verdicts.difference(first, values, _CHECK_SIGN[item.check],
                                      100.0 if share else 1.0)  # fmt: skip
-        ours = f"{_mean_text(values, share)}; vs the previous: {judged.ours}"
+        ours = f"{described.ours}; vs the previous: {judged.ours}"
         return _verdict_row(item, judged, ours, n, share_of_censored)
     if item.measure in ("change", "pair", "ratio"):
         (a, share), (b, _) = _values(groups[0], item.metric), _values(groups[1], item.metric)
@@ -292,6 +302,14 @@ def _judge(item: Published, runs: pd.DataFrame, before: pd.DataFrame | None, spe
             shown = f"{m1 / m0:.2f}"
         else:
             shown = f"{100.0 * (m1 - m0) / m0:+.1f}"
+        if item.measure == "change" and m0 > 0:  # the interval in % of the baseline mean
+            judged = replace(
+                judged,
+                rule=judged.rule + "; shown in % of the baseline mean",
+                mean=100.0 * judged.mean / m0 if judged.mean is not None else None,
+                low=100.0 * judged.low / m0 if judged.low is not None else None,
+                high=100.0 * judged.high / m0 if judged.high is not None else None,
+            )
         return _verdict_row(item, judged, f"{shown}; difference {judged.ours}", n,
                             share_of_censored)  # fmt: skip
     if item.measure == "convex":
@@ -379,21 +397,22 @@ def judge_claims(
             shown, why = CENSORED, verdict.why
         else:
             shown, why = VERDICTS[verdict.holds], verdict.why
+        setup = claim.setup
+        if claim.condition:
+            fixed = ", ".join(f"{_name(k)} {_shown(v)}" for k, v in claim.condition.items())
+            setup += f" (the paper's settings: {fixed})"
         rows.append(
             {
                 "id": claim.id,
                 "source": claim.source,
                 "claim": claim.statement,
                 "type": claim.kind,
-                "set-up": claim.setup,
+                "set-up": setup,
                 "ours": verdict.ours if verdict is not None else "",
                 "rule": verdict.rule if verdict is not None else "",
                 "runs": "" if verdict is None or verdict.runs is None else verdict.runs,
                 "verdict": shown,
                 "why": why,
-                "_condition": ", ".join(
-                    f"{_name(k)} {_shown(v)}" for k, v in claim.condition.items()
-                ),  # fmt: skip
                 "_mean": None if verdict is None else verdict.mean,
                 "_low": None if verdict is None else verdict.low,
                 "_high": None if verdict is None else verdict.high,
@@ -429,7 +448,7 @@ def comparison_csv(published: pd.DataFrame | None, claims: list[dict] | None) ->
         rows.append(
             {
                 "claim or metric": f"{row['id']}: {row['claim']}",
-                "condition": row["_condition"] or row["set-up"],
+                "condition": row["set-up"],
                 "paper value": None,
                 "paper spread": None,
                 "ours mean": row["_mean"],

@@ -7,10 +7,13 @@ distance per scout and per worker against the total number of robots N, one line
 from abm.published import Censored, Claim, ReportLayout
 from models.hierarchy.claims import TESTS
 
-__all__ = ["CENSORED", "CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT"]
+__all__ = ["CENSORED", "CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT", "ROOM"]
 
 #: The report publishes no numeric result value (spec §4.3), so there is nothing to list here.
 PUBLISHED: list = []
+
+#: The report's room: the empty 20 m x 20 m map every claim about the scaling was made on.
+ROOM = {"world_size": 20.0, "boxes": 0}
 
 _GRID = "the 42 configurations W = 2-7 x S = 2-8 on the empty 20 m room (hierarchy_scaling)"
 
@@ -136,10 +139,11 @@ _UNTESTABLE = [
 ]
 
 CLAIMS = sorted([
-    *(Claim(i, src, text, kind, setup, test=TESTS[i]) for i, src, text, kind, setup in _CLAIMS),
+    *(Claim(i, src, text, kind, setup, test=TESTS[i], condition={} if i == "C14" else ROOM)
+      for i, src, text, kind, setup in _CLAIMS),
     *(Claim(i, src, text, kind, setup, untestable=why)
       for i, src, text, kind, setup, why in _UNTESTABLE),
-    *(Claim(i, src, text, kind, setup, by_construction=why)
+    *(Claim(i, src, text, kind, setup, condition=ROOM, by_construction=why)
       for i, src, text, kind, setup, why in _BY_CONSTRUCTION),
 ], key=lambda claim: int(claim.id[1:]))  # fmt: skip
 
