@@ -89,7 +89,7 @@ def level(
         return Verdict(shown, None, "fewer than two runs: no interval", **common)
     off = f"ours differs from the paper's {value:g} by {mean - value:+.3g}"
     if spread is None:
-        inside = low <= value <= high
+        inside = bool(low <= value <= high)
         return Verdict(shown, inside, "" if inside else off, **common)
     bottom, top = value - spread, value + spread
     if bottom <= low and high <= top:
@@ -140,9 +140,17 @@ def pooled_share(
     return level(100 * share, 100 * low, 100 * high, n, value, spread, ours=ours)
 
 
+#: The reason of a direction's verdict.
+_WHY = {
+    True: "",
+    False: "the interval excludes 0 on the other side",
+    None: "the interval includes 0",
+}
+
+
 def _sided(low: float, high: float, sign: int) -> bool | None:
     """True when [low, high] excludes 0 on ``sign``'s side, False on the other, else None."""
-    if sign * low > 0 and sign * high > 0:
+    if sign * low > 0 and sign * high > 0:  # Python bools: a verdict is True, False or None
         return True
     if sign * low < 0 and sign * high < 0:
         return False
@@ -176,7 +184,7 @@ def difference(
         p = float(2 * sps.t.sf(abs(diff) / se, df))
     holds = _sided(low, high, sign)
     ours = f"{diff:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
-    why = "" if holds is not None else "the interval includes 0"
+    why = _WHY[holds]
     return Verdict(ours, holds, why, rule, mean=diff, low=low, high=high, runs=runs)
 
 
@@ -214,7 +222,7 @@ def correlation(x: Sequence[float], y: Sequence[float], sign: int, runs: int) ->
     low, high = float(np.tanh(z - half / np.sqrt(n - 3))), float(np.tanh(z + half / np.sqrt(n - 3)))
     holds = _sided(low, high, sign)
     ours = f"{r:.3f} (95 % interval {low:.3f} to {high:.3f}, {n} conditions, p = {p:.2g})"
-    why = "" if holds is not None else "the interval includes 0"
+    why = _WHY[holds]
     return Verdict(ours, holds, why, rule, mean=r, low=low, high=high, runs=runs)
 
 
