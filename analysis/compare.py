@@ -397,6 +397,11 @@ def judge_claims(
             shown, why = CENSORED, verdict.why
         else:
             shown, why = VERDICTS[verdict.holds], verdict.why
+        rule = ""
+        if verdict is not None and not claim.by_construction:
+            rule = verdict.rule
+            if not rule and not verdict.censored:  # a test that states its rule in ``why``
+                rule, why = verdict.why, ""
         setup = claim.setup
         if claim.condition:
             fixed = ", ".join(f"{_name(k)} {_shown(v)}" for k, v in claim.condition.items())
@@ -409,7 +414,7 @@ def judge_claims(
                 "type": claim.kind,
                 "set-up": setup,
                 "ours": verdict.ours if verdict is not None else "",
-                "rule": verdict.rule if verdict is not None else "",
+                "rule": rule,
                 "runs": "" if verdict is None or verdict.runs is None else verdict.runs,
                 "verdict": shown,
                 "why": why,

@@ -42,17 +42,21 @@ def _table(runs: pd.DataFrame) -> pd.DataFrame | None:
     return table
 
 
-def _verdict(parts: dict[str, Verdict], rule: str, note: str = "") -> Verdict:
-    """One verdict from several checks of the same rule: holds when every one holds, fails
-    when any fails, undecided otherwise.
+def _verdict(parts: dict[str, Verdict], rule: str, note: str, runs: int) -> Verdict:
+    """One verdict from several checks of the same rule on ``runs`` runs: holds when every
+    one holds, fails when any fails, undecided otherwise.
     """
     holds = [v.holds for v in parts.values()]
     result = False if False in holds else (True if all(holds) else None)
     ours = "; ".join(f"{label}: {v.ours}" for label, v in parts.items())
-    failing = [label for label, v in parts.items() if v.holds is not True]
-    why = f"not shown for {', '.join(failing)}" if failing else ""
-    return Verdict(ours, result, "; ".join(w for w in (why, note) if w), rule,
-                   runs=sum(v.runs or 0 for v in parts.values()))  # fmt: skip
+    against = [label for label, v in parts.items() if v.holds is False]
+    unclear = [label for label, v in parts.items() if v.holds is None]
+    why = "; ".join(
+        f"{words} {', '.join(labels)}"
+        for words, labels in (("the other way for", against), ("undecided for", unclear))
+        if labels
+    )
+    return Verdict(ours, result, "; ".join(w for w in (why, note) if w), rule, runs=runs)
 
 
 #: Why collisions and deadlocks with motion planning are not evidence: the planner routes
@@ -79,7 +83,8 @@ def c1(runs, samples) -> Verdict | None:
         without = at[at["motion_planning"] == False]["best_cost"]  # noqa: E712 (bools)
         with_mp = at[at["motion_planning"] == True]["best_cost"]  # noqa: E712
         parts[f"cost at k={k}, without -> with"] = difference(without, with_mp, -1)
-    return _verdict(parts, "direction: " + next(iter(parts.values())).rule, BY_PLANNING)
+    rule = next(iter(parts.values())).rule
+    return _verdict(parts, rule, BY_PLANNING, len(rows))
 
 
 def c1b(runs, samples) -> Verdict | None:
@@ -99,7 +104,7 @@ def c1b(runs, samples) -> Verdict | None:
                 continue
             name = f"{label} {'with' if mp else 'without'} MP"
             parts[name] = rank_order(variant["neighbours"], variant[col].astype(float), +1)
-    return _verdict(parts, next(iter(parts.values())).rule, BY_PLANNING)
+    return _verdict(parts, next(iter(parts.values())).rule, BY_PLANNING, len(rows))
 
 
 def c3(runs, samples) -> Verdict | None:
