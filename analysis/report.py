@@ -1,8 +1,10 @@
 """One self-contained HTML report of one or several sweeps of a model (``abm report``).
 
 The report reads the sweeps' datasets and the model's declared ``PUBLISHED`` records,
-``CLAIMS`` and ``REPORT`` layout (its ``published.py``): every published number beside ours for
-the same condition with whether the direction agrees; every claim with ours and a verdict; then
+``CLAIMS``, ``CENSORED`` metrics and ``REPORT`` layout (its ``published.py``): every published
+number beside ours on the runs of the paper's condition, and every claim with ours, each with
+its rule and verdict (:mod:`analysis.compare`; the same rows go to ``comparison.csv`` beside
+the HTML); then
 per sweep the paper's figure types, the time-series curves (mean and spread over runs), two-way
 ANOVA over the swept factors, percent changes, the optimal value of the swept parameter,
 Pearson's r, the condition means and the runs that failed. A model without a layout gets one

@@ -5,6 +5,7 @@ from html.parser import HTMLParser
 
 import numpy as np
 import pandas as pd
+import pytest
 
 from analysis.compare import (
     BY_CONSTRUCTION,
@@ -194,3 +195,31 @@ def test_comparison_csv_rows_are_the_reports_rows(tmp_path):
                                    "censored share", "verdict", "reason"]  # fmt: skip
     flight = table[table["claim or metric"] == "corridor: flight time: change 24 s vs 6 s (%)"]
     assert flight["verdict"].iloc[0] == "holds" and float(flight["ours 95% high"].iloc[0]) < 0
+
+
+def test_a_published_condition_must_name_parameters_of_the_model():
+    import tiny_model
+
+    from abm.contract import check_model
+    from abm.errors import ContractError
+    from abm.published import Published
+
+    class Misnamed(tiny_model.TinyModel):
+        PUBLISHED = (Published("room", "rest", {"walkerz": 6}, 1.0, "level", "time", "band"),)
+
+    with pytest.raises(ContractError, match=r"names \['walkerz'\], which are not parameters"):
+        check_model(Misnamed)
+
+
+@pytest.mark.parametrize(
+    ("model", "claim"), [("hierarchy", "C5"), ("tangible-pso", "C3"), ("sugarmap", "C20")]
+)
+def test_a_claim_that_holds_by_construction_is_never_a_finding(model, claim):
+    from abm.registry import model_class
+
+    cls = model_class(model)
+    record = next(c for c in cls.CLAIMS if c.id == claim)
+    assert record.by_construction
+    for runs in (pso_runs(40, 70), corridor_results(), pd.DataFrame({"status": ["ok"]})):
+        row = judge_claims(runs, None, [record], parameter_defaults(cls))[0]
+        assert row["verdict"] == BY_CONSTRUCTION and row["why"] == record.by_construction
