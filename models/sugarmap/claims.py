@@ -112,9 +112,16 @@ def c02(runs, samples) -> Verdict | None:
     if sm.empty or om.empty or not taus:
         return None
     ok = all(_col(om, f"coverage_{t}").mean() >= _col(sm, f"coverage_{t}").mean() for t in taus)
-    a, b = _col(om, "t90"), _col(sm, "t90")
-    t90 = f"T90 OMSTC {a.mean():.0f} s vs SM {np.nanmean(b) if len(b) else np.nan:.0f} s"
-    ok &= len(a) > 0 and (len(b) < len(sm) or a.mean() < b.mean())
+    recorded = "t90" in sm and "t90" in om
+    missing = int(om["t90"].isna().sum() + sm["t90"].isna().sum()) if recorded else 0
+    if not recorded:
+        t90 = "no T90 recorded"
+    elif missing:  # a run that never reached 90 % gives only a lower bound of its T90
+        t90 = f"T90 censored in {missing} of {len(om) + len(sm)} runs: not judged"
+    else:
+        a, b = _col(om, "t90"), _col(sm, "t90")
+        t90 = f"T90 OMSTC {a.mean():.0f} s vs SM {b.mean():.0f} s"
+        ok &= a.mean() < b.mean()
     shown = ", ".join(
         f"{t} s: {_col(om, f'coverage_{t}').mean():.0f} vs {_col(sm, f'coverage_{t}').mean():.0f} %"
         for t in taus
