@@ -141,8 +141,12 @@ def matching_runs(
 def _values(runs: pd.DataFrame, metric: str) -> tuple[np.ndarray, bool]:
     """The metric's values and whether they are a share (0/1, shown in %)."""
     column = runs[metric]
-    share = column.dtype == bool
-    return column.astype(float).to_numpy(), share
+    known = column.dropna()
+    # a column of flags (bool, or object when some rows lack it) is a share of runs
+    share = column.dtype == bool or (
+        len(known) > 0 and known.map(lambda v: isinstance(v, bool | np.bool_)).all()
+    )
+    return column.astype(float).to_numpy(), bool(share)
 
 
 def _described(values: np.ndarray, share: bool) -> Verdict:
