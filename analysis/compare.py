@@ -285,8 +285,12 @@ def _judge(item: Published, runs: pd.DataFrame, before: pd.DataFrame | None, spe
         values, share = _values(runs, item.metric)
         described = _described(values, share)
         if before is None:
-            return _row(item, "(reference)", "the first of this ordering in these runs",
-                        described.ours, n, described, share_of_censored)  # fmt: skip
+            why = (
+                "the first of this ordering"
+                if item.check == "first"
+                else "the previous condition of this ordering is not in these runs"
+            )
+            return _row(item, "(reference)", why, described.ours, n, described, share_of_censored)
         first, _ = _values(before, item.metric)
         judged = verdicts.difference(first, values, _CHECK_SIGN[item.check],
                                      100.0 if share else 1.0)  # fmt: skip
