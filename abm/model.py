@@ -29,7 +29,7 @@ from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
 from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
-from abm.published import Claim, MacroSpec, Published, ReportLayout
+from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle, resolve_styles
@@ -55,6 +55,9 @@ class SwarmModel(mesa.Model):
     - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
     - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
+    - ``CENSORED``: the summary metrics a run's end can cut short (:class:`~abm.published.Censored`:
+      a time to a target that a time limit censors); reports show them as censored (share,
+      Kaplan-Meier median) and judge no published number from censored values.
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
@@ -101,6 +104,7 @@ class SwarmModel(mesa.Model):
     ARROWS_LABEL: ClassVar[str | None] = None
     PUBLISHED: ClassVar[Sequence[Published]] = ()
     CLAIMS: ClassVar[Sequence[Claim]] = ()
+    CENSORED: ClassVar[Sequence[Censored]] = ()
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from analysis.cli import main
-from analysis.compare import NOT_IN_SWEEP, compare_published
+from analysis.compare import NOT_COMPARABLE, NOT_IN_SWEEP, compare_published, parameter_defaults
 from analysis.report import write_report
 from models.beacon_explorer.published import PUBLISHED
 
@@ -83,18 +83,19 @@ def test_ours_beside_published_for_the_same_condition():
     rows = compare_published(corridor_results(), PUBLISHED)
     flight = rows[rows["quantity"].str.startswith("flight time: change 24")]
     corridor = flight[flight["section"] == "corridor"].iloc[0]
-    assert float(corridor["ours"]) == pytest_approx(-75.0, 2.0)
-    assert corridor["direction agrees"] == "yes"
+    assert float(corridor["ours"].split(";")[0]) == pytest_approx(-75.0, 2.0)
+    assert corridor["verdict"] == "holds" and "excludes 0" in corridor["rule"]
     coverage = rows[rows["quantity"].str.startswith("coverage time: change 24")].iloc[0]
     collisions = rows[rows["quantity"].str.startswith("collisions: change 24")].iloc[0]
-    assert float(collisions["ours"]) == pytest_approx(-75.0, 0.01)
-    assert float(coverage["ours"]) > 0 and coverage["direction agrees"] == "yes"
+    assert float(collisions["ours"].split(";")[0]) == pytest_approx(-75.0, 0.01)
+    assert float(coverage["ours"].split(";")[0]) > 0 and coverage["verdict"] == "holds"
     area = rows[rows["quantity"].str.startswith("coverage area (%), mean over periods")]
-    assert list(area["direction agrees"]) == ["(reference)", "yes", "yes"]
+    assert list(area["verdict"]) == ["(reference)", "holds", "holds"]
     r = rows[rows["quantity"].str.startswith("Pearson")].iloc[0]
-    assert r["ours"].startswith("1.000") or float(r["ours"].split()[0]) > 0.99
-    assert (rows[rows["section"].isin(["open space", "mixed", "hover vs attach"])]["ours"]
-            == NOT_IN_SWEEP).all()  # fmt: skip
+    assert float(r["ours"].split()[0]) > 0.99 and r["verdict"] == "holds"
+    others = rows[rows["section"].isin(["open space", "mixed", "hover vs attach"])]
+    assert (others["verdict"] == NOT_COMPARABLE).all()
+    assert others["reason"].str.startswith("world is corridor here, ").all()
 
 
 def pytest_approx(value, tol):
@@ -119,7 +120,8 @@ def test_report_is_self_contained_html(tmp_path):
 
 def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
     """Table 1's trends as records: beacons fall with the radius on map 1 (233.4, 27.8, 12.8,
-    8.2); fake runs that fall agree, the missing 10 m condition reads as not in the sweep."""
+    8.2); fake runs that fall agree, the missing 10 m condition reads as not comparable."""
+    from models.stigmergy import StigmergyModel
     from models.stigmergy.published import PUBLISHED as TABLE1_RECORDS
 
     rows = []
@@ -128,11 +130,13 @@ def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
             rows.append({"run_id": f"{radius}-{i}", "map": "hall100", "pheromone_radius": radius,
                          "beacon": beacons + i, "wander": 2.0, "time": 1000.0 - radius * 5,
                          "cb": 10.0, "status": "ok"})  # fmt: skip
-    table = compare_published(pd.DataFrame(rows), TABLE1_RECORDS)
+    defaults = parameter_defaults(StigmergyModel)
+    table = compare_published(pd.DataFrame(rows), TABLE1_RECORDS, defaults)
     beacons = table[
         (table["section"] == "map 1 (hall100)") & (table["quantity"] == "final beacons b")
     ]
-    assert list(beacons["direction agrees"]) == [NOT_IN_SWEEP, "(reference)", "yes", "yes"]
+    assert list(beacons["verdict"]) == [NOT_COMPARABLE, "(reference)", "holds", "holds"]
+    assert beacons["reason"].iloc[0] == "pheromone radius is 20, 30, 40 here, 10 in the paper"
     assert list(beacons["published"]) == ["233.4", "27.8", "12.8", "8.2"]
 
 

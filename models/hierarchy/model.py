@@ -80,6 +80,7 @@ class HierarchyModel(SwarmModel):
                                        label="worker (directing its scouts)"),
     }  # fmt: skip
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     CLAIMS = published.CLAIMS
     REPORT = published.REPORT
     APP = "models.hierarchy.app"

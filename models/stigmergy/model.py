@@ -56,6 +56,7 @@ class StigmergyModel(SwarmModel):
     }
     MACRO = published.MACRO
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     REPORT = published.REPORT
     APP = "models.stigmergy.app"
     FAULTS = frozenset({"robot"})

@@ -70,6 +70,7 @@ class SugarMapModel(SwarmModel):
         "stopped": StateStyle("#000000", marker="X", size=45.0, layer=6.0),
     }
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     CLAIMS = published.CLAIMS
     REPORT = published.REPORT
     APP = "models.sugarmap.app"
