@@ -103,13 +103,9 @@ def test_a_sweep_at_another_time_limit_is_not_compared_with_table_1():
 
 def test_tangible_pso_c3_is_labelled_by_construction_and_not_counted(tmp_path):
     folder = tmp_path / "table1"
-    write_sweep(folder, pso_runs(40, 70))
-    manifest = folder / "sweep.json"
-    manifest.write_text(
-        '{"name": "t", "model": "tangible-pso", "seed": 1, "replications": 6, '
-        '"target": "models.tangible_pso.model:TangiblePSOModel", '
-        '"grid": {"neighbours": [0, 1, 2], "motion_planning": [false, true]}}'
-    )
+    grid = {"neighbours": [0, 1, 2], "motion_planning": [False, True]}
+    write_sweep(folder, pso_runs(40, 70), grid=grid, model="tangible-pso",
+                target="models.tangible_pso.model:TangiblePSOModel")  # fmt: skip
     html = write_report(folder).read_text()
     table = pd.read_csv(folder / "comparison.csv")
     c3 = table[table["claim or metric"].str.startswith("C3:")].iloc[0]

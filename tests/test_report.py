@@ -43,14 +43,23 @@ def corridor_results(n: int = 4) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def write_sweep(folder, df: pd.DataFrame, points: list[dict] | None = None) -> None:
+def write_sweep(
+    folder,
+    df: pd.DataFrame,
+    points: list[dict] | None = None,
+    *,
+    grid: dict | None = None,
+    model: str = "beacon-explorer",
+    target: str = "models.beacon_explorer.model:BeaconExplorerModel",
+) -> None:
     """Fake runs written as the runs of a sweep: each row gets the run id, replication and seed
-    the plan gives its parameters (a report refuses run files that are not its sweep's). With
-    ``points``, the grid is the complexity and each row takes the first point it matches.
+    the plan gives its parameters (a report refuses run files that are not its sweep's). The
+    grid defaults to beacon/explorer's complexity x launch period; with ``points``, the grid is
+    the complexity and each row takes the first point it matches.
     """
     from analysis.sweep.seeding import run_id, spawned_seed
 
-    grid = {"complexity": ["low", "medium", "high"], "launch_period": [6.0, 12.0, 24.0]}
+    grid = grid or {"complexity": ["low", "medium", "high"], "launch_period": [6.0, 12.0, 24.0]}
     if points:
         del grid["launch_period"]
     (folder / "runs").mkdir(parents=True)
@@ -63,9 +72,8 @@ def write_sweep(folder, df: pd.DataFrame, points: list[dict] | None = None) -> N
         rid = run_id(params, rep)
         one = row.to_frame().T.assign(run_id=rid, rep=rep, seed=spawned_seed(1, params, rep)[0])
         one.infer_objects().to_parquet(folder / "runs" / f"{rid}.parquet", index=False)
-    manifest = {"name": "fake", "model": "beacon-explorer", "seed": 1, "replications": 4,
-                "target": "models.beacon_explorer.model:BeaconExplorerModel",
-                "grid": grid, "points": points or []}  # fmt: skip
+    manifest = {"name": "fake", "model": model, "seed": 1, "replications": max(reps.values()) + 1,
+                "target": target, "grid": grid, "points": points or []}  # fmt: skip
     (folder / "sweep.json").write_text(json.dumps(manifest))
 
 
