@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abm import portable
 from abm.errors import ConfigError, check_choice, check_range
 from abm.kinematics import wrap_degrees
 
@@ -178,7 +179,7 @@ def _gauss_weights(delta: np.ndarray, sigma_m: float) -> np.ndarray:
     Computed relative to the smallest delta, which leaves the normalised weights unchanged but
     keeps them from all underflowing to 0 when every particle is many sigma_m away.
     """
-    w = np.exp(-(delta**2 - np.min(delta) ** 2) / (2.0 * sigma_m**2))
+    w = portable.exp(-(delta**2 - np.min(delta) ** 2) / (2.0 * sigma_m**2))
     return w / w.sum()
 
 
