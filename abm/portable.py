@@ -8,7 +8,7 @@ Two layers of a machine change the last bits of ``exp``, ``sin``, ``atan2`` and 
   percent of results (numpy 2.5.5: ``np.exp`` of 1,000 decay factors ``exp(-0.0123 k)``, 48
   differ), while an AVX2 machine gets the C library's;
 - the C library (glibc) picks its own code by the CPU too: on a CPU without FMA its ``exp``,
-  ``pow``, ``sin``, ``cos`` and ``atan2`` differ from the FMA code in about 1 result in 5,000,
+  ``pow``, ``sin``, ``cos`` and ``atan2`` differ from the FMA code in 1 to 6 results in 5,000,
   and another C library (another glibc, macOS, Windows, musl) differs more.
 
 A last-bit difference that reaches a comparison (which pixel a robot is on, which beacon is
