@@ -33,6 +33,7 @@ import pandas as pd
 import simpy
 from scipy.special import ndtr
 
+from abm import portable
 from abm.arena import Arena
 from abm.clock import scheduler
 from abm.errors import LinkError, check_range
@@ -240,7 +241,7 @@ class Shadowing:
         d = np.maximum(np.asarray(distance, dtype=float), 1e-9)
         if self.sd == 0:
             return (d <= comm_range).astype(float)
-        return ndtr(10.0 * self.exponent * np.log10(comm_range / d) / self.sd)
+        return ndtr(10.0 * self.exponent * portable.log10(comm_range / d) / self.sd)
 
 
 class CommNetwork:

@@ -13,7 +13,7 @@ from functools import cache
 from abm.errors import ContractError
 from abm.faults import FAULT_KINDS
 from abm.params import SwarmParams, field_help
-from abm.published import Claim, MacroSpec, Published, ReportLayout
+from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.styles import StateStyle
 from abm.units import UNITS, Quantity
 
@@ -27,8 +27,9 @@ def check_model(cls: type) -> None:
     subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
     docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
     fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
-    ``MACRO``, ``PUBLISHED``, ``REPORT``, ``APP``, ``QUICK``, ``FAULTS`` and ``SUMMARY_UNITS``
-    of the documented types.
+    ``MACRO``, ``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``, ``APP``, ``QUICK``,
+    ``FAULTS`` and ``SUMMARY_UNITS`` of the documented types; every setting a published
+    number's or a claim's condition names is a parameter.
     """
     _check(cls)
 
@@ -75,6 +76,16 @@ def _check(cls: type) -> None:
         raise ContractError(f"{name}.PUBLISHED must hold abm.published.Published records")
     if not all(isinstance(c, Claim) for c in cls.CLAIMS):
         raise ContractError(f"{name}.CLAIMS must hold abm.published.Claim records")
+    if not all(isinstance(c, Censored) for c in cls.CENSORED):
+        raise ContractError(f"{name}.CENSORED must hold abm.published.Censored records")
+    fields = {f.name for f in dataclasses.fields(cls.Params)}
+    for record in (*cls.PUBLISHED, *cls.CLAIMS):
+        unknown = sorted(set(record.condition) - fields)
+        if unknown:
+            raise ContractError(
+                f"{name}: the condition of {getattr(record, 'id', record.quantity)!r} names "
+                f"{unknown}, which are not parameters of {cls.Params.__name__}"
+            )
     if cls.REPORT is not None and not isinstance(cls.REPORT, ReportLayout):
         raise ContractError(f"{name}.REPORT must be an abm.published.ReportLayout or None")
     if cls.APP is not None and not isinstance(cls.APP, str):

@@ -8,6 +8,8 @@ the source.
 import math
 import sys
 
+import numpy as np
+
 __all__ = [
     "ABMError",
     "ConfigError",
@@ -15,9 +17,16 @@ __all__ = [
     "LinkError",
     "MapError",
     "OutputError",
+    "SEED_MAX",
     "check_choice",
     "check_range",
+    "check_seed",
+    "parse_seed",
 ]
+
+#: Largest seed accepted: seeds are stored as 64-bit signed integers (Parquet ``int64``
+#: columns of sweeps, ``run.json``), so every seed a run accepts can be written with its results.
+SEED_MAX = 2**63 - 1
 
 
 class ABMError(Exception):
@@ -102,3 +111,49 @@ def check_choice(name: str, value: object, choices: tuple) -> None:
     if value not in choices:
         options = ", ".join(repr(c) for c in choices)
         raise ConfigError(f"{name} must be one of {options}, got {value!r}")
+
+
+def check_seed(value: object, name: str = "seed", *, allow_none: bool = True) -> int | None:
+    """Return ``value`` as a plain int (or None) when it is a seed a run accepts, else raise.
+
+    A seed is an integer in ``[0, 2**63 - 1]`` (or None, fresh entropy, where ``allow_none``):
+    numpy's ``SeedSequence`` takes any non-negative integer, but a run's seed is stored beside
+    its results as a 64-bit integer, so a larger one would fail only once the run is over.
+    This is the one check model constructors and ``abm run`` (through :func:`parse_seed`) use.
+
+    Raises:
+        ConfigError: naming ``name``, the value and the accepted range.
+
+    """
+    if value is None and allow_none:
+        return None
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | np.integer)
+        or not 0 <= value <= SEED_MAX
+    ):
+        rule = f"{name} must be an integer in [0, 2**63 - 1]" + (" or None" if allow_none else "")
+        raise ConfigError(f"{rule}, got {_shown(value)}")
+    return int(value)
+
+
+def parse_seed(text: str, name: str = "seed") -> int:
+    """A seed given as text (a command line's): a decimal integer that :func:`check_seed`
+    accepts.
+
+    Raises:
+        ConfigError: the text is not a decimal integer, or the integer is out of range.
+
+    """
+    try:
+        value = int(text.strip(), 10)
+    except ValueError:
+        rule = f"{name} must be an integer in [0, 2**63 - 1]"
+        raise ConfigError(f"{rule}, got {_shown(text)}") from None
+    return check_seed(value, name, allow_none=False)
+
+
+def _shown(value: object) -> str:
+    """``repr(value)``, shortened to one readable line for an error message."""
+    text = repr(value)
+    return text if len(text) <= 40 else f"{text[:20]}...{text[-12:]} ({len(text)} characters)"

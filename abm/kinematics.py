@@ -10,6 +10,7 @@ is and the move is reported as blocked. So no robot ever enters or crosses a wal
 
 import numpy as np
 
+from abm import portable
 from abm.arena import Arena
 
 __all__ = ["bump_moves", "heading_vectors", "wrap_degrees"]
@@ -23,7 +24,7 @@ def wrap_degrees(angle: np.ndarray) -> np.ndarray:
 def heading_vectors(heading: np.ndarray) -> np.ndarray:
     """Unit vectors ``(n, 2)`` of compass headings (degrees clockwise from north)."""
     rad = np.radians(np.asarray(heading, dtype=float))
-    return np.stack([np.sin(rad), np.cos(rad)], axis=-1)
+    return np.stack([portable.sin(rad), portable.cos(rad)], axis=-1)
 
 
 def bump_moves(

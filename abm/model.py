@@ -26,11 +26,11 @@ from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
-from abm.errors import ConfigError
+from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
 from abm.params import SwarmParams, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
-from abm.published import Claim, MacroSpec, Published, ReportLayout
+from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle, resolve_styles
@@ -58,6 +58,9 @@ class SwarmModel(mesa.Model):
     - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
     - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
+    - ``CENSORED``: the summary metrics a run's end can cut short (:class:`~abm.published.Censored`:
+      a time to a target that a time limit censors); reports show them as censored (share,
+      Kaplan-Meier median) and judge no published number from censored values.
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
@@ -107,6 +110,7 @@ class SwarmModel(mesa.Model):
     ARROWS_LABEL: ClassVar[str | None] = None
     PUBLISHED: ClassVar[Sequence[Published]] = ()
     CLAIMS: ClassVar[Sequence[Claim]] = ()
+    CENSORED: ClassVar[Sequence[Censored]] = ()
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}
@@ -135,8 +139,7 @@ class SwarmModel(mesa.Model):
         torus: bool = False,
         failures: bool = False,
     ) -> None:
-        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)):
-            raise ConfigError(f"seed must be an integer or None, got {seed!r}")
+        seed = check_seed(seed)
         if not isinstance(params, self.Params):
             raise ConfigError(
                 f"params must be a {self.Params.__name__}, got {type(params).__name__}"

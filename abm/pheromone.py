@@ -15,6 +15,7 @@ disc, so no bounds checks), walked by compiled (numba) loops over robots x offse
 import numpy as np
 from numba import njit
 
+from abm import portable
 from abm.discs import disc_offsets
 from abm.errors import ConfigError, check_range
 from abm.visibility import cached_disc_visibility
@@ -163,7 +164,7 @@ class PheromoneField:
         if elapsed < -1e-9:
             raise ConfigError(f"time must not go backwards: field at {self.time}, got {time}")
         if elapsed > 0 and self.decay > 0:
-            self._store *= np.exp(-self.decay * elapsed)
+            self._store *= portable.exp(-self.decay * elapsed)
         self.time = max(self.time, float(time))
 
     def total(self) -> float:
@@ -288,7 +289,7 @@ class PheromoneField:
             v = np.stack([dx, dy], axis=1) * self.resolution
             d = np.hypot(v[:, 0], v[:, 1])
             scale = np.zeros_like(d)
-            scale[d > 0] = d[d > 0] ** -(1.0 + falloff)
+            scale[d > 0] = portable.power(d[d > 0], -(1.0 + falloff))
             centre = int(np.nonzero((dx == 0) & (dy == 0))[0][0])
             self._discs[key] = (dy, dx, v * scale[:, None], centre)
         return self._discs[key]

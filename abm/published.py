@@ -1,11 +1,13 @@
-"""Record types for a paper's published numbers and figure layout, read by ``abm report``.
+"""Record types for a paper's published numbers, claims and figure layout, read by ``abm report``.
 
 A model's ``published.py`` lists the numbers its paper reports as :class:`Published` records
-(what was measured, under which condition, the value, and the rule that says whether our
-result "agrees in direction"), and the layout of the paper's figures as a
-:class:`ReportLayout`. The model class exposes both (``PUBLISHED``, ``REPORT``), so reports,
-tests and benchmarks read the paper's numbers from one place. Nothing here holds a paper's
-number.
+(what was measured, under every setting the paper fixed, the value and its spread, and its
+kind: a level, the direction of an effect or an ordering), its checkable claims as
+:class:`Claim` records, the summary metrics a run's end can cut short as :class:`Censored`
+records, and the layout of the paper's figures as a :class:`ReportLayout`. The model class
+exposes them (``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``), so reports, tests and
+benchmarks read the paper's numbers from one place. The rule that judges each kind is in
+:mod:`abm.verdicts`. Nothing here holds a paper's number.
 """
 
 from collections.abc import Callable, Mapping
@@ -15,46 +17,78 @@ import pandas as pd
 
 from abm.errors import ConfigError
 
-__all__ = ["CHECKS", "KINDS", "Claim", "MacroSpec", "Published", "ReportLayout", "Verdict"]
+__all__ = [
+    "CHECKS",
+    "KINDS",
+    "MEASURES",
+    "Censored",
+    "Claim",
+    "MacroSpec",
+    "Published",
+    "ReportLayout",
+    "Verdict",
+]
+
+#: What kind of result a published number is, each judged by one rule
+#: (:mod:`abm.verdicts`): a level with the paper's spread, the direction of an effect, or an
+#: ordering of conditions.
+KINDS = ("level", "direction", "ordering")
 
 #: How our value is computed from the runs of the condition.
-KINDS = ("level", "change", "pair", "ratio", "r", "convex")
+MEASURES = ("mean", "change", "pair", "ratio", "r", "convex")
 
-#: The rules deciding "direction agrees", per kind.
+#: The checks of each kind: what the paper's number says.
 CHECKS = {
-    "level": ("reference", "rises", "falls", "at least"),
-    "change": ("same sign",),
-    "pair": ("decreases", "increases"),
-    "ratio": ("above 1", "below 1"),
-    "r": ("positive", "negative"),
-    "convex": ("minimum inside",),
+    "level": ("band", "shown"),
+    "direction": ("same sign", "decreases", "increases", "above 1", "below 1", "positive",
+                  "negative"),
+    "ordering": ("first", "rises", "falls", "minimum inside"),
+}  # fmt: skip
+
+#: The measures each kind may use.
+_MEASURES = {
+    "level": ("mean",),
+    "direction": ("change", "pair", "ratio", "r"),
+    "ordering": ("mean", "convex"),
 }
 
 
 @dataclass(frozen=True)
 class Published:
-    """One published number and how to compute ours from a sweep's runs.
+    """One published number, the condition it was measured under, and its kind.
 
     Attributes:
         section: the paper's experiment ("corridor", "open space", "map 1", ...).
         quantity: what is measured, with its unit.
-        condition: parameter -> value selecting the runs (e.g. ``{"world": "corridor"}``).
+        condition: every setting the paper fixed for this number, parameter -> value (the
+            world, robots, particles, iterations, arena, time limit, ...). Ours is computed
+            only from runs that match every one (a setting a sweep does not vary takes the
+            model's default); otherwise the report says which setting differs.
         value: the published value (a number, or a short text such as "0.32 -> 0.02").
-        kind: how ours is computed: "level" (mean of ``metric``), "change" (percent change of
+        kind: "level" (the paper's level, with its spread), "direction" (the sign of an
+            effect) or "ordering" (how conditions rank): see :data:`KINDS`.
+        metric: the summary column.
+        check: what the paper's number says (see :data:`CHECKS`): a level is tested as a
+            two-sided "band" (``value +- spread``; without a spread, the value itself) or only
+            "shown" beside ours (``note`` says why); a direction "decreases", "increases",
+            has the "same sign" as the published change, a ratio "above 1" / "below 1", a
+            correlation "positive" / "negative"; an ordering "rises" or "falls" from the
+            previous record of the same section and quantity (the "first" of them is the
+            reference), or has its "minimum inside" the range of ``factor``.
+        measure: how ours is computed: "mean" (of ``metric``), "change" (percent change of
             the mean from ``factor = a`` to ``factor = b``), "pair" (the two means), "ratio"
             (mean at ``b`` / mean at ``a``), "r" (Pearson r of the condition means of
             ``metric`` and ``other``, conditions = values of ``by``), "convex" (where the mean
             of ``metric`` over ``factor`` is lowest).
-        metric: the summary column.
-        check: the rule for "direction agrees" (see :data:`CHECKS`): for "level", "rises" and
-            "falls" compare with the previous record of the same section and quantity.
+        spread: the half-width of a level's band, in the value's unit (the paper's spread, or
+            where ``note`` says so a band the paper's own text sets); None: none published.
         factor: the parameter ``a`` and ``b`` are values of.
         a: the reference value of ``factor``.
         b: the compared value of ``factor``.
         other: the second column of an "r" record.
         by: the parameters whose combinations are the conditions of an "r" record.
-        threshold: the bound of an "at least" check.
         source: where in the paper (table, figure, section).
+        note: why a "shown" level has no verdict, or where a spread comes from.
 
     """
 
@@ -65,13 +99,15 @@ class Published:
     kind: str
     metric: str
     check: str
+    measure: str = "mean"
+    spread: float | None = None
     factor: str | None = None
     a: object = None
     b: object = None
     other: str | None = None
     by: tuple[str, ...] = ()
-    threshold: float | None = None
     source: str = ""
+    note: str = ""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -81,12 +117,51 @@ class Published:
                 f"check of a {self.kind!r} record must be one of {CHECKS[self.kind]}, "
                 f"got {self.check!r}"
             )
-        if self.kind in ("change", "pair", "ratio", "convex") and self.factor is None:
-            raise ConfigError(f"a {self.kind!r} record needs the factor it varies")
-        if self.kind == "r" and (self.other is None or not self.by):
+        if self.measure not in _MEASURES[self.kind]:
+            raise ConfigError(
+                f"measure of a {self.kind!r} record must be one of {_MEASURES[self.kind]}, "
+                f"got {self.measure!r}"
+            )
+        if (self.measure == "convex") != (self.check == "minimum inside"):
+            raise ConfigError("'minimum inside' is the check of a 'convex' measure, and only")
+        if self.measure in ("change", "pair", "ratio", "convex") and self.factor is None:
+            raise ConfigError(f"a {self.measure!r} record needs the factor it varies")
+        if self.measure == "r" and (self.other is None or not self.by):
             raise ConfigError("an 'r' record needs other (the second column) and by")
-        if self.check == "at least" and self.threshold is None:
-            raise ConfigError("an 'at least' check needs a threshold")
+        if self.check == "band" and isinstance(self.value, str):
+            raise ConfigError("a 'band' level needs a numeric value")
+        if self.spread is not None and not self.spread > 0:
+            raise ConfigError(f"spread must be > 0 (or None), got {self.spread!r}")
+        if self.check == "shown" and not self.note:
+            raise ConfigError("a 'shown' level must say in note why it has no verdict")
+
+
+@dataclass(frozen=True)
+class Censored:
+    """A summary metric that the end of a run can cut short (right-censored).
+
+    A time to reach a target (coverage time, time to 95 %, iterations to converge) is only
+    known for runs that reached it; a run cut by the time limit reports the limit instead,
+    and a run that ended without reaching the target may report nothing. Reports show such
+    a metric as censored (the share of censored runs, the Kaplan-Meier median) and never
+    judge a claim from censored values.
+
+    Attributes:
+        metric: the summary column.
+        ends: prefixes of ``end_reason`` after which the metric is censored (the value the
+            run reports is then only a lower bound).
+        bound: for a metric that is missing (NaN) when the target was never reached: the
+            summary column whose value is then the lower bound (e.g. the run's time); None:
+            a missing value is not a censored one.
+        since: a summary column subtracted from ``bound`` (the start of the metric's clock,
+            e.g. the end of a deployment phase); None: 0.
+
+    """
+
+    metric: str
+    ends: tuple[str, ...] = ("time limit",)
+    bound: str | None = None
+    since: str | None = None
 
 
 @dataclass(frozen=True)
@@ -184,18 +259,32 @@ class MacroSpec:
 
 @dataclass(frozen=True)
 class Verdict:
-    """What a sweep's runs say about one claim.
+    """What a sweep's runs say about one claim, and by which rule.
 
     Attributes:
         ours: our measured value(s), as text.
         holds: True / False; None when these runs cannot decide (``why`` says why).
-        why: the reason, or the rule applied.
+        why: the reason (e.g. by how much a level differs).
+        rule: the test applied, in words (e.g. "two-sided band 85 +- 10: our 95 % interval
+            inside it"); empty for a claim whose test states its rule in ``why``.
+        mean: our value the rule judged (a mean, a difference, a share, rho), if one number.
+        low: the lower end of its 95 % interval.
+        high: the upper end.
+        runs: the runs the rule used.
+        censored: the share of those runs a time limit censored (0-1), where the claim's
+            metric can be censored.
 
     """
 
     ours: str
     holds: bool | None
     why: str = ""
+    rule: str = ""
+    mean: float | None = None
+    low: float | None = None
+    high: float | None = None
+    runs: int | None = None
+    censored: float | None = None
 
 
 @dataclass(frozen=True)
@@ -212,6 +301,12 @@ class Claim:
             the model's time series (``samples``, may be None); None when these runs lack the
             set-up. A claim no simulation can test has no test and says why in ``untestable``.
         untestable: why a claim without a test cannot be tested (or where else it is tested).
+        condition: the settings the paper fixed for every run of the claim, parameter ->
+            value (a setting a sweep does not vary takes the model's default). The test sees
+            only matching runs; when none match, the report says which setting differs.
+        by_construction: why the claim holds by construction of the model or of its test
+            (empty: it does not). Such a claim is labelled "by construction (not a test)"
+            and never counted as reproduced.
 
     """
 
@@ -222,9 +317,11 @@ class Claim:
     setup: str
     test: Callable[[pd.DataFrame, pd.DataFrame | None], Verdict | None] | None = None
     untestable: str = ""
+    condition: Mapping[str, object] = field(default_factory=dict)
+    by_construction: str = ""
 
     def __post_init__(self) -> None:
         if self.kind not in ("Q", "QL"):
             raise ConfigError(f"kind must be 'Q' or 'QL', got {self.kind!r}")
-        if self.test is None and not self.untestable:
+        if self.test is None and not (self.untestable or self.by_construction):
             raise ConfigError(f"claim {self.id}: without a test, say why in untestable")

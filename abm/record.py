@@ -31,6 +31,11 @@ class Recorder:
         self._samples: list[dict] = []
         self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str], list[bool]]] = []
 
+    @property
+    def logged(self) -> int:
+        """Events logged so far (a progress line reads it while the run goes)."""
+        return len(self._events)
+
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
         """Append an event at ``env.now``."""
         self._events.append({"time": self.env.now, "event": kind, "robot": robot, **fields})

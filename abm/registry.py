@@ -119,6 +119,10 @@ def model_class(model: str | type) -> type:
     if ":" not in target:
         known = ", ".join(repr(n) for n in model_names())
         raise ConfigError(f"unknown model {model!r}; known models: {known} (or 'module:Class')")
+    if model not in _targets:
+        from abm.targets import check_target
+
+        check_target(target)  # a user's "module:Class": not imported unless it defines Class
     cls = _import(target, model)
     check_model(cls)
     if model in _targets:

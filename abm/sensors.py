@@ -18,6 +18,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import Arena
+from abm.portable import atan2_scalar, cos_scalar, sin_scalar
 
 __all__ = [
     "distance_sensors",
@@ -54,9 +55,9 @@ def measured_relative(
     (radians).
     """
     r = math.hypot(dx, dy)
-    theta = math.atan2(dy, dx) + z_bearing * bearing_noise
+    theta = atan2_scalar(dy, dx) + z_bearing * bearing_noise
     r = max(r + z_range * range_noise * r / reference_range, 0.0)
-    return r * math.cos(theta), r * math.sin(theta)
+    return r * cos_scalar(theta), r * sin_scalar(theta)
 
 
 @njit(cache=True)

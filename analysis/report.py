@@ -1,8 +1,10 @@
 """One self-contained HTML report of one or several sweeps of a model (``abm report``).
 
 The report reads the sweeps' datasets and the model's declared ``PUBLISHED`` records,
-``CLAIMS`` and ``REPORT`` layout (its ``published.py``): every published number beside ours for
-the same condition with whether the direction agrees; every claim with ours and a verdict; then
+``CLAIMS``, ``CENSORED`` metrics and ``REPORT`` layout (its ``published.py``): every published
+number beside ours on the runs of the paper's condition, and every claim with ours, each with
+its rule and verdict (:mod:`analysis.compare`; the same rows go to ``comparison.csv`` beside
+the HTML); then
 per sweep the paper's figure types, the time-series curves (mean and spread over runs), two-way
 ANOVA over the swept factors, percent changes, the optimal value of the swept parameter,
 Pearson's r, the condition means and the runs that failed. A model without a layout gets one
@@ -11,7 +13,6 @@ from its swept parameters.
 
 import contextlib
 import datetime
-import json
 import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
@@ -26,12 +27,20 @@ from abm.registry import model_class
 from abm.units import unit_of
 from analysis import stats
 from analysis.anova import RESAMPLES
-from analysis.compare import NOT_IN_SWEEP, compare_published, fault_free
+from analysis.compare import (
+    BY_CONSTRUCTION,
+    NOT_IN_SWEEP,
+    compare_published,
+    comparison_csv,
+    fault_free,
+    judge_claims,
+    parameter_defaults,
+)
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
 from analysis.statistics_table import anova_items, pearson_rows, statistics_frame, tests_on_page
 from analysis.statistics_table import write_csv as write_statistics
-from analysis.sweep import load_results, swept_keys
+from analysis.sweep import load_results, read_manifest, swept_keys
 
 __all__ = ["layout_for", "write_report"]
 
@@ -104,10 +113,7 @@ class _Sweep:
 
 def _load(folder: str | Path) -> _Sweep:
     folder = Path(folder)
-    manifest_path = folder / "sweep.json"
-    if not manifest_path.is_file():
-        raise ABMError(f"{folder} is not a sweep folder (no sweep.json); run `abm sweep` first")
-    manifest = json.loads(manifest_path.read_text())
+    manifest = read_manifest(folder)  # one line for a missing, damaged or non-UTF-8 sweep.json
     name = manifest.get("name", folder.name)
     runs = load_results(folder).assign(sweep=name)
     samples = load_results(folder, samples=True)
@@ -144,22 +150,54 @@ def write_report(
     every = pd.concat([s.runs for s in sweeps], ignore_index=True)
     published = list(cls.PUBLISHED) if cls is not None else []
     claims = list(cls.CLAIMS) if cls is not None else []
+    defaults = parameter_defaults(cls)
+    comparison = compare_published(every, published, defaults, cls.CENSORED) if published else None
+    judged = _claims(sweeps, claims, defaults)
     names = ", ".join(s.name for s in sweeps)
     blocks = [_block(s, cls, published, len(sweeps) > 1) for s in sweeps]
     statistics = _statistics(blocks, out)
-    return render_page(
+    path = render_page(
         "sweep_report.html.j2",
         out,
         title=f"{'Reproduction' if published or claims else 'Sweep'} report: {names}",
         subtitle=" ".join(s.manifest.get("description", "") for s in sweeps if len(sweeps) == 1),
         meta=_meta(sweeps, every),
         problem=problem,
-        comparison=_comparison(every, published),
-        claims=_claims(sweeps, claims),
+        comparison=_shown_rows(comparison.to_dict("records")) if comparison is not None else None,
+        claims=_shown_rows(judged) if judged else None,
+        tally=_tally(comparison, judged),
         not_in_sweep=NOT_IN_SWEEP,
         blocks=blocks,
         statistics=statistics,
     )
+    comparison_csv(comparison, judged).to_csv(path.with_name("comparison.csv"), index=False)
+    return path
+
+
+def _shown_rows(rows: list[dict]) -> list[dict]:
+    """The rows without their CSV-only numbers (keys that start with "_")."""
+    return [{k: v for k, v in row.items() if not k.startswith("_")} for row in rows]
+
+
+def _tally(comparison: pd.DataFrame | None, claims: list[dict] | None) -> list[str]:
+    """One line per table: how many verdicts of each kind; what holds by construction is
+    counted apart and never as reproduced.
+    """
+    lines = []
+    for name, verdicts in (
+        ("published numbers", [] if comparison is None else list(comparison["verdict"])),
+        ("claims", [row["verdict"] for row in claims or []]),
+    ):
+        if not verdicts:
+            continue
+        counts = pd.Series(verdicts).value_counts()
+        tested = sum(counts.get(v, 0) for v in ("holds", "does not hold", "undecided"))
+        parts = [f"{counts.get('holds', 0)} of {tested} judged here hold"]
+        parts += [f"{n} {v}" for v, n in counts.items() if v != "holds"]
+        apart = BY_CONSTRUCTION in counts
+        note = f" ({BY_CONSTRUCTION}: not counted as reproduced)" if apart else ""
+        lines.append(f"{name.capitalize()}: {'; '.join(parts)}{note}.")
+    return lines
 
 
 def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> dict:
@@ -238,7 +276,7 @@ def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
     return f"Mean ± {spread} over the runs of each condition ({by}) against {layout.curve_x}."
 
 
-def _claims(sweeps: list[_Sweep], claims: list[Claim]) -> list[dict] | None:
+def _claims(sweeps: list[_Sweep], claims: list[Claim], defaults: dict) -> list[dict] | None:
     """Every claim with ours and its verdict on all the sweeps' fault-free runs."""
     if not claims:
         return None
@@ -250,20 +288,7 @@ def _claims(sweeps: list[_Sweep], claims: list[Claim]) -> list[dict] | None:
         samples = pd.concat(frames, ignore_index=True)
         params = runs.drop(columns=[c for c in samples.columns if c != "run_id" and c in runs])
         samples = samples.merge(params, on="run_id")
-    rows = []
-    for claim in claims:
-        verdict = None if claim.test is None else claim.test(runs, samples)
-        if claim.test is None:
-            ours, shown, why = "", "not testable", claim.untestable
-        elif verdict is None:
-            ours, shown, why = "", NOT_IN_SWEEP, claim.setup
-        else:
-            shown = {True: "holds", False: "does not hold", None: "not testable"}[verdict.holds]
-            ours, why = verdict.ours, verdict.why
-        rows.append({"id": claim.id, "source": claim.source, "claim": claim.statement,
-                     "type": claim.kind, "set-up": claim.setup, "ours": ours,
-                     "verdict": shown, "why": why})  # fmt: skip
-    return rows
+    return judge_claims(runs, samples, claims, defaults)
 
 
 def _model(manifest: dict) -> tuple[type | None, str | None]:
@@ -297,13 +322,6 @@ def _meta(sweeps: list[_Sweep], every: pd.DataFrame) -> list:
         ("generated", datetime.datetime.now().isoformat(timespec="seconds")),
     ]
     return rows
-
-
-def _comparison(df: pd.DataFrame, published: list[Published]) -> list[dict] | None:
-    if not published:
-        return None
-    rows = compare_published(df, published)
-    return rows.to_dict("records")
 
 
 def _factors(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
@@ -474,7 +492,7 @@ def _factor_sections(
         pairs += [
             (p.a, p.b)
             for p in published
-            if p.kind == "change" and p.factor == x and p.a in values and p.b in values
+            if p.measure == "change" and p.factor == x and p.a in values and p.b in values
         ]
         pairs = list(dict.fromkeys(pairs))
         changes = stats.percent_change_table(runs, pairs, metrics, factor=x, by=hue)

@@ -17,6 +17,12 @@ Everything a picture needs is in the folder: drawing a run imports no model code
 """
 
 import json
+import os
+import secrets
+import shutil
+import zipfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,10 +30,18 @@ import numpy as np
 import pandas as pd
 
 from abm.arena import Arena
-from abm.errors import ABMError
+from abm.errors import ABMError, OutputError
 from abm.styles import StateStyle
 
-__all__ = ["RUN_FILES", "RunFolderError", "SavedRun", "load_run", "save_run"]
+__all__ = [
+    "RUN_FILES",
+    "RunFolderError",
+    "SavedRun",
+    "check_run_target",
+    "load_run",
+    "runs_in",
+    "save_run",
+]
 
 #: Files a complete run folder holds.
 RUN_FILES = (
@@ -95,22 +109,70 @@ class SavedRun:
 def save_run(model, out_dir: str | Path) -> list[Path]:
     """Write everything ``abm render`` needs about a finished SwarmModel run; return the paths.
 
+    The files are written into a temporary folder beside ``out_dir`` and moved into place only
+    once all of them are written (``run.json`` last), so a failure while saving (a full disk,
+    a read-only folder) never leaves a half-written run folder, nor half of a previous run
+    replaced. The temporary folder is removed on failure, giving back the space it took.
+
     Args:
         model: a SwarmModel after ``run()``.
-        out_dir: the run folder (created if missing).
+        out_dir: the run folder (created if missing; run files already in it are replaced,
+            other files are left alone).
+
+    Raises:
+        OutputError: a file could not be written; the message names it (the model, still in
+            memory, can be saved again elsewhere).
 
     """
+    out = Path(out_dir)
+    check_run_target(out)
+    # a name of its own beside the run folder (same file system: the move is a rename), made
+    # as any folder is, so the run folder gets the usual permissions
+    staging = out.parent / f".{out.name}.partial-{os.getpid()}-{secrets.token_hex(4)}"
+    try:
+        staging.mkdir(parents=True)
+        _write_run(model, staging)
+        if out.is_dir():
+            for name in RUN_FILES:  # run.json last: a run folder is complete once it has one
+                os.replace(staging / name, out / name)
+            staging.rmdir()
+        else:
+            staging.rename(out)
+    except OSError as exc:
+        shutil.rmtree(staging, ignore_errors=True)
+        where = exc.filename
+        if where is not None and staging in (Path(where), Path(where).parent):
+            where = (
+                out / Path(where).name if Path(where) != staging else out
+            )  # as the user knows it
+        raise OutputError(exc.errno, exc.strerror or str(exc), str(where or out)) from exc
+    return [out / name for name in RUN_FILES]
+
+
+def check_run_target(out: Path) -> None:
+    """Raise OutputError unless ``out`` can become a run folder: a missing path under
+    folders (or under nothing), or a folder; never a file or a path through a file.
+    """
+    if out.exists() and not out.is_dir():
+        raise OutputError(
+            f"{str(out)!r} is a file, not a folder; give --out a folder (new or a run folder)"
+        )
+    for parent in out.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise OutputError(f"cannot make the folder {str(out)!r}: {str(parent)!r} is a file")
+            break
+
+
+def _write_run(model, folder: Path) -> None:
+    """Write the run files of ``model`` into the existing, empty ``folder``."""
     from abm.registry import name_of
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     summary = model.summary()
-    written = []
 
     def parquet(frame: pd.DataFrame, name: str) -> None:
-        path = out / name
-        frame.to_parquet(path)
-        written.append(path)
+        with _opened(folder / name, "wb") as file:
+            frame.to_parquet(file)
 
     parquet(model.events(), "events.parquet")
     parquet(model.positions(), "positions.parquet")
@@ -124,9 +186,8 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
     }
     if coverage is not None:
         arrays["first_covered"] = coverage.first_covered
-    arena_path = out / "arena.npz"
-    np.savez_compressed(arena_path, **arrays)
-    written.append(arena_path)
+    with _opened(folder / "arena.npz", "wb") as file:
+        np.savez_compressed(file, **arrays)
     cls = type(model)
     meta = {
         "model": name_of(cls) or f"{cls.__module__}:{cls.__qualname__}",
@@ -147,48 +208,107 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
         "end_time": float(model.time),
         "end_reason": model.end_reason,
     }
-    json_path = out / "run.json"
-    json_path.write_text(json.dumps(meta, indent=2) + "\n")
-    written.append(json_path)
-    return written
+    with _opened(folder / "run.json", "w") as file:
+        file.write(json.dumps(meta, indent=2) + "\n")
+
+
+@contextmanager
+def _opened(path: Path, mode: str) -> Iterator:
+    """``open(path, mode)``, with any OSError raised while it is open naming ``path``.
+
+    Writers given an open file (pyarrow, numpy) raise an OSError without a file name, and a
+    path given to pyarrow as text must be valid UTF-8: opening it here takes any name the
+    file system does.
+    """
+    try:
+        with open(path, mode, **({} if "b" in mode else {"encoding": "utf-8"})) as file:
+            yield file
+    except OSError as exc:
+        if exc.filename is None:
+            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
+        raise
 
 
 def load_run(out_dir: str | Path) -> SavedRun:
     """Load a run folder written by :func:`save_run`.
 
     Raises:
-        RunFolderError: the folder does not exist or lacks one of :data:`RUN_FILES`.
+        RunFolderError: the path does not exist, is a file, is a folder of runs or any other
+            folder than a run folder, lacks one of :data:`RUN_FILES` or holds a damaged one;
+            the message says which, and what is accepted.
 
     """
     folder = Path(out_dir)
-    if not folder.is_dir():
+    _check_run_folder(folder)
+    try:
+        meta = json.loads((folder / "run.json").read_text(encoding="utf-8"))
+        if not isinstance(meta, dict):
+            raise ValueError("run.json holds no JSON object")
+        if "styles" not in meta:
+            raise RunFolderError(
+                f"run folder {str(folder)!r} was saved by an older version (no state styles); "
+                f"re-run it with `abm run MODEL --out {folder}`"
+            )
+        with _opened(folder / "arena.npz", "rb") as file, np.load(file, allow_pickle=False) as data:
+            arena = Arena(
+                data["free"].astype(bool), float(data["resolution"]), name=str(data["name"])
+            )
+            first = data["first_covered"] if "first_covered" in data.files else None
+        summary = _parquet(folder / "summary.parquet").iloc[0].to_dict()
+        return SavedRun(
+            folder=folder,
+            arena=arena,
+            events=_parquet(folder / "events.parquet"),
+            positions=_parquet(folder / "positions.parquet"),
+            state_counts=_parquet(folder / "state_counts.parquet"),
+            summary=summary,
+            meta=meta,
+            first_covered=first,
+        )
+    except (ValueError, KeyError, IndexError, EOFError, zipfile.BadZipFile) as exc:  # cut short
+        raise RunFolderError(
+            f"run folder {str(folder)!r} is damaged ({type(exc).__name__}: "
+            f"{str(exc).splitlines()[0] if str(exc) else 'unreadable'}); "
+            f"re-run it with `abm run MODEL --out {folder}`"
+        ) from exc
+
+
+def _parquet(path: Path) -> pd.DataFrame:
+    """A Parquet file read through Python's ``open`` (any name the file system takes)."""
+    with _opened(path, "rb") as file:
+        return pd.read_parquet(file)
+
+
+def runs_in(folder: str | Path) -> list[Path]:
+    """The run folders directly inside ``folder`` (such as ``out/runs``), oldest first."""
+    root = Path(folder)
+    if not root.is_dir():
+        return []
+    runs = [p for p in root.iterdir() if p.is_dir() and (p / "run.json").is_file()]
+    return sorted(runs, key=lambda p: ((p / "run.json").stat().st_mtime, p.name))
+
+
+def _check_run_folder(folder: Path) -> None:
+    """Raise RunFolderError, saying what ``folder`` is instead, unless it is a run folder."""
+    accepted = "a run folder written by `abm run` (holding run.json, events.parquet, ...)"
+    if not folder.exists():
         raise RunFolderError(
             f"run folder {str(folder)!r} does not exist; make one with "
             f"`abm run MODEL --out {folder}`"
         )
+    if not folder.is_dir():
+        raise RunFolderError(f"{str(folder)!r} is a file, not a run folder; give {accepted}")
+    if not any((folder / name).is_file() for name in RUN_FILES):
+        inside = runs_in(folder)
+        if inside:
+            raise RunFolderError(
+                f"{str(folder)!r} holds {len(inside)} run folder(s), not one run; name one, "
+                f"e.g. the newest: {inside[-1]}"
+            )
+        raise RunFolderError(f"{str(folder)!r} is not a run folder (no run.json); give {accepted}")
     missing = [name for name in RUN_FILES if not (folder / name).is_file()]
     if missing:
         raise RunFolderError(
             f"run folder {str(folder)!r} lacks {', '.join(missing)}; "
             f"re-run it with `abm run MODEL --out {folder}` (which saves them)"
         )
-    meta = json.loads((folder / "run.json").read_text())
-    if "styles" not in meta:
-        raise RunFolderError(
-            f"run folder {str(folder)!r} was saved by an older version (no state styles); "
-            f"re-run it with `abm run MODEL --out {folder}`"
-        )
-    with np.load(folder / "arena.npz", allow_pickle=False) as data:
-        arena = Arena(data["free"].astype(bool), float(data["resolution"]), name=str(data["name"]))
-        first = data["first_covered"] if "first_covered" in data.files else None
-    summary = pd.read_parquet(folder / "summary.parquet").iloc[0].to_dict()
-    return SavedRun(
-        folder=folder,
-        arena=arena,
-        events=pd.read_parquet(folder / "events.parquet"),
-        positions=pd.read_parquet(folder / "positions.parquet"),
-        state_counts=pd.read_parquet(folder / "state_counts.parquet"),
-        summary=summary,
-        meta=meta,
-        first_covered=first,
-    )

@@ -2,7 +2,8 @@
 checksums) and to verify a folder of finished runs on restart (``analysis.sweep.integrity``).
 
 Writes ``RUNS`` copies of one real run's row under fresh run ids and seeds, then times the
-restart scan. Usage: ``.venv/bin/python benchmarks/bench_sweep_verify.py [RUNS]``.
+restart scan (each file is also matched against the plan). Usage:
+``.venv/bin/python benchmarks/bench_sweep_verify.py [RUNS]``.
 """
 
 import sys
@@ -13,6 +14,7 @@ from pathlib import Path
 from analysis.runner import run_one
 from analysis.sweep import Sweep, plan
 from analysis.sweep.integrity import RESULT_FOLDERS, scan
+from analysis.sweep.membership import PlanIndex
 from analysis.sweep.storage import store
 
 RUNS = 1000  # run files written and verified
@@ -32,7 +34,7 @@ def main(runs: int = RUNS) -> None:
             store(out, {"row": {**row, "run_id": spec.run_id, "seed": spec.seed, "rep": spec.rep}})
         write = time.perf_counter() - start
         start = time.perf_counter()
-        done, _failed, moved = scan(out, specs)
+        done, _failed, moved = scan(out, PlanIndex.of(sweep))
         verify = time.perf_counter() - start
     assert len(done) == runs and not moved
     print(f"{runs} runs: write {1e3 * write / runs:.1f} ms a run, "

@@ -1,11 +1,15 @@
-"""Fuzzing sweep files: malformed TOML, wrong keys, wrong types, empty and huge grids. Each file
-must load and plan (and its first run build and run briefly), or raise ConfigError naming the
-file.
+"""Fuzzing sweep files: malformed TOML, wrong keys, wrong types, empty and huge grids, names,
+encodings and ``module:Class`` targets. Each file must load and plan (and its first run build
+and run briefly), or raise ConfigError naming the file; an accepted name is a plain folder name
+and a refused target is never imported.
 """
 
 import json
 import math
+import os
 import string
+import sys
+from pathlib import Path
 
 import pytest
 from fuzzing import case, examples
@@ -76,10 +80,13 @@ VALUES = st.one_of(
 KEYS = st.one_of(st.sampled_from(FIELDS), st.sampled_from(["seed", "rng", "wings"]),
                  st.text(string.ascii_lowercase + "_", min_size=1, max_size=8))  # fmt: skip
 GRID = st.dictionaries(KEYS, VALUES, max_size=5)
+#: Targets whose import would print (``this``), open a browser (``antigravity``) or fail.
+TARGETS = ["this:X", "antigravity:X", "no.such.module:X", "models.beacon_explorer:Nope", ":X",
+           "x:", "models.beacon_explorer:BeaconExplorerModel", "os.path:join.x"]  # fmt: skip
 DOCS = st.fixed_dictionaries(
     {},
     optional={
-        "model": st.one_of(st.sampled_from(model_names()), SCALARS),
+        "model": st.one_of(st.sampled_from(model_names()), st.sampled_from(TARGETS), SCALARS),
         "seed": SCALARS,
         "replications": st.one_of(SCALARS, st.integers(1, 3)),
         "name": SCALARS,
@@ -125,9 +132,9 @@ def _damaged(text: str, cut: int, junk: str) -> str:
     return text[: cut % (len(text) + 1)] + junk
 
 
-def _check_file(path) -> None:
+def _check_file(path: Path, target: str = "sweep-file") -> None:
     names = [str(path)]
-    with case("sweep-file", names):
+    with case(target, names):
         sweep = load_sweep(path)
         names += [*sweep.grid, *(k for p in sweep.points for k in p)]  # a run's error names one
         if sweep.n_runs <= PLANNED:
@@ -197,6 +204,47 @@ def test_the_largest_sweep_allowed_is_accepted(tmp_path):
     path.write_text(f'model = "beacon-explorer"\nreplications = {MAX_RUNS}\n[grid]\n'
                     'world = ["open"]\n')  # fmt: skip
     assert load_sweep(path).n_runs == MAX_RUNS
+
+
+#: Names a user might try, traversal included.
+NAMES = st.one_of(
+    st.text(max_size=12),
+    st.text(string.ascii_letters + string.digits + "-_./\\~ ", max_size=12),
+    st.sampled_from(["", ".", "..", "/tmp/x", "../../../tmp/x", "a/../b", "~", "-", "a..b",
+                     "x" * 100, "x" * 101, "C:\\x", "name\u00e9"]),
+)  # fmt: skip
+
+
+@examples(150)
+@given(name=NAMES)
+def test_fuzzed_sweep_names_are_plain_folder_names_or_refused(tmp_path_factory, name):
+    path = tmp_path_factory.mktemp("toml") / "named.toml"
+    path.write_text(f"name = {json.dumps(name)}\n" + SMOKE)
+    with case("sweep-name", [str(path)]):
+        sweep = load_sweep(path)
+        base = "/base/out/sweeps"
+        folder = os.path.normpath(os.path.join(base, sweep.name))
+        assert os.path.dirname(folder) == base and not sweep.name.startswith(".")
+
+
+ENCODINGS = ["utf-8", "utf-8-sig", "utf-16", "utf-32", "latin-1", "cp1252", "shift_jis"]
+
+
+@examples(100)
+@given(text=st.text(max_size=16), encoding=st.sampled_from(ENCODINGS),
+       junk=st.binary(max_size=6), at=st.integers(0, 300))  # fmt: skip
+def test_sweep_files_in_any_encoding_load_or_raise_config_error(
+    tmp_path_factory, text, encoding, junk, at
+):
+    doc = f"description = {json.dumps(text, ensure_ascii=False)}\n" + SMOKE
+    data = doc.encode(encoding, errors="replace")
+    path = tmp_path_factory.mktemp("toml") / "encoded.toml"
+    path.write_bytes(data[:at] + junk + data[at:])
+    _check_file(path, "sweep-encoding")
+
+
+def test_refused_targets_were_never_imported():
+    assert "this" not in sys.modules and "antigravity" not in sys.modules
 
 
 def test_every_sweep_file_key_is_fuzzed():

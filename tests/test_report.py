@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from analysis.cli import main
-from analysis.compare import NOT_IN_SWEEP, compare_published
+from analysis.compare import NOT_COMPARABLE, NOT_IN_SWEEP, compare_published, parameter_defaults
 from analysis.report import write_report
 from models.beacon_explorer.published import PUBLISHED
 
@@ -43,14 +43,37 @@ def corridor_results(n: int = 4) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def write_sweep(folder, df: pd.DataFrame) -> None:
+def write_sweep(
+    folder,
+    df: pd.DataFrame,
+    points: list[dict] | None = None,
+    *,
+    grid: dict | None = None,
+    model: str = "beacon-explorer",
+    target: str = "models.beacon_explorer.model:BeaconExplorerModel",
+) -> None:
+    """Fake runs written as the runs of a sweep: each row gets the run id, replication and seed
+    the plan gives its parameters (a report refuses run files that are not its sweep's). The
+    grid defaults to beacon/explorer's complexity x launch period; with ``points``, the grid is
+    the complexity and each row takes the first point it matches.
+    """
+    from analysis.sweep.seeding import run_id, spawned_seed
+
+    grid = grid or {"complexity": ["low", "medium", "high"], "launch_period": [6.0, 12.0, 24.0]}
+    if points:
+        del grid["launch_period"]
     (folder / "runs").mkdir(parents=True)
-    for run_id, row in df.groupby("run_id"):
-        row.to_parquet(folder / "runs" / f"{run_id}.parquet", index=False)
-    manifest = {"name": "fake", "model": "beacon-explorer", "seed": 1, "replications": 4,
-                "target": "models.beacon_explorer.model:BeaconExplorerModel",
-                "grid": {"complexity": ["low", "medium", "high"],
-                         "launch_period": [6.0, 12.0, 24.0]}}  # fmt: skip
+    reps: dict[str, int] = {}
+    for _, row in df.iterrows():
+        params = {k: next(v for v in values if v == row[k]) for k, values in grid.items()}
+        params |= next((p for p in points or [] if all(row[k] == v for k, v in p.items())), {})
+        key = json.dumps(params, sort_keys=True)
+        rep = reps[key] = reps.get(key, -1) + 1
+        rid = run_id(params, rep)
+        one = row.to_frame().T.assign(run_id=rid, rep=rep, seed=spawned_seed(1, params, rep)[0])
+        one.infer_objects().to_parquet(folder / "runs" / f"{rid}.parquet", index=False)
+    manifest = {"name": "fake", "model": model, "seed": 1, "replications": max(reps.values()) + 1,
+                "target": target, "grid": grid, "points": points or []}  # fmt: skip
     (folder / "sweep.json").write_text(json.dumps(manifest))
 
 
@@ -68,18 +91,19 @@ def test_ours_beside_published_for_the_same_condition():
     rows = compare_published(corridor_results(), PUBLISHED)
     flight = rows[rows["quantity"].str.startswith("flight time: change 24")]
     corridor = flight[flight["section"] == "corridor"].iloc[0]
-    assert float(corridor["ours"]) == pytest_approx(-75.0, 2.0)
-    assert corridor["direction agrees"] == "yes"
+    assert float(corridor["ours"].split(";")[0]) == pytest_approx(-75.0, 2.0)
+    assert corridor["verdict"] == "holds" and "excludes 0" in corridor["rule"]
     coverage = rows[rows["quantity"].str.startswith("coverage time: change 24")].iloc[0]
     collisions = rows[rows["quantity"].str.startswith("collisions: change 24")].iloc[0]
-    assert float(collisions["ours"]) == pytest_approx(-75.0, 0.01)
-    assert float(coverage["ours"]) > 0 and coverage["direction agrees"] == "yes"
+    assert float(collisions["ours"].split(";")[0]) == pytest_approx(-75.0, 0.01)
+    assert float(coverage["ours"].split(";")[0]) > 0 and coverage["verdict"] == "holds"
     area = rows[rows["quantity"].str.startswith("coverage area (%), mean over periods")]
-    assert list(area["direction agrees"]) == ["(reference)", "yes", "yes"]
+    assert list(area["verdict"]) == ["(reference)", "holds", "holds"]
     r = rows[rows["quantity"].str.startswith("Pearson")].iloc[0]
-    assert r["ours"].startswith("1.000") or float(r["ours"].split()[0]) > 0.99
-    assert (rows[rows["section"].isin(["open space", "mixed", "hover vs attach"])]["ours"]
-            == NOT_IN_SWEEP).all()  # fmt: skip
+    assert float(r["ours"].split()[0]) > 0.99 and r["verdict"] == "holds"
+    others = rows[rows["section"].isin(["open space", "mixed", "hover vs attach"])]
+    assert (others["verdict"] == NOT_COMPARABLE).all()
+    assert others["reason"].str.startswith("world is corridor here, ").all()
 
 
 def pytest_approx(value, tol):
@@ -104,7 +128,8 @@ def test_report_is_self_contained_html(tmp_path):
 
 def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
     """Table 1's trends as records: beacons fall with the radius on map 1 (233.4, 27.8, 12.8,
-    8.2); fake runs that fall agree, the missing 10 m condition reads as not in the sweep."""
+    8.2); fake runs that fall agree, the missing 10 m condition reads as not comparable."""
+    from models.stigmergy import StigmergyModel
     from models.stigmergy.published import PUBLISHED as TABLE1_RECORDS
 
     rows = []
@@ -113,11 +138,13 @@ def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
             rows.append({"run_id": f"{radius}-{i}", "map": "hall100", "pheromone_radius": radius,
                          "beacon": beacons + i, "wander": 2.0, "time": 1000.0 - radius * 5,
                          "cb": 10.0, "status": "ok"})  # fmt: skip
-    table = compare_published(pd.DataFrame(rows), TABLE1_RECORDS)
+    defaults = parameter_defaults(StigmergyModel)
+    table = compare_published(pd.DataFrame(rows), TABLE1_RECORDS, defaults)
     beacons = table[
         (table["section"] == "map 1 (hall100)") & (table["quantity"] == "final beacons b")
     ]
-    assert list(beacons["direction agrees"]) == [NOT_IN_SWEEP, "(reference)", "yes", "yes"]
+    assert list(beacons["verdict"]) == [NOT_COMPARABLE, "(reference)", "holds", "holds"]
+    assert beacons["reason"].iloc[0] == "pheromone radius is 20, 30, 40 here, 10 in the paper"
     assert list(beacons["published"]) == ["233.4", "27.8", "12.8", "8.2"]
 
 
@@ -138,12 +165,10 @@ def test_a_points_only_key_is_a_condition_of_its_own_in_the_means(tmp_path):
     df["hover_beacons"] = np.where(df["launch_period"] == 6.0, True, None)
     df.loc[df["hover_beacons"].notna(), "energy_total"] = 1e9
     folder = tmp_path / "points"
-    write_sweep(folder, df)
-    manifest = json.loads((folder / "sweep.json").read_text())
-    manifest["points"] = [{"hover_beacons": True}]
-    (folder / "sweep.json").write_text(json.dumps(manifest))
+    write_sweep(folder, df, [{"hover_beacons": True, "launch_period": 6.0},
+                             {"launch_period": 12.0}, {"launch_period": 24.0}])  # fmt: skip
     text = write_report(folder).read_text()
-    assert "(hover_beacons=True)" in text  # the set-up line names the points
+    assert "(hover_beacons=True, launch_period=6.0)" in text  # the set-up line names the points
     assert "(default)" in text and "1e+09" in text  # their means are not mixed with the rest
 
 
@@ -156,10 +181,8 @@ def test_a_list_valued_points_key_is_a_condition_of_its_own(tmp_path):
     df["fault_states"] = [["beacon"] if flag else None for flag in on]
     df.loc[on, "energy_total"] = 1e9
     folder = tmp_path / "lists"
-    write_sweep(folder, df)
-    manifest = json.loads((folder / "sweep.json").read_text())
-    manifest["points"] = [{"fault_states": ["beacon"]}]
-    (folder / "sweep.json").write_text(json.dumps(manifest))
+    write_sweep(folder, df, [{"fault_states": ["beacon"], "launch_period": 6.0},
+                             {"launch_period": 12.0}, {"launch_period": 24.0}])  # fmt: skip
     text = write_report(folder).read_text()
     assert "[&#39;beacon&#39;]" in text or "['beacon']" in text
     assert "(default)" in text and "1e+09" in text

@@ -61,6 +61,8 @@ def test_plan_is_deterministic_and_stable_when_the_grid_grows():
         ('model = "beacon-explorer"\nreplication = 3\n[grid]\nworld = ["open"]\n', "'replication'"),
         ('model = "ants"\n[grid]\nworld = ["open"]\n', "'ants'"),
         ('model = "beacon-explorer"\nreplications = 0\n[grid]\nworld = ["open"]\n', "replications"),
+        ('model = "flocking"\nseed = -1\n[grid]\nbirds = [10]\n', "seed must be an integer in"),
+        (f'model = "flocking"\nseed = {2**63}\n[grid]\nbirds = [10]\n', r"\[0, 2\*\*63 - 1\]"),
     ],
 )
 def test_bad_sweep_files_name_the_offending_key(tmp_path, text, match):

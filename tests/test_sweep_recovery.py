@@ -135,7 +135,9 @@ def test_damaged_files_are_set_aside_named_and_run_again(tmp_path, reference, ca
     for name, reason in expected.items():
         line = next((ln for ln in err.splitlines() if f"{out / name} ->" in ln), "")
         assert f"({reason}:" in line, (name, err)
-    summary = f"{len(expected)} damaged or half-written file(s) set aside in {out / 'set_aside'}"
+    summary = (
+        f"{len(expected)} damaged, half-written or foreign file(s) set aside in {out / 'set_aside'}"
+    )
     assert summary in err
     aside = sorted(p.relative_to(out / "set_aside").as_posix() for p in
                    (out / "set_aside").rglob("*") if p.is_file())  # fmt: skip

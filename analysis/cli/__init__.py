@@ -2,7 +2,8 @@
 
 Each verb module defines ``VERB`` (its name), ``HELP`` (one line), ``EXAMPLE`` (one command
 line), ``add_arguments(parser)`` and ``main(args) -> int``. Errors the project raises on
-purpose are printed as one clear line (no traceback) unless ``--debug`` is given.
+purpose, any OSError and any bad option are printed as one clear line (no traceback, no usage
+block) unless ``--debug`` is given.
 """
 
 import argparse
@@ -10,9 +11,9 @@ import errno
 import importlib
 import sys
 
-from abm.errors import ABMError
+from abm.errors import ABMError, ConfigError
 
-__all__ = ["main", "build_parser", "VERB_MODULES"]
+__all__ = ["main", "build_parser", "one_line", "OneLineParser", "VERB_MODULES"]
 
 #: Verb modules, in the order ``abm --help`` lists them.
 VERB_MODULES = ("run", "sweep", "report", "fit", "render", "viz")
@@ -22,11 +23,23 @@ def _load_verbs() -> list:
     return [importlib.import_module(f"analysis.cli.{name}") for name in VERB_MODULES]
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are ConfigErrors (one line, naming the option and
+    pointing to ``--help``) instead of a usage block and an exit.
+    """
+
+    def error(self, message: str):
+        """Raise the error instead of printing usage and exiting (argparse's contract: never
+        return).
+        """
+        raise ConfigError(f"{message} (see {self.prog} --help)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every available verb."""
     verbs = _load_verbs()
     epilog = "examples:\n" + "\n".join(f"  {v.EXAMPLE:<70} # {v.HELP}" for v in verbs)
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="abm",
         description="Discrete-event agent-based modelling of robot swarms.",
         epilog=epilog,
@@ -48,8 +61,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``abm`` console script."""
+    _never_fail_on_encoding(sys.stdout)
+    _never_fail_on_encoding(sys.stderr)
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except ConfigError as exc:
+        print(f"abm: error: {one_line(exc)}", file=sys.stderr)
+        return 2
     if args.verb is None:
         parser.print_help()
         return 0
@@ -61,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
         if isinstance(exc, KeyboardInterrupt):
             print("abm: interrupted", file=sys.stderr)
             return 130
-        print(f"abm {args.verb}: error: {_one_line(exc)}", file=sys.stderr)
+        print(f"abm {args.verb}: error: {one_line(exc)}", file=sys.stderr)
         return 2
 
 
@@ -75,13 +94,33 @@ _OS_ADVICE = {
 }
 
 
-def _one_line(exc: BaseException) -> str:
-    """The error as one line; an OSError names its file and what to do about it."""
-    if isinstance(exc, OSError) and not isinstance(exc, ABMError) and exc.strerror:
+def one_line(exc: BaseException, advice: bool = True) -> str:
+    """The error as one line; an OSError names its file and (with ``advice``) what to do.
+
+    Line breaks in the message become spaces, and any other character that is not printable
+    (a control character or an undecodable byte in a file name) is written as an escape, so
+    the line stays one line whatever names it quotes.
+    """
+    if isinstance(exc, OSError) and exc.strerror:
         where = f" {exc.filename}" if exc.filename else ""
-        advice = _OS_ADVICE.get(exc.errno)
-        return f"{exc.strerror}:{where}" + (f"; {advice}" if advice else "")
-    return " ".join(str(exc).split("\n")).strip() if str(exc) else type(exc).__name__
+        todo = _OS_ADVICE.get(exc.errno) if advice else None
+        text = f"{exc.strerror}:{where}" + (f"; {todo}" if todo else "")
+    else:
+        text = " ".join(str(exc).split("\n")).strip() or type(exc).__name__
+    return "".join(
+        c if c.isprintable() else c.encode("unicode_escape", "backslashreplace").decode("ascii")
+        for c in text
+    )
+
+
+def _never_fail_on_encoding(stream) -> None:
+    """Write what the stream's encoding cannot hold as escapes instead of raising: a path in
+    another encoding, or a non-ASCII name on an ASCII terminal, never stops a command after
+    its work is done.
+    """
+    reconfigure = getattr(stream, "reconfigure", None)
+    if reconfigure is not None:
+        reconfigure(errors="backslashreplace")
 
 
 if __name__ == "__main__":

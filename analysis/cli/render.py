@@ -4,17 +4,21 @@ import argparse
 import shutil
 from pathlib import Path
 
-from abm.errors import ABMError
+from abm.errors import ABMError, OutputError
 
 VERB = "render"
 HELP = "draw PNG snapshots and an animated GIF (or MP4) of a run saved by `abm run`"
-EXAMPLE = "abm render out/run --times 0 60 120 --gif"
+EXAMPLE = "abm render out/runs/flocking-20260101-120000-1 --times 0 60 120 --gif"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm render``."""
     parser.add_argument(
-        "run", nargs="?", type=Path, default=Path("out/run"), help="run folder (default out/run)"
+        "run",
+        nargs="?",
+        type=Path,
+        default=None,
+        help="run folder written by `abm run` (default: the newest in out/runs)",
     )
     parser.add_argument(
         "--times",
@@ -51,8 +55,11 @@ def main(args: argparse.Namespace) -> int:
 
     if args.mp4 and shutil.which("ffmpeg") is None:
         raise ABMError("--mp4 needs ffmpeg on PATH (apt-get install -y ffmpeg); use the GIF")
-    run = load_run(args.run)
-    out = args.out if args.out is not None else args.run / "render"
+    folder = args.run if args.run is not None else _newest_run()
+    run = load_run(folder)
+    out = args.out if args.out is not None else folder / "render"
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"--out {str(out)!r} is a file; give a folder for the pictures")
     times = args.times if args.times else snapshot_times(run, args.snapshots)
     written = render_snapshots(run, times, out)
     for path in written:
@@ -64,3 +71,14 @@ def main(args: argparse.Namespace) -> int:
     if not kinds and not written:
         print("nothing to draw (no --times and --no-gif)")
     return 0
+
+
+def _newest_run() -> Path:
+    """The newest run folder in ``out/runs`` (where ``abm run`` saves runs by default)."""
+    from analysis.cli.run import RUNS
+    from analysis.runio import runs_in
+
+    runs = runs_in(RUNS)
+    if not runs:
+        raise ABMError(f"no run folder in {RUNS}/ yet; make one with `abm run MODEL`, or name one")
+    return runs[-1]

@@ -1,15 +1,27 @@
-"""``abm run MODEL``: one run of any registered model; prints its summary, writes a PNG of the
-final state and the run folder ``abm render`` draws from.
+"""``abm run MODEL``: one run of any registered model; prints its summary, saves the run folder
+``abm render`` draws from and a PNG of the final state.
 
-Every field of the model's params is a flag (``abm run MODEL --help`` lists them).
+Every field of the model's params is a flag (``abm run MODEL --help`` lists them). Each run gets
+a folder of its own, ``out/runs/<model>-<time>-<seed>/``, unless ``--out`` names one. Every
+input (the seed, the parameters, the output folder) is checked before the run starts, and a
+finished run is never lost to a failure while saving (see :func:`save_or_rescue`).
 """
 
 import argparse
+import re
+import shlex
+import sys
+import tempfile
+from contextlib import nullcontext
+from datetime import datetime
 from pathlib import Path
 
 VERB = "run"
-HELP = "run one simulation of a model, print its summary, save a PNG and the run folder"
+HELP = "run one simulation of a model, print its summary, save the run folder and a PNG"
 EXAMPLE = "abm run beacon-explorer --world corridor --complexity high --launch-period 6 --seed 1"
+
+#: Where a run's folder goes unless ``--out`` names one.
+RUNS = Path("out/runs")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,26 +39,41 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
-    """The parser of ``abm run NAME ...``: seed, output folder, one flag per parameter."""
+    """The parser of ``abm run NAME ...``: seed, output folder, progress, one flag per parameter."""
+    from analysis.cli import OneLineParser
     from analysis.cli.flags import add_param_flags
 
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog=f"abm run {name}",
         description=(model_cls.__doc__ or "").strip().splitlines()[0],
     )
-    parser.add_argument("--seed", type=int, default=1, help="the model's seed [1]")
-    parser.add_argument("--out", type=Path, default=Path("out/run"), help="output folder [out/run]")
+    parser.add_argument(
+        "--seed", type=_seed, default=1, help="the model's seed, an integer in [0, 2**63 - 1] [1]"
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help=f"the run folder: new, or holding this same run [a new {RUNS}/<model>-<time>-<seed>]",
+    )
+    parser.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="a progress line on stderr once the run takes more than a few seconds [yes]",
+    )
     add_param_flags(parser, model_cls.Params)
     return parser
 
 
 def main(args: argparse.Namespace) -> int:
-    """Build, run, print, save."""
+    """Check every input, build, run, print, save."""
     from abm.draw import save_swarm_png
     from abm.errors import ConfigError
     from abm.registry import model_class, model_names, name_of
     from analysis.cli.flags import given_params
-    from analysis.runio import save_run
+    from analysis.cli.progress import RunProgress
+    from analysis.runio import check_run_target
 
     if args.model is None:
         raise ConfigError(
@@ -59,18 +86,168 @@ def main(args: argparse.Namespace) -> int:
     # `abm render` draws from the sampled positions: sample them even where the model's
     # default (fast sweeps) is not to.
     params.setdefault("trace_interval", cls.Params().trace_interval or 1.0)
-    model = cls(seed=options.seed, **params)
-    model.run()
-    summary = model.summary()
-    print(f"{name}, seed {options.seed}:")
-    print(format_summary(summary))
-    options.out.mkdir(parents=True, exist_ok=True)
-    png = save_swarm_png(model, options.out / "final.png", title=_title(name, summary))
-    print(f"\nwrote {png}")
-    for path in save_run(model, options.out):
+    planned = cls.make_params(**params)  # every parameter checked before the run
+    if options.out is not None:
+        check_run_target(options.out)
+        _check_same_run(options.out, cls, options.seed, planned)
+        out, made = _prepare(options.out)
+    else:
+        out, made = _prepare(None, name, options.seed)
+    try:
+        model = cls(seed=options.seed, **params)
+        progress = RunProgress(model) if options.progress else None
+        with progress or nullcontext():
+            model.run()
+        summary = model.summary()
+        print(f"{name}, seed {options.seed}:")
+        print(format_summary(summary), flush=True)
+        if progress is not None and progress.shown:  # a long run: its files take a while too
+            print(f"saving the run in {out} ...", file=sys.stderr)
+        again = shlex.join(["abm", "run", name, *args.options])
+        written = save_or_rescue(model, out, again)
+    except BaseException:
+        if made and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()  # the folder made for this run stays only with the run in it
+        raise
+    print()
+    for path in written:
         print(f"wrote {path}")
-    print(f"next: abm render {options.out}")
+    png = save_swarm_png(model, out / "final.png", title=_title(name, summary))
+    print(f"wrote {png}")
+    print(f"next: abm render {out}")
     return 0
+
+
+def _prepare(out: Path | None, name: str = "", seed: int = 0) -> tuple[Path, bool]:
+    """Make the run's folder before the run (``out``, or a new one under :data:`RUNS`) and
+    check that files can be written in it; return it and whether it was made here.
+
+    Any place that cannot take the run (read-only, no permission, a name too long, a full
+    disk) is refused now rather than after the run.
+
+    Raises:
+        OutputError: naming the folder, the reason and what to do.
+
+    """
+    from abm.errors import OutputError
+
+    try:
+        if out is None:
+            out, made = new_run_folder(name, seed, datetime.now()), True
+        else:
+            made = not out.exists()
+            out.mkdir(parents=True, exist_ok=True)
+        Path(tempfile.mkdtemp(prefix=".abm-check-", dir=out)).rmdir()
+    except OSError as exc:
+        if out is not None and made and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()
+        if isinstance(exc, OutputError):
+            raise
+        raise OutputError(exc.errno, exc.strerror or str(exc), exc.filename or str(out)) from exc
+    return out, made
+
+
+def _seed(text: str) -> int:
+    """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
+    from abm.errors import ConfigError, parse_seed
+
+    try:
+        return parse_seed(text)
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def new_run_folder(name: str, seed: int, started: datetime, root: Path = RUNS) -> Path:
+    """Make and return a new, empty folder ``root/<name>-<YYYYmmdd-HHMMSS>-<seed>``.
+
+    A run started in the same second with the same model and seed gets ``-2``, ``-3``, ...: a
+    run folder is never shared (creating it is the reservation, so parallel runs cannot meet).
+    """
+    stem = _stem(name, seed, started)
+    root.mkdir(parents=True, exist_ok=True)
+    for n in range(1, 10_000):
+        folder = root / (stem if n == 1 else f"{stem}-{n}")
+        try:
+            folder.mkdir()
+        except FileExistsError:
+            continue
+        return folder
+    raise FileExistsError(f"{root / stem}-*: 10,000 folders of this name already exist")
+
+
+def _stem(name: str, seed: int, started: datetime) -> str:
+    """``<name>-<YYYYmmdd-HHMMSS>-<seed>``, the name kept to letters, digits and ``_.-``."""
+    return f"{re.sub(r'[^A-Za-z0-9_.-]+', '_', name)}-{started:%Y%m%d-%H%M%S}-{seed}"
+
+
+def _check_same_run(out: Path, cls: type, seed: int, params) -> None:
+    """Refuse an ``--out`` folder that holds anything but this same run (model, seed and
+    parameters): two runs in one folder would mix their files and renders.
+    """
+    import json
+
+    from abm.errors import OutputError
+
+    if not out.is_dir() or not any(out.iterdir()):
+        return
+    meta_file = out / "run.json"
+    if not meta_file.is_file():
+        raise OutputError(
+            f"--out {str(out)!r} holds other files and is not a run folder; give a new or empty "
+            f"folder (or leave --out out: each run gets a new folder under {RUNS}/)"
+        )
+    try:
+        meta = json.loads(meta_file.read_text(encoding="utf-8"))
+        same = (
+            meta.get("target") == f"{cls.__module__}:{cls.__qualname__}"
+            and meta.get("seed") == seed
+            and meta.get("parameters") == json.loads(json.dumps(params.plain()))
+        )
+    except (ValueError, AttributeError):
+        meta, same = {}, False
+    if not same:
+        other = f"{meta.get('model', 'unknown model')}, seed {meta.get('seed', '?')}"
+        raise OutputError(
+            f"--out {str(out)!r} holds another run ({other}); give a new folder (or leave --out "
+            f"out: each run gets a new folder under {RUNS}/), or delete that one first"
+        )
+
+
+def save_or_rescue(model, out: Path, again: str) -> list:
+    """Save the finished run to ``out``; if that fails, save it to a new folder in the system's
+    temporary folder instead and say both, so the finished simulation is not lost.
+
+    The data written to ``out`` is removed on failure (no half-written run folder, its space
+    given back; see :func:`analysis.runio.save_run`).
+
+    Raises:
+        OutputError: always when ``out`` failed: naming the file that could not be written,
+            what to do, and where the run was saved instead, or, when that failed too, the
+            command that reproduces the run event for event (same seed, same parameters).
+
+    """
+    from abm.errors import OutputError
+    from analysis.cli import one_line
+    from analysis.runio import save_run
+
+    try:
+        return save_run(model, out)
+    except OSError as exc:
+        failed = one_line(exc, advice=False)
+        first = exc
+    try:
+        rescue = Path(tempfile.mkdtemp(prefix="abm-rescued-")) / out.name
+        save_run(model, rescue)
+    except OSError as exc:
+        also = one_line(exc, advice=False)
+        raise OutputError(
+            f"{failed}; saving it to the temporary folder failed too ({also}): the run is not "
+            f"saved; its summary is above, and `{again}` repeats it event for event"
+        ) from first
+    raise OutputError(
+        f"{failed}; the finished run was saved to {rescue} instead: `mv {rescue} {out}` "
+        f"once the problem is fixed (`abm render {rescue}` draws it where it is)"
+    ) from first
 
 
 def _title(name: str, summary: dict) -> str:

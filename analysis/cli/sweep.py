@@ -24,7 +24,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--workers", type=int, default=None, help="local workers (default: cores)")
     parser.add_argument(
-        "--out", type=Path, default=None, help="dataset folder (default: out/sweeps/<name>)"
+        "--out",
+        type=Path,
+        default=None,
+        help="dataset folder: new, empty or this sweep's (default: out/sweeps/<name>)",
     )
     parser.add_argument(
         "--replications", type=int, default=None, help="override the file's replications"
@@ -37,15 +40,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args: argparse.Namespace) -> int:
     """Load, validate (before any run), run what is missing, print where it wrote."""
     from analysis.sweep import execute, load_sweep
+    from analysis.sweep.execute import DRY_BUILD_POINTS
 
     sweep = load_sweep(args.file, replications=args.replications)
     out = args.out if args.out is not None else Path("out/sweeps") / sweep.name
     print(
         f"sweep {sweep.name!r}: {sweep.n_runs} runs "
-        f"({sweep.n_runs // sweep.replications} grid points x {sweep.replications} replications), "
+        f"({sweep.n_points} grid points x {sweep.replications} replications), "
         f"seed {sweep.seed}, executor {args.executor}",
         file=sys.stderr,
     )
+    if sweep.n_points > DRY_BUILD_POINTS:
+        print(
+            f"every value checked; {DRY_BUILD_POINTS} grid points built before the first run, "
+            "the others as their runs start (a bad combination is a recorded failure)",
+            file=sys.stderr,
+        )
     start = time.perf_counter()
     df = execute(
         sweep,

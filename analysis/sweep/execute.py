@@ -4,19 +4,26 @@ run the moment it finishes, and survive Ctrl-C and failing runs.
 
 import concurrent.futures as cf
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 
 import pandas as pd
 
 from abm.errors import ConfigError
 from analysis.sweep.executors import Executors
+from analysis.sweep.folder import SweepLock, check_out
 from analysis.sweep.integrity import SET_ASIDE, SetAside, scan
-from analysis.sweep.seeding import plan
-from analysis.sweep.spec import Sweep
-from analysis.sweep.storage import load_results, prepare_out, store
+from analysis.sweep.membership import PlanIndex
+from analysis.sweep.seeding import iter_plan
+from analysis.sweep.spec import Sweep, check_name
+from analysis.sweep.storage import load_results, prepare_out, read_manifest, store
 
-__all__ = ["execute", "run_sweep"]
+__all__ = ["DRY_BUILD_POINTS", "execute", "run_sweep"]
+
+#: Grid points built (not run) before any run starts. A model takes ~2-15 ms to build, so a
+#: 1e6-point grid cannot be built first; beyond this many, each further point is built when
+#: its runs start, and a bad combination becomes a recorded failure of its runs.
+DRY_BUILD_POINTS = 200
 
 
 def execute(
@@ -31,12 +38,18 @@ def execute(
 ) -> pd.DataFrame:
     """Run every run of ``sweep`` not already on disk in ``out``; return the whole dataset.
 
-    Before any run starts, every grid point is built once (not run) so that a bad value fails
-    at once, and every result file already in ``out`` is verified: one that is damaged,
-    half-written or holds another run is moved to ``out/set_aside/`` (named by the reason,
-    reported on stderr) and its run runs again. Each finished run is written immediately; on
+    Before any run starts: the folder is checked (a sweep writes only into a new or empty
+    folder or its own sweep folder, never through a link) and locked (a second sweep on it
+    stops with one line naming the holder); grid points are built (not run) so that a bad
+    combination fails at once (all of them up to :data:`DRY_BUILD_POINTS`, beyond that that
+    many covering every value, the rest when their runs start); and every result file already
+    in ``out`` is verified: one that is damaged, half-written, or not a run of the folder's
+    plan (other parameters, seed or run id) is moved to ``out/set_aside/`` (named by the
+    reason, reported on stderr) and never counted. Runs are planned lazily, so the first one
+    starts at once even at the 1e6-run limit; each finished run is written immediately. On
     Ctrl-C queued runs are cancelled, runs in flight are finished and written (a second
-    Ctrl-C abandons them), then KeyboardInterrupt propagates.
+    Ctrl-C abandons them), then KeyboardInterrupt propagates. A write that fails (full disk,
+    read-only folder) stops the sweep with an OSError naming the file; finished runs stay.
 
     Args:
         sweep: what to run.
@@ -52,18 +65,22 @@ def execute(
 
     """
     out = Path(out) if out is not None else Path("out/sweeps") / sweep.name
-    specs = plan(sweep)
+    check_out(out)
     _dry_build(sweep)
-    manifest = prepare_out(out, sweep)
-    done, failed_before, moved = scan(out, specs)
-    _report_set_aside(out, manifest + moved)
-    todo = [
-        s for s in specs if s.run_id not in done and (retry_failed or s.run_id not in failed_before)
-    ]
-    skipped = len(specs) - len(todo)
-    if todo:
-        _run_all(todo, out, executor, address, workers, progress, skipped)
-    return load_results(out)
+    with SweepLock(out):
+        manifest = prepare_out(out, sweep)
+        done, failed_before, moved = scan(out, PlanIndex(read_manifest(out)))
+        _report_set_aside(out, manifest + moved)
+        own = PlanIndex.of(sweep)
+        skip = set(done) | (set() if retry_failed else set(failed_before))
+        skipped = sum(own.holds(*run) for run in done.values())
+        if not retry_failed:
+            skipped += sum(own.holds(*run) for k, run in failed_before.items() if k not in done)
+        todo = (s for s in iter_plan(sweep) if s.run_id not in skip)
+        if skipped < sweep.n_runs:
+            _run_all(todo, sweep.n_runs - skipped, out, executor, address, workers, progress,
+                     skipped)  # fmt: skip
+        return load_results(out)
 
 
 def _report_set_aside(out: Path, moved: list[SetAside]) -> None:
@@ -72,15 +89,15 @@ def _report_set_aside(out: Path, moved: list[SetAside]) -> None:
         print(str(item), file=sys.stderr)
     if moved:
         print(
-            f"{len(moved)} damaged or half-written file(s) set aside in {out / SET_ASIDE}; "
-            "any run of this sweep among them runs again",
+            f"{len(moved)} damaged, half-written or foreign file(s) set aside in "
+            f"{out / SET_ASIDE}; any run of this sweep among them runs again",
             file=sys.stderr,
         )
 
 
 def _dry_build(sweep: Sweep) -> None:
-    """Build every grid point once (without running it) so bad values fail before any run."""
-    for params in sweep.conditions():
+    """Build grid points once (without running them) so bad values fail before any run."""
+    for params in _points_to_build(sweep):
         try:
             sweep.model_cls(**params, seed=0)
         except ConfigError as exc:
@@ -88,16 +105,31 @@ def _dry_build(sweep: Sweep) -> None:
             raise ConfigError(f"grid point ({shown}): {exc}") from exc
 
 
-def _run_all(todo, out, executor, address, workers, progress, skipped) -> None:
+def _points_to_build(sweep: Sweep) -> Iterator[dict]:
+    """Every grid point when there are at most :data:`DRY_BUILD_POINTS`; else that many, the
+    k-th taking the k-th value of every key (wrapping round), so every value of a key with at
+    most that many values is built at least once.
+    """
+    if sweep.n_points <= DRY_BUILD_POINTS:
+        yield from sweep.iter_conditions()
+        return
+    axes = [[{key: v} for v in values] for key, values in sweep.grid.items()]
+    if sweep.points:
+        axes.append([dict(p) for p in sweep.points])
+    for k in range(min(DRY_BUILD_POINTS, max(len(a) for a in axes))):
+        yield {key: v for axis in axes for key, v in axis[k % len(axis)].items()}
+
+
+def _run_all(todo, total, out, executor, address, workers, progress, skipped) -> None:
     from tqdm.auto import tqdm
 
-    bar = tqdm(total=len(todo), unit="run", disable=not progress, smoothing=0.1)
+    bar = tqdm(total=total, unit="run", disable=not progress, smoothing=0.1)
     if skipped:
         bar.write(f"skipping {skipped} runs already in {out}", file=sys.stderr)
     n_ok = n_failed = 0
     pool = Executors(executor, workers, address)
     state: dict = {}
-    interrupted = False
+    stopped = False
     try:
         for result in pool.results(todo, state):
             store(out, result)
@@ -108,17 +140,20 @@ def _run_all(todo, out, executor, address, workers, progress, skipped) -> None:
             bar.set_postfix(done=n_ok, failed=n_failed, refresh=False)
             bar.update()
     except KeyboardInterrupt:
-        interrupted = True
+        stopped = True
         bar.write(
             f"interrupted: {n_ok + n_failed} runs written to {out}; "
             "finishing runs in flight (Ctrl-C again to abandon them)",
             file=sys.stderr,
         )
-        _drain(state.get("futures", []), out)
+        _drain(list(state.get("futures", [])), out)
+        raise
+    except BaseException:
+        stopped = True  # a failed write (full disk, read-only) or a broken executor
         raise
     finally:
         bar.close()
-        pool.close(cancel=interrupted)
+        pool.close(cancel=stopped)
 
 
 def _drain(futures: list, out: Path) -> None:
@@ -159,7 +194,7 @@ def run_sweep(
         metrics and ``status`` ("ok" / "failed", with ``error`` and ``traceback``).
 
     """
-    name = Path(out).name or "sweep"
+    name = _plain_or(Path(out).name, "sweep")
     sweep = Sweep(model_cls, grid, replications, seed, name=name, time_series=time_series)
     return execute(
         sweep,
@@ -170,3 +205,14 @@ def run_sweep(
         progress=progress,
         retry_failed=retry_failed,
     )
+
+
+def _plain_or(name: str, default: str) -> str:
+    """``name`` if it is a plain sweep name, else ``default`` (the folder is given: the name is
+    only the sweep's label in ``sweep.json`` and reports).
+    """
+    try:
+        check_name(name)
+    except ConfigError:
+        return default
+    return name

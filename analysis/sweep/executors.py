@@ -11,7 +11,7 @@
 import concurrent.futures as cf
 import os
 import signal
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator
 
 from abm.errors import ConfigError
 from abm.pools import process_pool
@@ -37,10 +37,12 @@ class Executors:
         self.kind = executor if isinstance(executor, str) else type(executor).__name__
         if workers is not None:
             check_int("workers", workers, 1)
+        slots = workers or os.cpu_count() or 1
         if isinstance(executor, cf.Executor):
             self.pool = executor
         elif _is_dask_client(executor):
             self.pool = executor.get_executor(pure=False)
+            slots = workers or sum(executor.nthreads().values()) or slots
         elif executor == "serial":
             self.pool = None
         elif executor == "processes":
@@ -62,6 +64,7 @@ class Executors:
                 client = Client(cluster)
             self.closers.insert(0, client)
             self.pool = client.get_executor(pure=False)
+            slots = workers or sum(client.nthreads().values()) or slots
         else:
             names = ", ".join(repr(e) for e in EXECUTORS)
             raise ConfigError(
@@ -70,23 +73,44 @@ class Executors:
             )
         if address and executor != "dask":
             raise ConfigError(f"address is only used with executor='dask', got {address!r}")
+        #: Runs in the executor at a time: two per worker keeps every worker busy.
+        self.window = 2 * slots
 
-    def results(self, specs: Sequence[RunSpec], state: dict) -> Iterator[dict]:
-        """Yield run results as they finish (serial: in order)."""
+    def results(self, specs: Iterable[RunSpec], state: dict) -> Iterator[dict]:
+        """Yield run results as they finish (serial: in order).
+
+        Runs are taken from ``specs`` as they are needed, with at most :attr:`window` in the
+        executor at a time, so a plan of a million runs is never held (or submitted) at once.
+        ``state["futures"]`` is the set of runs in the executor (for Ctrl-C).
+        """
         if self.pool is None:
             for spec in specs:
                 yield run_one(spec)
             return
-        futures = [self.pool.submit(run_one, spec) for spec in specs]
-        state["futures"] = futures
-        for future in cf.as_completed(futures):
-            exc = future.exception()
-            if exc is not None:
-                raise SweepError(
-                    f"the {self.kind} executor failed ({type(exc).__name__}: {exc}); "
-                    "finished runs are on disk, run the sweep again to resume"
-                ) from exc
-            yield future.result()
+        specs = iter(specs)
+        pending: set = set()
+        state["futures"] = pending
+        self._fill(pending, specs)
+        while pending:
+            finished, _ = cf.wait(pending, return_when=cf.FIRST_COMPLETED)
+            for future in finished:
+                exc = future.exception()
+                if exc is not None:
+                    raise SweepError(
+                        f"the {self.kind} executor failed ({type(exc).__name__}: {exc}); "
+                        "finished runs are on disk, run the sweep again to resume"
+                    ) from exc
+                result = future.result()
+                pending.discard(future)
+                yield result
+            self._fill(pending, specs)
+
+    def _fill(self, pending: set, specs: Iterator[RunSpec]) -> None:
+        while len(pending) < self.window:
+            spec = next(specs, None)
+            if spec is None:
+                return
+            pending.add(self.pool.submit(run_one, spec))
 
     def close(self, cancel: bool = False) -> None:
         """Shut down what this object opened (cancelling queued runs when asked)."""

@@ -7,8 +7,10 @@ behind files that must not be read as results. On every start of a sweep each fi
 * it is a whole Parquet file whose page checksums hold (a truncated or overwritten file fails
   here: its footer is missing or a page's CRC is wrong);
 * a run's row (``runs/``, ``failed/``) is exactly one row whose ``run_id`` is the file's name
-  and whose ``status`` fits the folder; when the run belongs to the sweep being run, its
-  ``seed`` and ``rep`` are the ones the plan gives that run;
+  and whose ``status`` fits the folder, and it is a run of the folder's plan: its parameters
+  are the plan's values, its ``run_id`` the one the plan gives them and its ``seed`` and
+  ``rep`` the plan's (:class:`~analysis.sweep.membership.PlanIndex`) - a run of another
+  sweep, another seed or with edited parameters is set aside, never counted;
 * a series file's rows all carry the file's ``run_id``.
 
 A file that fails is never deleted: it is moved to ``set_aside/<folder>/`` under a name that
@@ -20,13 +22,14 @@ Temporary files a killed writer left (``.<name>.<pid>.tmp``) are set aside as
 import concurrent.futures as cf
 import datetime
 import os
-from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pyarrow.parquet as pq
 
-from analysis.runner import RunSpec
+if TYPE_CHECKING:
+    from analysis.sweep.membership import PlanIndex
 
 __all__ = [
     "RESULT_FOLDERS",
@@ -60,8 +63,8 @@ class SetAside:
     Attributes:
         source: where it was.
         target: where it is now.
-        reason: one word: ``unreadable``, ``wrong-run-id``, ``wrong-seed``, ``wrong-status``,
-            ``not-one-row`` or ``half-written``.
+        reason: one word: ``unreadable``, ``wrong-run-id``, ``wrong-seed``, ``wrong-params``,
+            ``not-in-plan``, ``wrong-status``, ``not-one-row`` or ``half-written``.
         detail: what the check found.
 
     """
@@ -89,8 +92,11 @@ def read_verified(path: Path):
         raise CorruptResultError("unreadable", f"{type(exc).__name__}: {exc}") from exc
 
 
-def _check(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> None:
-    """Raise CorruptResultError unless ``path`` holds what its name and folder promise."""
+def _check(path: Path, folder: str, index: "PlanIndex") -> tuple[dict, int] | None:
+    """Raise CorruptResultError unless ``path`` holds what its name and folder promise; a
+    run's row must also be the plan's (its parameters, replication and seed). Returns the
+    run's plan parameters and replication (None for a series or samples file).
+    """
     frame = read_verified(path)
     run_id = path.stem
     if "run_id" not in frame:
@@ -100,31 +106,24 @@ def _check(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> None:
         shown = ", ".join(sorted(ids)[:3]) or "no rows"
         raise CorruptResultError("wrong-run-id", f"the file is named {run_id} but holds {shown}")
     if folder not in ("runs", "failed"):
-        return
+        return None
     if len(frame) != 1:
         raise CorruptResultError("not-one-row", f"{len(frame)} rows, a run has one")
     row = frame.iloc[0]
     status = "ok" if folder == "runs" else "failed"
     if row.get("status") != status:
         raise CorruptResultError("wrong-status", f"status {row.get('status')!r} in {folder}/")
-    spec = planned.get(run_id)
-    if spec is not None:
-        for key in ("seed", "rep"):
-            if row.get(key) != getattr(spec, key):
-                raise CorruptResultError(
-                    "wrong-seed",
-                    f"{key} {row.get(key)!r}, this sweep gives run {run_id} "
-                    f"{key} {getattr(spec, key)!r}",
-                )
+    return index.match(row.to_dict(), run_id)
 
 
-def _problem(path: Path, folder: str, planned: Mapping[str, RunSpec]) -> CorruptResultError | None:
-    """What is wrong with ``path`` (None: nothing)."""
+def _problem(
+    path: Path, folder: str, index: "PlanIndex"
+) -> tuple[dict, int] | CorruptResultError | None:
+    """What is wrong with ``path`` (a CorruptResultError), else what :func:`_check` gives."""
     try:
-        _check(path, folder, planned)
+        return _check(path, folder, index)
     except CorruptResultError as exc:
         return exc
-    return None
 
 
 def _stamp() -> str:
@@ -141,36 +140,36 @@ def set_aside(out: Path, path: Path, reason: str, detail: str) -> SetAside:
     return SetAside(path, target, reason, detail)
 
 
-def scan(out: Path, specs: Iterable[RunSpec]) -> tuple[set[str], set[str], list[SetAside]]:
+def scan(out: Path, index: "PlanIndex") -> tuple[dict, dict, list[SetAside]]:
     """Verify every result file of the sweep folder ``out``; set aside the ones that fail.
 
     Args:
         out: the sweep folder.
-        specs: the runs of the sweep being started (their seeds are checked).
+        index: the folder's plan (every run file must be one of its runs).
 
     Returns:
-        ``(done, failed, moved)``: the run ids with a verified row in ``runs/``, those with a
-        verified row in ``failed/``, and the files set aside. A run whose series or samples
+        ``(done, failed, moved)``: run id -> (parameters, replication) of the verified rows in
+        ``runs/`` and in ``failed/``, and the files set aside. A run whose series or samples
         file was set aside is not in ``done`` (it runs again and writes them anew).
 
     """
-    planned = {s.run_id: s for s in specs}
-    found: dict[str, set[str]] = {}
+    found: dict[str, dict] = {}
     moved: list[SetAside] = []
     for folder in RESULT_FOLDERS:
         path_folder = out / folder
-        ok: set[str] = set()
+        ok: dict = {}
         if path_folder.is_dir():
             for tmp in sorted(path_folder.glob(".*.tmp")):
                 moved.append(set_aside(out, tmp, "half-written", "a write a killed sweep cut"))
             paths = sorted(path_folder.glob("*.parquet"))
             with cf.ThreadPoolExecutor(max_workers=4) as pool:  # pyarrow reads without the GIL
-                problems = pool.map(lambda p, f=folder: _problem(p, f, planned), paths)
+                problems = pool.map(lambda p, f=folder: _problem(p, f, index), paths)
                 for path, problem in zip(paths, problems, strict=True):
-                    if problem is None:
-                        ok.add(path.stem)
-                    else:
+                    if isinstance(problem, CorruptResultError):
                         moved.append(set_aside(out, path, problem.reason, str(problem)))
+                    else:
+                        ok[path.stem] = problem
         found[folder] = ok
     damaged = {m.source.stem for m in moved if m.source.parent.name in ("series", "samples")}
-    return found["runs"] - damaged, found["failed"], moved
+    done = {k: v for k, v in found["runs"].items() if k not in damaged}
+    return done, found["failed"], moved

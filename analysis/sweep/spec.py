@@ -9,18 +9,27 @@ is combined with every point.
 
 import itertools
 import math
+import re
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from abm.errors import ConfigError
+from abm.errors import ConfigError, check_seed
 from abm.params import check_value, param_fields
 from abm.registry import model_class, name_of, target_of
 
-__all__ = ["MAX_RUNS", "Sweep", "TOML_KEYS", "check_int", "load_sweep"]
+__all__ = [
+    "MAX_RUNS",
+    "NAME_RULE",
+    "Sweep",
+    "TOML_KEYS",
+    "check_int",
+    "check_name",
+    "load_sweep",
+]
 
 #: Keys a sweep file may hold.
 TOML_KEYS = (
@@ -39,6 +48,11 @@ _RESERVED = ("seed", "rng")
 #: this is clearer as several sweeps (and several folders).
 MAX_RUNS = 1_000_000
 
+#: What a sweep name may be: it names a folder under ``out/sweeps/``, so only plain characters
+#: and never a path (no ``/``, no ``..``, not empty, not hidden).
+NAME_RULE = "1 to 100 characters: ASCII letters, digits, '-', '_' and '.', not starting with '.'"
+_NAME = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9_.-]{0,99}")
+
 
 @dataclass(frozen=True)
 class Sweep:
@@ -50,7 +64,8 @@ class Sweep:
         replications: runs per grid point.
         points: parameter sets taken together, each combined with every grid point.
         seed: the sweep seed; per-run seeds are spawned from it.
-        name: the sweep's name (default output folder ``out/sweeps/<name>``).
+        name: the sweep's name, a plain folder name (:data:`NAME_RULE`); the default output
+            folder is ``out/sweeps/<name>``.
         time_series: also keep each run's state counts over time.
         description: free text, shown in reports.
 
@@ -67,10 +82,11 @@ class Sweep:
     model_cls: type = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        cls = model_class(self.model)
+        check_name(self.name)
+        cls = model_class(self.model)  # a "module:Class" is checked before it is imported
         object.__setattr__(self, "model_cls", cls)
         check_int("replications", self.replications, 1)
-        check_int("seed", self.seed, 0)
+        check_seed(self.seed, allow_none=False)
         if not isinstance(self.time_series, bool):
             raise ConfigError(f"time_series must be true or false, got {self.time_series!r}")
         points = check_points(cls, self.points, self.grid)
@@ -93,13 +109,24 @@ class Sweep:
         grid = math.prod(len(v) for v in self.grid.values())
         return grid * max(len(self.points), 1) * self.replications
 
+    @property
+    def n_points(self) -> int:
+        """Distinct parameter sets (grid points x points)."""
+        return self.n_runs // self.replications
+
     def conditions(self) -> list[dict]:
         """Every grid point as a dict of constructor keywords, in grid order."""
+        return list(self.iter_conditions())
+
+    def iter_conditions(self) -> Iterator[dict]:
+        """The grid points one at a time, in grid order (a 1e6-point grid is never held in
+        memory: the first run starts while the rest are still unplanned).
+        """
         keys = list(self.grid)
-        grid = [
-            dict(zip(keys, vals, strict=True)) for vals in itertools.product(*self.grid.values())
-        ]
-        return [{**g, **p} for g in grid for p in (self.points or [{}])]
+        for vals in itertools.product(*self.grid.values()):
+            g = dict(zip(keys, vals, strict=True))
+            for p in self.points or [{}]:
+                yield {**g, **p}
 
     def manifest(self) -> dict:
         """A JSON-able description (written as ``sweep.json`` beside the runs)."""
@@ -115,6 +142,17 @@ class Sweep:
             "grid": {k: list(v) for k, v in self.grid.items()},
             "points": [dict(p) for p in self.points],
         }
+
+
+def check_name(name: object) -> None:
+    """Raise ConfigError unless ``name`` is a plain sweep name (see :data:`NAME_RULE`).
+
+    A name becomes the folder ``out/sweeps/<name>``: ``"/tmp/x"``, ``"../../x"`` or ``""``
+    would write outside it (or into ``out/sweeps`` itself), so anything but a plain name is
+    refused before any folder is made.
+    """
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ConfigError(f"name must be {NAME_RULE}; got {name!r}")
 
 
 def check_int(name: str, value, low: int) -> None:
@@ -174,14 +212,25 @@ def check_grid(model_cls: type, grid: Mapping, allow_empty: bool = False) -> dic
 def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
     """Read and validate a sweep file (TOML); ``replications`` overrides the file's value.
 
-    The file holds ``model``, ``seed``, ``replications``, optional ``name``, ``description`` and
-    ``time_series``, and a ``[grid]`` table of parameter -> list of values.
+    The file (UTF-8, as TOML requires) holds ``model``, ``seed``, ``replications``, optional
+    ``name`` (default: the file's stem), ``description`` and ``time_series``, and a ``[grid]``
+    table of parameter -> list of values. Everything is checked here, before any folder is
+    made or any run starts; a ``"module:Class"`` model before its module is imported
+    (:mod:`analysis.sweep.targets`).
     """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no sweep file {str(path)!r}")
+    raw = path.read_bytes()
     try:
-        data = tomllib.loads(path.read_text())
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{path}: not UTF-8 text (byte {raw[exc.start]:#04x} at offset {exc.start}); "
+            "save the file as UTF-8 (TOML files are UTF-8)"
+        ) from exc
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
     unknown = [k for k in data if k not in TOML_KEYS]
@@ -202,10 +251,21 @@ def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
             grid=data["grid"],
             replications=data.get("replications", 1) if replications is None else replications,
             seed=data.get("seed", 0),
-            name=data.get("name", path.stem),
+            name=data["name"] if "name" in data else _default_name(path),
             time_series=data.get("time_series", False),
             description=data.get("description", ""),
             points=data.get("points", ()),
         )
     except ConfigError as exc:
         raise ConfigError(f"{path}: {exc}") from exc
+
+
+def _default_name(path: Path) -> str:
+    """The file's stem as the sweep's name; a stem that is not a plain name is refused with a
+    hint to set ``name`` in the file.
+    """
+    try:
+        check_name(path.stem)
+    except ConfigError as exc:
+        raise ConfigError(f'{exc} (the file\'s name; set name = "..." in the file)') from exc
+    return path.stem

@@ -22,11 +22,13 @@ import concurrent.futures as cf
 import datetime
 import json
 import os
+import re
 from pathlib import Path
 
 import pandas as pd
 
-from abm.errors import ABMError
+from abm.errors import ABMError, ConfigError
+from abm.targets import check_target
 from analysis.sweep.integrity import (
     RESULT_FOLDERS,
     CorruptResultError,
@@ -34,9 +36,18 @@ from analysis.sweep.integrity import (
     read_verified,
     set_aside,
 )
+from analysis.sweep.membership import PlanIndex
 from analysis.sweep.spec import Sweep
 
-__all__ = ["SweepError", "done_ids", "load_results", "prepare_out", "store", "swept_keys"]
+__all__ = [
+    "SweepError",
+    "done_ids",
+    "load_results",
+    "prepare_out",
+    "read_manifest",
+    "store",
+    "swept_keys",
+]
 
 
 class SweepError(ABMError):
@@ -50,8 +61,30 @@ def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
     leaves empty or torn fails the check on restart and its run runs again.
     """
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.to_parquet(tmp, index=False, write_page_checksum=True)
-    os.replace(tmp, path)
+    try:
+        _write_parquet(frame, tmp)
+        os.replace(tmp, path)
+    except OSError as exc:  # full disk, read-only folder: no half file left, the error names it
+        tmp.unlink(missing_ok=True)
+        raise _named(exc, path) from exc
+
+
+def _named(exc: OSError, path: Path) -> OSError:
+    """``exc`` with its errno and the file named (pyarrow puts "[Errno 28]" only in its text),
+    so the command line can say what to do.
+    """
+    code = exc.errno
+    if code is None:
+        found = re.search(r"\[errno (\d+)\]", str(exc), re.IGNORECASE)
+        code = int(found.group(1)) if found else None
+    if code is None:
+        return OSError(f"cannot write {path}: {exc}")
+    return OSError(code, os.strerror(code), str(path))
+
+
+def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
+    """The one place result files are written (Parquet with page checksums)."""
+    frame.to_parquet(path, index=False, write_page_checksum=True)
 
 
 def store(out: Path, result: dict) -> None:
@@ -110,17 +143,37 @@ def load_results(
     out = Path(out)
     if not out.is_dir():
         raise FileNotFoundError(f"no sweep folder {str(out)!r}")
+    done = done_ids(out / "runs")
     if series or samples:
-        frames = _read_folder(out / ("series" if series else "samples"))
+        kind = "series" if series else "samples"
+        frames = [f for f in _read_folder(out / kind) if f["run_id"].iloc[0] in done]
         return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     frames = _read_folder(out / "runs")
     if failed:
-        done = done_ids(out / "runs")
         frames += [f for f in _read_folder(out / "failed") if f["run_id"].iloc[0] not in done]
+    _refuse_foreign(out, frames, PlanIndex(read_manifest(out)))
     frames = [f.dropna(axis=1, how="all") for f in frames]
     if not frames:
         return pd.DataFrame(columns=["run_id", "seed", "status"])
     return pd.concat(frames, ignore_index=True).sort_values(["status", "run_id"], ignore_index=True)
+
+
+def _refuse_foreign(out: Path, frames: list[pd.DataFrame], index: PlanIndex) -> None:
+    """Raise SweepError naming the run files that are not runs of the folder's plan."""
+    foreign = []
+    for frame in frames:
+        row = frame.iloc[0]
+        try:
+            index.match(row.to_dict(), str(row["run_id"]))
+        except CorruptResultError as exc:
+            folder = "runs" if row.get("status") == "ok" else "failed"
+            foreign.append(f"{folder}/{row['run_id']}.parquet ({exc.reason}: {exc})")
+    if foreign:
+        shown = "; ".join(foreign[:3]) + ("; ..." if len(foreign) > 3 else "")
+        raise SweepError(
+            f"{out} holds {len(foreign)} run file(s) that are not runs of its sweep: {shown}; "
+            f"run its sweep again with --out {out} (it sets them aside) or move them out"
+        )
 
 
 def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
@@ -141,6 +194,11 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
                     f"{out} holds a sweep with {key} {old.get(key)!r}, this one has "
                     f"{manifest[key]!r}: choose another output folder"
                 )
+        if _keys(old) != _keys(manifest):
+            raise SweepError(
+                f"{out} holds a sweep over {', '.join(sorted(_keys(old))) or 'no keys'}, this one "
+                f"sets {', '.join(sorted(_keys(manifest)))}: choose another output folder"
+            )
         grid = {
             k: list(dict.fromkeys(old["grid"].get(k, []) + v)) for k, v in manifest["grid"].items()
         }
@@ -149,14 +207,61 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
         manifest["points"] = points + [p for p in manifest["points"] if p not in points]
         manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
         manifest["created"] = old.get("created")
-    for sub in RESULT_FOLDERS:
-        (out / sub).mkdir(parents=True, exist_ok=True)
     manifest.setdefault("created", datetime.datetime.now().isoformat(timespec="seconds"))
     manifest["updated"] = datetime.datetime.now().isoformat(timespec="seconds")
     tmp = path.with_name(".sweep.json.tmp")
     tmp.write_text(json.dumps(manifest, indent=2, default=str))
     os.replace(tmp, path)
+    for sub in RESULT_FOLDERS:
+        (out / sub).mkdir(exist_ok=True)
     return moved
+
+
+def _check_manifest(manifest: object) -> dict:
+    """``manifest`` if it has the shape :meth:`Sweep.manifest` writes, else ValueError."""
+    if not isinstance(manifest, dict):
+        raise ValueError("not a table of a sweep's keys")
+    grid, points = manifest.get("grid", {}), manifest.get("points", [])
+    if not isinstance(grid, dict) or not all(isinstance(v, list) for v in grid.values()):
+        raise ValueError("grid is not a table of lists")
+    if not isinstance(points, list) or not all(isinstance(p, dict) for p in points):
+        raise ValueError("points is not a list of tables")
+    for key in ("seed", "replications"):
+        value = manifest.get(key, 1)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise ValueError(f"{key} is not a whole number")
+    return manifest
+
+
+def _keys(manifest: dict) -> set[str]:
+    """The parameters a sweep sets: its grid's keys and its points' keys."""
+    return set(manifest.get("grid", {})) | {k for p in manifest.get("points", []) for k in p}
+
+
+def read_manifest(out: str | Path) -> dict:
+    """The ``sweep.json`` of the sweep folder ``out``.
+
+    Raises:
+        SweepError: no ``sweep.json``, or one that is not a sweep's (one line, naming it).
+
+    """
+    path = Path(out) / "sweep.json"
+    if not path.is_file():
+        raise SweepError(f"{out} is not a sweep folder (no sweep.json); run `abm sweep` first")
+    try:
+        manifest = _check_manifest(json.loads(path.read_bytes().decode("utf-8")))
+    except (ValueError, TypeError, UnicodeDecodeError) as exc:
+        raise SweepError(
+            f"{path} is damaged ({type(exc).__name__}: {exc}); run the sweep again: it sets "
+            "the file aside and writes it anew"
+        ) from exc
+    target = manifest.get("target")
+    if isinstance(target, str):
+        try:
+            check_target(target)  # a report imports it: never a module that is not a model's
+        except ConfigError as exc:
+            raise SweepError(f"{path}: {exc}") from exc
+    return manifest
 
 
 def _read_manifest(out: Path, path: Path) -> tuple[dict | None, list[SetAside]]:
@@ -166,10 +271,8 @@ def _read_manifest(out: Path, path: Path) -> tuple[dict | None, list[SetAside]]:
     if not path.is_file():
         return None, []
     try:
-        old = json.loads(path.read_text())
-        if not isinstance(old, dict) or not isinstance(old.get("grid", {}), dict):
-            raise ValueError("not a table of a sweep's keys")
-    except (ValueError, UnicodeDecodeError) as exc:
+        old = _check_manifest(json.loads(path.read_bytes().decode("utf-8")))
+    except (ValueError, TypeError, UnicodeDecodeError) as exc:
         return None, [set_aside(out, path, "unreadable", f"{type(exc).__name__}: {exc}")]
     return old, []
 

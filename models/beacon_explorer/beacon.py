@@ -16,6 +16,7 @@ import networkx as nx
 import numpy as np
 from numba import njit
 
+from abm import portable
 from abm.arena import CARDINALS, Arena
 from abm.clock import scheduler
 from abm.comms import CommNetwork, GradientFlood
@@ -35,7 +36,7 @@ __all__ = ["Beacon", "BeaconNetwork"]
 #: compass bearings 15 to 75 degrees past its first cardinal (clockwise from North).
 QUADRANT_RAYS = np.array(
     [
-        [np.sin(a), np.cos(a)]
+        [portable.sin_scalar(a), portable.cos_scalar(a)]
         for a in np.radians([q * 90 + b for q in range(4) for b in (15, 30, 45, 60, 75)])
     ]
 )

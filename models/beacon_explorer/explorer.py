@@ -215,6 +215,7 @@ def _steer(
             contact[i, 1] = pos[i, 1]
             contact[i, 2] = 1.0
         # N: measured vector to the nearest beacon; D: its desired direction (length I_r).
+        # Its bearing goes through abm.portable's atan2/cos/sin: the same bits on every CPU.
         nx, ny = measured_relative(
             beacon_pos[k, 0] - pos[i, 0],
             beacon_pos[k, 1] - pos[i, 1],

@@ -53,6 +53,7 @@ class BeaconExplorerModel(SwarmModel):
     MACRO = published.MACRO
     ARROWS_LABEL = "beacon's desired direction"
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     REPORT = published.REPORT
     APP = "models.beacon_explorer.app"
     FAULTS = frozenset({"robot", "link", "sensor"})

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
@@ -576,7 +577,7 @@ def move_idle_robots(
         dr = free[:, 0] - here[0]
         dc = free[:, 1] - here[1]
         ring = np.maximum(np.abs(dr), np.abs(dc))
-        angle = np.mod(np.arctan2(dc, dr), 2 * np.pi)
+        angle = np.mod(portable.arctan2(dc, dr), 2 * np.pi)
         best = np.lexsort((angle, ring))[0]
         target = pmap._centre_of(int(free[best, 0]), int(free[best, 1]))
         path = _smooth_on(pmap, f.path_to(*target), f._drivable)

@@ -14,6 +14,7 @@ simulation plans once, on the holder's replica, and counts every transmission on
 
 import numpy as np
 
+from abm import portable
 from abm.comms import RingLinks
 from models.hierarchy.agents import Director, Scout
 from models.hierarchy.protocol import Message
@@ -28,7 +29,7 @@ def ring_order(holder: object, scouts: list, positions: np.ndarray) -> list:
     order of their start positions about their centroid.
     """
     centre = positions.mean(axis=0)
-    angle = np.arctan2(positions[:, 1] - centre[1], positions[:, 0] - centre[0])
+    angle = portable.arctan2(positions[:, 1] - centre[1], positions[:, 0] - centre[0])
     return [holder, *(scouts[i] for i in np.argsort(angle, kind="stable"))]
 
 

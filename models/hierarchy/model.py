@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
+from abm import portable
 from abm.clock import call_later
 from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
 from abm.model import SwarmModel
@@ -81,6 +82,7 @@ class HierarchyModel(SwarmModel):
                                        label="worker (directing its scouts)"),
     }  # fmt: skip
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     CLAIMS = published.CLAIMS
     REPORT = published.REPORT
     APP = "models.hierarchy.app"
@@ -277,7 +279,7 @@ class HierarchyModel(SwarmModel):
         """
         p = self.params
         angles = np.deg2rad(np.arange(0.0, 360.0, p.scan_step))
-        dirs = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+        dirs = np.stack([portable.cos(angles), portable.sin(angles)], axis=1)
         origins = np.broadcast_to(position, dirs.shape)
         dist = self.arena.raycast(origins, dirs, r)
         hit = dist < r - 1e-9
@@ -425,7 +427,9 @@ class HierarchyModel(SwarmModel):
             for b in director.bubble.values():
                 if b.r < 50:
                     rings.append(
-                        np.stack([b.x + b.r * np.cos(angle), b.y + b.r * np.sin(angle)], 1)
+                        np.stack(
+                            [b.x + b.r * portable.cos(angle), b.y + b.r * portable.sin(angle)], 1
+                        )
                     )
         if rings:
             out.append(Layer("bubbles", points=np.concatenate(rings), colour="#CC79A7", size=2.0))

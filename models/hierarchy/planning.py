@@ -26,6 +26,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from abm.portable import cos_scalar, sin_scalar
+
 if TYPE_CHECKING:
     from models.hierarchy.probmap import ProbMap
 
@@ -225,7 +227,7 @@ def _los_mark(scanned, blocked, tau, in_bounds, ox, oy, radius):
     for k in range(n_rays):
         theta = 2.0 * math.pi * k / n_rays
         cells = _supercover_cells(
-            ox, oy, ox + radius * math.cos(theta), oy + radius * math.sin(theta)
+            ox, oy, ox + radius * cos_scalar(theta), oy + radius * sin_scalar(theta)
         )
         m = cells.shape[0]
         for j in range(m):

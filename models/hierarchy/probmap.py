@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ndtr
 
+from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import _los_mark
 
@@ -383,7 +384,7 @@ class ProbMap:
         else:
             dx = xs + 0.5 * h - x
             dy = ys + 0.5 * h - y
-            p = np.exp(-(dy[:, None] ** 2 + dx[None, :] ** 2) / (2.0 * sigma**2))
+            p = portable.exp(-(dy[:, None] ** 2 + dx[None, :] ** 2) / (2.0 * sigma**2))
             p[row - r0, col - c0] = max(p[row - r0, col - c0], 1.0)
         window = self._in[r0:r1, c0:c1]
         p = np.where(window, p, 0.0)

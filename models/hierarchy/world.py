@@ -5,6 +5,7 @@ a small circle around each.
 
 import numpy as np
 
+from abm import portable
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
 from abm.worlds import load_map
@@ -42,7 +43,7 @@ def start_layout(p: HierarchyParams, width: float, height: float, rng: np.random
     y = 1.0 + p.scout_ring if p.start_layout == "row" else height / 2
     workers = np.stack([xs, np.full(w, y)], axis=1)
     angle = 2 * np.pi * np.arange(s) / s + np.pi / 2
-    ring = p.scout_ring * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    ring = p.scout_ring * np.stack([portable.cos(angle), portable.sin(angle)], axis=1)
     scouts = workers[:, None, :] + ring[None, :, :]
     shift = rng.uniform(-p.start_jitter, p.start_jitter, size=(w, 2))  # one per group
     workers = workers + shift

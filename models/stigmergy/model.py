@@ -57,6 +57,7 @@ class StigmergyModel(SwarmModel):
     }
     MACRO = published.MACRO
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     REPORT = published.REPORT
     APP = "models.stigmergy.app"
     FAULTS = frozenset({"robot"})

@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 from scipy import ndimage
 
-from abm import neighbours
+from abm import neighbours, portable
 from abm.arena import Arena
 from abm.discs import disc_offsets
 from abm.errors import check_range
@@ -76,7 +76,7 @@ def sonar_grid(arena: Arena, radius: float, beams: int) -> np.ndarray:
     iy, ix = np.nonzero(arena.free)
     centres = arena.cell_centre(ix, iy)
     angles = 2 * np.pi * np.arange(beams) / beams
-    directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    directions = np.stack([portable.cos(angles), portable.sin(angles)], axis=1)
     out = np.zeros(arena.free.shape + (2,))
     for d in directions:
         hit = arena.raycast(centres, np.broadcast_to(d, centres.shape), radius) < radius
@@ -225,8 +225,8 @@ def radio_margin(
     if beacons.shape[0] == 0:
         return np.full(points.shape[0], -np.inf)
     d = np.hypot(*(points[:, None, :] - beacons[None, :, :]).transpose(2, 0, 1))
-    with np.errstate(divide="ignore"):
-        power = 10.0 * exponent * np.log10(threshold / np.maximum(d, 1e-9)) - wall_loss * walls
+    gain = 10.0 * exponent * portable.log10(threshold / np.maximum(d, 1e-9))
+    power = gain - wall_loss * walls
     return power.max(axis=1)
 
 

@@ -16,6 +16,7 @@ from collections import deque
 
 import numpy as np
 
+from abm import portable
 from abm.errors import ConfigError, check_range
 
 __all__ = ["BounceWalk", "OMSTC", "lattice_turns"]
@@ -180,7 +181,7 @@ class OMSTC:
             return None
         offset = (np.array(target) + 0.5) * cell - np.asarray(position, dtype=float)
         distance = float(np.hypot(*offset))
-        heading = float(np.degrees(np.arctan2(offset[0], offset[1])) % 360.0)
+        heading = float(np.degrees(portable.arctan2(offset[0], offset[1])) % 360.0)
         return heading, min(speed, distance / dt)
 
     def blocked(self, robot: int) -> None:

@@ -8,12 +8,14 @@ several claims (Fig. 5's SugarMap runs are Fig. 6's 6-anchor runs). Means are ov
 """
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
 from scipy import stats as sps
 
 from abm.published import Verdict
+from abm.verdicts import rank_order
 
 __all__ = ["REFERENCE", "TESTS"]
 
@@ -83,12 +85,21 @@ def c01(runs, samples, walk: str = "lattice") -> Verdict | None:
         a, b = _col(sm, f"coverage_{t}"), _col(rw, f"coverage_{t}")
         ok &= a.mean() > b.mean() or (a.mean() >= 99 and b.mean() >= 99)
         parts.append(f"{t} s: SM {a.mean():.0f} vs RW {b.mean():.0f} % (p={_welch(a, b):.2g})")
+    censored = []
     for level in (50, 80):
-        a, b = _col(sm, f"t{level}"), _col(rw, f"t{level}")
-        if len(a) and len(b):
-            ok &= a.mean() < b.mean()
-            parts.append(f"T{level} {a.mean():.0f} vs {b.mean():.0f} s")
+        column = f"t{level}"
+        if column not in sm or column not in rw:
+            continue
+        missing = int(sm[column].isna().sum() + rw[column].isna().sum())
+        if missing:  # runs that never reached the level: their T is only a lower bound
+            censored.append(f"T{level} censored in {missing} of {len(sm) + len(rw)} runs")
+            continue
+        a, b = _col(sm, column), _col(rw, column)
+        ok &= a.mean() < b.mean()
+        parts.append(f"T{level} {a.mean():.0f} vs {b.mean():.0f} s")
     why = f"{walk} random walk"
+    if censored:
+        why += f"; {', '.join(censored)}: not judged"
     if not alt.empty:
         b = _col(alt, "coverage_1000")
         why += f"; the {other} walk has {b.mean():.0f} % at 1000 s"
@@ -101,9 +112,16 @@ def c02(runs, samples) -> Verdict | None:
     if sm.empty or om.empty or not taus:
         return None
     ok = all(_col(om, f"coverage_{t}").mean() >= _col(sm, f"coverage_{t}").mean() for t in taus)
-    a, b = _col(om, "t90"), _col(sm, "t90")
-    t90 = f"T90 OMSTC {a.mean():.0f} s vs SM {np.nanmean(b) if len(b) else np.nan:.0f} s"
-    ok &= len(a) > 0 and (len(b) < len(sm) or a.mean() < b.mean())
+    recorded = "t90" in sm and "t90" in om
+    missing = int(om["t90"].isna().sum() + sm["t90"].isna().sum()) if recorded else 0
+    if not recorded:
+        t90 = "no T90 recorded"
+    elif missing:  # a run that never reached 90 % gives only a lower bound of its T90
+        t90 = f"T90 censored in {missing} of {len(om) + len(sm)} runs: not judged"
+    else:
+        a, b = _col(om, "t90"), _col(sm, "t90")
+        t90 = f"T90 OMSTC {a.mean():.0f} s vs SM {b.mean():.0f} s"
+        ok &= a.mean() < b.mean()
     shown = ", ".join(
         f"{t} s: {_col(om, f'coverage_{t}').mean():.0f} vs {_col(sm, f'coverage_{t}').mean():.0f} %"
         for t in taus
@@ -149,17 +167,20 @@ def _anchors(runs) -> pd.DataFrame:
 
 
 def c05(runs, samples) -> Verdict | None:
+    """Coverage rises with the anchors: at each checkpoint Spearman's rho of the runs'
+    coverage on the anchor count is positive with two-sided p < 0.05 (the paper gives no
+    number, so the ordering needs a test); the verdict is the weakest checkpoint's.
+    """
     sm = _anchors(runs)
-    if sm.empty:
+    taus = _checkpoints(sm, (500, 1000, 2000))
+    if sm.empty or not taus:
         return None
-    parts, ok = [], True
-    for t in _checkpoints(sm, (500, 1000, 2000)):
-        rho = _rank(_col(sm, f"coverage_{t}"), sm["n_anchors"].astype(float))
-        ok &= rho > 0
-        parts.append(f"rho {rho:+.2f} at {t} s")
+    results = {t: rank_order(sm["n_anchors"], sm[f"coverage_{t}"], +1) for t in taus}
+    worst = min(results.values(), key=lambda v: {True: 2, None: 1, False: 0}[v.holds])
     means = sm.groupby("n_anchors")["coverage_1000"].mean()
-    parts.append("1000 s by anchors: " + ", ".join(f"{k}: {v:.0f}" for k, v in means.items()))
-    return Verdict("; ".join(parts), bool(ok), "Spearman rho of coverage vs anchors > 0")
+    shown = "; ".join(f"{t} s: {v.ours}" for t, v in results.items())
+    shown += "; 1000 s by anchors: " + ", ".join(f"{k}: {v:.0f}" for k, v in means.items())
+    return replace(worst, ours=shown)
 
 
 def c06(runs, samples) -> Verdict | None:
@@ -254,11 +275,29 @@ def _t50(runs) -> pd.Series:
     return runs.groupby("n_explorers")["t50"].mean()
 
 
+def _t50_censored(sm: pd.DataFrame) -> Verdict | None:
+    """A censored verdict when some runs never reached 50 % (their T50 is a lower bound,
+    and a mean over the others would judge from the fast runs only); else None.
+    """
+    missing = int(sm["t50"].isna().sum())
+    if not missing:
+        return None
+    return Verdict(
+        f"T50 missing in {missing} of {len(sm)} runs (the level was not reached)",
+        None,
+        "T50 is censored: not judged from censored values",
+        runs=len(sm),
+        censored=missing / len(sm),
+    )
+
+
 def c09(runs, samples) -> Verdict | None:
     sm = _explorers(runs)
-    t50 = _t50(sm) if not sm.empty else pd.Series(dtype=float)
-    if 1 not in t50 or t50.isna().any():
+    if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
         return None
+    if (censored := _t50_censored(sm)) is not None:
+        return censored
+    t50 = _t50(sm)
     parts, ok = [], True
     for n in (k for k in t50.index if 1 < k <= 4):
         speedup = t50[1] / t50[n]
@@ -269,9 +308,11 @@ def c09(runs, samples) -> Verdict | None:
 
 def c10(runs, samples) -> Verdict | None:
     sm = _explorers(runs)
-    t50 = _t50(sm) if not sm.empty else pd.Series(dtype=float)
-    if 1 not in t50 or t50.isna().any():
+    if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
         return None
+    if (censored := _t50_censored(sm)) is not None:
+        return censored
+    t50 = _t50(sm)
     efficiency = {n: t50[1] / (n * t50[n]) for n in t50.index}
     overlap = sm.groupby("n_explorers")["overlap"].mean()
     falls = bool(np.all(np.diff(list(efficiency.values())) <= 0.05))
@@ -407,12 +448,18 @@ def c17(runs, samples) -> Verdict | None:
                 gap = abs(a.mean() - b.mean()) - (a.std(ddof=1) + b.std(ddof=1))
                 worst = max(worst, gap)
                 ok &= gap <= 0
-    t80 = {a: np.nanmean(_col(g, "t80")) for a, g in groups.items()}
-    spread = (
-        max(t80.values()) / min(t80.values()) - 1
-        if all(np.isfinite(list(t80.values())))
-        else np.inf
-    )
+    missing = int(sm["t80"].isna().sum()) if "t80" in sm else len(sm)
+    if missing:  # a mean T80 over the runs that reached 80 % would favour the fast ones
+        return Verdict(
+            f"T80 missing in {missing} of {len(sm)} runs; largest |mean gap| - (SD + SD): "
+            f"{worst:+.1f} points",
+            None,
+            "T80 is censored: not judged from censored values",
+            runs=len(sm),
+            censored=missing / len(sm),
+        )
+    t80 = {a: float(_col(g, "t80").mean()) for a, g in groups.items()}
+    spread = max(t80.values()) / min(t80.values()) - 1
     ok &= spread <= 0.25
     return Verdict(
         "T80 " + ", ".join(f"{a}: {v:.0f} s" for a, v in t80.items())
@@ -424,18 +471,6 @@ def c17(runs, samples) -> Verdict | None:
 
 def _testbed(runs) -> pd.DataFrame:
     return _select(runs, algorithm="sugarmap", arena="testbed", n_anchors=5, n_explorers=2)
-
-
-def c18(runs, samples) -> Verdict | None:
-    tb = _testbed(runs)
-    if tb.empty or "coverage_180" not in tb:
-        return None
-    values = _col(tb, "coverage_180")
-    return Verdict(
-        f"{_mean_sd(values)} % at 180 s ({len(values)} runs)",
-        bool(75 <= values.mean() <= 95),
-        "85 % +- 10 points (the paper's testbed)",
-    )
 
 
 def c19(runs, samples) -> Verdict | None:
@@ -521,7 +556,6 @@ TESTS: dict[str, Callable] = {
     "C15": c15,
     "C16": c16,
     "C17": c17,
-    "C18": c18,
     "C19": c19,
     "C21": c21,
     "C22": c22,

@@ -24,6 +24,7 @@ recorded beside it, with the map's error, the pose error and the revisit statist
 
 import numpy as np
 
+from abm import portable
 from abm.comms import Shadowing
 from abm.coverage import CoverageRaster
 from abm.errors import ConfigError
@@ -71,6 +72,7 @@ class SugarMapModel(SwarmModel):
         "stopped": StateStyle("#000000", marker="X", size=45.0, layer=6.0),
     }
     PUBLISHED = published.PUBLISHED
+    CENSORED = published.CENSORED
     CLAIMS = published.CLAIMS
     REPORT = published.REPORT
     APP = "models.sugarmap.app"
@@ -344,7 +346,7 @@ class SugarMapModel(SwarmModel):
         go = moving & ~self.blocked
         rad = np.radians(heading)
         self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
-            [np.sin(rad[go]), np.cos(rad[go])], axis=1
+            [portable.sin(rad[go]), portable.cos(rad[go])], axis=1
         )
         self.place(self.explorer_ids, self.pos)
         self.coverage.stamp(self.pos, self.env.now)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abm import portable
 from abm.errors import ConfigError, check_choice, check_range
 from abm.kinematics import wrap_degrees
 
@@ -178,7 +179,7 @@ def _gauss_weights(delta: np.ndarray, sigma_m: float) -> np.ndarray:
     Computed relative to the smallest delta, which leaves the normalised weights unchanged but
     keeps them from all underflowing to 0 when every particle is many sigma_m away.
     """
-    w = np.exp(-(delta**2 - np.min(delta) ** 2) / (2.0 * sigma_m**2))
+    w = portable.exp(-(delta**2 - np.min(delta) ** 2) / (2.0 * sigma_m**2))
     return w / w.sum()
 
 
@@ -372,8 +373,8 @@ class ParticleFilter:
             self.phi = self.phi + turn[:, None] + n_phi
         step = np.maximum(speed[:, None] + n_v, 0.0) * (dt * moved)[:, None]
         rad = np.radians(self.phi)
-        self.pos[..., 0] += step * np.sin(rad)
-        self.pos[..., 1] += step * np.cos(rad)
+        self.pos[..., 0] += step * portable.sin(rad)
+        self.pos[..., 1] += step * portable.cos(rad)
         self._mark()
 
     def _mark(self) -> None:
@@ -565,7 +566,7 @@ def _free_disc_points(
     for _ in range(_MAX_DRAW_ROUNDS):
         r = radius * np.sqrt(rng.random(k))
         a = rng.uniform(0.0, 2.0 * np.pi, k)
-        draw = centre + np.stack([r * np.sin(a), r * np.cos(a)], axis=1)
+        draw = centre + np.stack([r * portable.sin(a), r * portable.cos(a)], axis=1)
         kept = np.vstack([kept, draw[np.asarray(is_free(draw), dtype=bool)]])
         if len(kept) >= k:
             return kept[:k]

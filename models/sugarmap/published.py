@@ -6,27 +6,47 @@ The paper's plots carry no values in its text: every other result is an ordering
 so the claims, not numbers, are what a reproduction is judged on.
 """
 
-from abm.published import Claim, Published, ReportLayout
+from abm.published import Censored, Claim, Published, ReportLayout
+from abm.verdicts import level_test
 from models.sugarmap.claims import TESTS
 
-__all__ = ["CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT", "TESTBED_COVERAGE"]
+__all__ = [
+    "CENSORED",
+    "CLAIMS",
+    "FAULT_REPORT",
+    "PUBLISHED",
+    "REPORT",
+    "TESTBED",
+    "TESTBED_BAND",
+    "TESTBED_COVERAGE",
+]
 
 #: The testbed (5 m x 3 m, 5 anchors, 2 explorers) covers 85 % in 180 s (Sect. 4.4).
 TESTBED_COVERAGE = 85.0
+#: Half-width of the two-sided band the testbed level is judged by (points). The paper
+#: reports one testbed run without a spread; the band is ours, the same for the published
+#: number and for claim C18.
+TESTBED_BAND = 10.0
 
-PUBLISHED = [
-    Published(
-        "testbed",
-        "coverage after 3 minutes (%)",
-        {"algorithm": "sugarmap", "arena": "testbed", "n_anchors": 5, "n_explorers": 2},
-        TESTBED_COVERAGE,
-        "level",
-        "coverage_180",
-        "at least",
-        threshold=TESTBED_COVERAGE - 10.0,
-        source="Sect. 4.4, Fig. 15",
-    ),
-]
+#: The testbed level: the published number and claim C18 are judged by this one record.
+TESTBED = Published(
+    "testbed",
+    "coverage after 3 minutes (%)",
+    {"algorithm": "sugarmap", "arena": "testbed", "n_anchors": 5, "n_explorers": 2},
+    TESTBED_COVERAGE,
+    "level",
+    "coverage_180",
+    "band",
+    spread=TESTBED_BAND,
+    source="Sect. 4.4, Fig. 15",
+    note="one testbed run published, without a spread: the +-10-point band is ours",
+)
+
+PUBLISHED = [TESTBED]
+
+#: The times to 50, 80 and 90 % coverage are missing when a run ends before reaching them:
+#: the run then only says "at least its coverage time" (tau at its end).
+CENSORED = tuple(Censored(f"t{level}", bound="time", since="t_deploy") for level in (50, 80, 90))
 
 _UNIT = "a model check, not a sweep; tested by"
 
@@ -66,7 +86,8 @@ _CLAIMS = [
     ("C17", "Sect. 4.3.5, Fig. 11", "the curves of the three geometries follow each other "
      "closely", "QL", "Fig. 11: circle, U-shape, serpentine corridor"),
     ("C18", "Sect. 4.4, Fig. 15", "the 7-node testbed swarm covers 85 % of the arena in 3 "
-     "minutes", "Q", "Fig. 15: testbed arena, 5 anchors, 2 explorers, 180 s"),
+     "minutes", "Q", "Fig. 15: testbed arena, 5 anchors, 2 explorers, 180 s; judged by the "
+     "testbed record's two-sided band 85 +- 10 points"),
     ("C19", "Sect. 4.4, Fig. 15", "simulation and testbed follow each other closely as time "
      "progresses", "QL", "Fig. 15 (only the endpoint is published: the curve's shape)"),
     ("C20", "Sect. 4.4, Fig. 14", "single RToF values vary a lot; the combined signature has "
@@ -86,15 +107,33 @@ _CLAIMS = [
 ]  # fmt: skip
 
 _UNTESTABLE = {
-    "C20": f"{_UNIT} tests/test_sugarmap.py::test_single_rtof_varies_more_than_the_signature",
     "C25": f"{_UNIT} tests/test_sugarmap.py::test_a_node_enters_the_next_cell_in_one_tick",
     "C26": f"{_UNIT} tests/test_sugarmap_particles.py (calibrate_sig_th) and "
     "python -m models.sugarmap.calibrate",
 }
 
+#: Claims that hold by construction: labelled so in the report, never counted as reproduced.
+_BY_CONSTRUCTION = {
+    "C20": "the signature averages several independent RToF draws, so its variance is below "
+    "one draw's for any independent noise (tests/test_sugarmap.py::"
+    "test_single_rtof_varies_more_than_the_signature checks the model, not the paper)",
+}
+
+#: C18 restates the testbed record: one rule (its band) in one place.
+_TESTS = {**TESTS, "C18": level_test(TESTBED)}
+
 #: Every claim of spec §8 with its test (or why it has none).
 CLAIMS = [
-    Claim(i, source, statement, kind, setup, TESTS.get(i), _UNTESTABLE.get(i, ""))
+    Claim(
+        i,
+        source,
+        statement,
+        kind,
+        setup,
+        None if i in _BY_CONSTRUCTION else _TESTS.get(i),
+        _UNTESTABLE.get(i, ""),
+        by_construction=_BY_CONSTRUCTION.get(i, ""),
+    )
     for i, source, statement, kind, setup in _CLAIMS
 ]
 

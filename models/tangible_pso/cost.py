@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from abm import portable
+
 __all__ = ["CoverageCost"]
 
 
@@ -45,7 +47,7 @@ class CoverageCost:
 
     def half_side(self, z: np.ndarray) -> np.ndarray:
         """Half the side of the footprint square at altitude ``z`` (m)."""
-        return z * np.tan(np.radians(self.camera_angle) / 2.0)
+        return z * portable.tan(np.radians(self.camera_angle) / 2.0)
 
     def __call__(self, positions: np.ndarray) -> np.ndarray:
         """CF of every distribution: ``(..., n, 3)`` MAV positions (m) -> ``(...)`` costs."""

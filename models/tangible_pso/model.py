@@ -24,6 +24,7 @@ import networkx as nx
 import numpy as np
 import simpy
 
+from abm import portable
 from abm.errors import ConfigError
 from abm.model import SwarmModel
 from abm.polygons import inside_any, offset_polygon, padded
@@ -137,7 +138,9 @@ class TangiblePSOModel(SwarmModel):
         if p.init == "depot":
             angle = 2 * np.pi * np.arange(n) / n
             radius = DEPOT_RADIUS if p.depot_radius is None else p.depot_radius
-            ring = np.stack([np.cos(angle), np.sin(angle)], axis=1) * (radius if n > 1 else 0)
+            ring = np.stack([portable.cos(angle), portable.sin(angle)], axis=1) * (
+                radius if n > 1 else 0
+            )
             swarm = np.column_stack([self.depot + ring, np.full(n, p.z_opt)])
             if not self._start_ok(swarm[None])[0]:
                 raise ConfigError(
@@ -150,7 +153,10 @@ class TangiblePSOModel(SwarmModel):
         for _ in range(INIT_TRIES):
             radius = 0.5 * p.loc_range * np.sqrt(self.rng.random((len(todo), n)))
             angle = self.rng.uniform(0, 2 * np.pi, (len(todo), n))
-            xy = self.depot + np.stack([np.cos(angle), np.sin(angle)], -1) * radius[..., None]
+            xy = (
+                self.depot
+                + np.stack([portable.cos(angle), portable.sin(angle)], -1) * radius[..., None]
+            )
             swarm = np.concatenate([xy, np.full((len(todo), n, 1), p.z_opt)], axis=-1)
             ok = self._start_ok(swarm)
             out[todo[ok]] = swarm[ok]

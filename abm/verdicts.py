@@ -1,0 +1,253 @@
+"""The rules a reproduction report judges a published number or claim by, one per kind.
+
+Each rule returns a :class:`abm.published.Verdict` that states the rule, the number of runs,
+our value and its 95 % interval, so the report shows how every verdict was reached:
+
+- a **level** (:func:`band`, :func:`level`): the paper's level with its spread is a two-sided
+  band ``value +- spread``. It holds when our 95 % interval of the mean lies inside the band,
+  fails when the interval lies outside it, and is undecided when the interval crosses an
+  edge. Without a published spread, it holds when our interval contains the paper's value,
+  and otherwise says by how much ours differs.
+- a **direction** or an **ordering of two conditions** (:func:`difference`): the Welch 95 %
+  interval of the difference of the means excludes zero on the paper's side (holds), on the
+  other side (fails), or includes zero (undecided), with the two-sided Welch p.
+- an **ordering over several values** (:func:`rank_order`): Spearman's rho over the runs with
+  its two-sided p; it holds when rho has the paper's sign and p < 0.05, fails when rho has
+  the other sign and p < 0.05, and is undecided otherwise.
+- a **correlation of condition means** (:func:`correlation`): Pearson's r with its Fisher-z
+  95 % interval, judged like a direction.
+
+A claim is never decided from fewer than two runs per group: the verdict is then undecided.
+"""
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pandas as pd
+from scipy import stats as sps
+
+from abm.errors import ConfigError
+from abm.published import Published, Verdict
+
+__all__ = [
+    "ALPHA",
+    "band",
+    "correlation",
+    "difference",
+    "interval",
+    "level",
+    "level_test",
+    "pooled_share",
+    "rank_order",
+]
+
+#: One minus the confidence of every interval, and the level of every test.
+ALPHA = 0.05
+
+
+def interval(values: Sequence[float], share: bool = False) -> tuple[float, float, float]:
+    """The mean of ``values`` and its 95 % interval (Student t; Wilson for a share of 0/1
+    values, ``share=True``). The interval is (nan, nan) for fewer than two values.
+    """
+    x = np.asarray(values, dtype=float)
+    x = x[~np.isnan(x)]
+    n = len(x)
+    if n == 0:
+        return float("nan"), float("nan"), float("nan")
+    mean = float(x.mean())
+    if n < 2:
+        return mean, float("nan"), float("nan")
+    if share:
+        z = sps.norm.ppf(1 - ALPHA / 2)
+        centre = (mean + z * z / (2 * n)) / (1 + z * z / n)
+        half = z * np.sqrt(mean * (1 - mean) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+        return mean, float(max(0.0, centre - half)), float(min(1.0, centre + half))
+    half = float(sps.t.ppf(1 - ALPHA / 2, n - 1) * x.std(ddof=1) / np.sqrt(n))
+    return mean, mean - half, mean + half
+
+
+def level(
+    mean: float,
+    low: float,
+    high: float,
+    runs: int,
+    value: float,
+    spread: float | None = None,
+    ours: str = "",
+) -> Verdict:
+    """The level rule on our mean and its 95 % interval ``[low, high]`` (see the module)."""
+    shown = ours or f"{mean:.4g} (95 % interval {low:.4g} to {high:.4g}, {runs} runs)"
+    if spread is None:
+        rule = f"level: the paper's {value:g} inside our 95 % interval of the mean"
+    else:
+        rule = (
+            f"level: two-sided band {value:g} +- {spread:g}; our 95 % interval of the mean "
+            "inside it holds, outside it fails, across an edge undecided"
+        )
+    common = {"rule": rule, "mean": mean, "low": low, "high": high, "runs": runs}
+    if not np.isfinite(low) or not np.isfinite(high):
+        return Verdict(shown, None, "fewer than two runs: no interval", **common)
+    off = f"ours differs from the paper's {value:g} by {mean - value:+.3g}"
+    if spread is None:
+        inside = bool(low <= value <= high)
+        return Verdict(shown, inside, "" if inside else off, **common)
+    bottom, top = value - spread, value + spread
+    if bottom <= low and high <= top:
+        return Verdict(shown, True, off, **common)
+    if high < bottom or low > top:
+        return Verdict(shown, False, off, **common)
+    return Verdict(shown, None, f"our interval crosses the band's edge; {off}", **common)
+
+
+def band(
+    values: Sequence[float],
+    value: float,
+    spread: float | None = None,
+    share: bool = False,
+    scale: float = 1.0,
+) -> Verdict:
+    """The level rule on per-run ``values`` (``scale`` converts them to the paper's unit,
+    e.g. 100 for a share in %).
+    """
+    x = np.asarray(values, dtype=float)
+    mean, low, high = (scale * v for v in interval(x, share=share))
+    return level(mean, low, high, int(np.sum(~np.isnan(x))), value, spread)
+
+
+def pooled_share(
+    hits: Sequence[float], totals: Sequence[float], value: float, spread: float | None = None
+) -> Verdict:
+    """The level rule on a share pooled over runs, in % (e.g. conflicts resolved of all
+    conflicts): sum(hits) / sum(totals), with a 95 % interval that treats each run as a
+    cluster (the ratio estimator's delta-method variance), since events of one run are not
+    independent of each other.
+    """
+    h, t = np.asarray(hits, dtype=float), np.asarray(totals, dtype=float)
+    n, total = len(h), float(t.sum())
+    if total == 0:
+        return Verdict("no events", None, "nothing to share out", runs=n)
+    share = float(h.sum() / total)
+    if n < 2:
+        return level(100 * share, np.nan, np.nan, n, value, spread)
+    residual = h - share * t
+    se = float(np.sqrt(n / (n - 1) * np.sum(residual**2)) / total)
+    z = sps.norm.ppf(1 - ALPHA / 2)
+    low, high = max(0.0, share - z * se), min(1.0, share + z * se)
+    ours = (
+        f"{100 * share:.1f} % of {int(total)} (95 % interval {100 * low:.1f} to "
+        f"{100 * high:.1f} %, {n} runs)"
+    )
+    return level(100 * share, 100 * low, 100 * high, n, value, spread, ours=ours)
+
+
+#: The reason of a direction's verdict.
+_WHY = {
+    True: "",
+    False: "the interval excludes 0 on the other side",
+    None: "the interval includes 0",
+}
+
+
+def _sided(low: float, high: float, sign: int) -> bool | None:
+    """True when [low, high] excludes 0 on ``sign``'s side, False on the other, else None."""
+    if sign * low > 0 and sign * high > 0:  # Python bools: a verdict is True, False or None
+        return True
+    if sign * low < 0 and sign * high < 0:
+        return False
+    return None
+
+
+def difference(
+    before: Sequence[float], after: Sequence[float], sign: int, scale: float = 1.0
+) -> Verdict:
+    """The direction rule: is mean(after) - mean(before) of sign ``sign`` (+1 or -1)? Welch's
+    95 % interval of the difference and the two-sided Welch p (``scale`` as in :func:`band`).
+    """
+    a = np.asarray(before, dtype=float)
+    b = np.asarray(after, dtype=float)
+    a, b = scale * a[~np.isnan(a)], scale * b[~np.isnan(b)]
+    word = "increase" if sign > 0 else "decrease"
+    rule = f"direction: Welch 95 % interval of the difference of the means excludes 0 ({word})"
+    runs = len(a) + len(b)
+    if len(a) < 2 or len(b) < 2:
+        return Verdict("", None, "fewer than two runs on a side: no interval", rule, runs=runs)
+    diff = float(b.mean() - a.mean())
+    va, vb = a.var(ddof=1) / len(a), b.var(ddof=1) / len(b)
+    se = float(np.sqrt(va + vb))
+    if se == 0:
+        low = high = diff
+        p = 0.0 if diff != 0 else 1.0
+    else:
+        df = (va + vb) ** 2 / (va**2 / (len(a) - 1) + vb**2 / (len(b) - 1))
+        half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
+        low, high = diff - half, diff + half
+        p = float(2 * sps.t.sf(abs(diff) / se, df))
+    holds = _sided(low, high, sign)
+    ours = f"{diff:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
+    why = _WHY[holds]
+    return Verdict(ours, holds, why, rule, mean=diff, low=low, high=high, runs=runs)
+
+
+def rank_order(factor: Sequence[float], values: Sequence[float], sign: int) -> Verdict:
+    """The ordering rule over several values of a factor: Spearman's rho of ``values`` on
+    ``factor`` over the runs, two-sided p < 0.05 with the sign ``sign``.
+    """
+    x, y = np.asarray(factor, dtype=float), np.asarray(values, dtype=float)
+    keep = ~(np.isnan(x) | np.isnan(y))
+    x, y = x[keep], y[keep]
+    word = "rises" if sign > 0 else "falls"
+    rule = f"ordering: Spearman rho over the runs, two-sided p < {ALPHA:g}, the value {word}"
+    if len(x) < 3 or len(set(x)) < 2:
+        return Verdict("", None, "fewer than three runs or one value", rule, runs=len(x))
+    result = sps.spearmanr(x, y)
+    rho, p = float(result.statistic), float(result.pvalue)
+    holds = None if not p < ALPHA else bool(sign * rho > 0)
+    why = "" if holds is not None else f"p = {p:.2g} >= {ALPHA:g}"
+    return Verdict(f"rho {rho:+.2f} (p = {p:.2g}, {len(x)} runs)", holds, why, rule,
+                   mean=rho, runs=len(x))  # fmt: skip
+
+
+def correlation(x: Sequence[float], y: Sequence[float], sign: int, runs: int) -> Verdict:
+    """The direction rule for a correlation of condition means (``x``, ``y``, one pair per
+    condition): Pearson's r with its Fisher-z 95 % interval (needs four conditions).
+    """
+    a, b = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    n = len(a)
+    rule = "direction: Fisher-z 95 % interval of Pearson r over the condition means excludes 0"
+    if n < 4:
+        return Verdict("", None, f"{n} conditions: at least 4 needed", rule, runs=runs)
+    result = sps.pearsonr(a, b)
+    r, p = float(result.statistic), float(result.pvalue)
+    z, half = np.arctanh(np.clip(r, -0.999999, 0.999999)), sps.norm.ppf(1 - ALPHA / 2)
+    low, high = float(np.tanh(z - half / np.sqrt(n - 3))), float(np.tanh(z + half / np.sqrt(n - 3)))
+    holds = _sided(low, high, sign)
+    ours = f"{r:.3f} (95 % interval {low:.3f} to {high:.3f}, {n} conditions, p = {p:.2g})"
+    why = _WHY[holds]
+    return Verdict(ours, holds, why, rule, mean=r, low=low, high=high, runs=runs)
+
+
+def level_test(record: Published) -> Callable[[pd.DataFrame, pd.DataFrame | None], Verdict | None]:
+    """A claim test that judges a "level" record by its own rule (:func:`band`) on the runs
+    whose columns match its condition, so that a claim and the published number it restates
+    are judged by one rule in one place. The test gives None when no run matches.
+    """
+    if record.kind != "level" or record.check != "band":
+        raise ConfigError(f"level_test needs a 'band' level record, got {record.kind!r}")
+
+    def test(runs: pd.DataFrame, samples: pd.DataFrame | None) -> Verdict | None:
+        for key, value in record.condition.items():
+            if key not in runs:
+                return None
+            if isinstance(value, int | float) and not isinstance(value, bool):
+                numbers = pd.to_numeric(runs[key], errors="coerce").astype(float)
+                runs = runs[np.isclose(numbers, value)]
+            else:
+                runs = runs[runs[key] == value]
+        if runs.empty or record.metric not in runs:
+            return None
+        column = runs[record.metric]
+        share = column.dtype == bool
+        return band(column.astype(float), record.value, record.spread, share,
+                    100.0 if share else 1.0)  # fmt: skip
+
+    return test
