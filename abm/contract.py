@@ -15,6 +15,7 @@ from abm.faults import FAULT_KINDS
 from abm.params import SwarmParams, field_help
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.styles import StateStyle
+from abm.units import UNITS, Quantity
 
 __all__ = ["check_model"]
 
@@ -26,9 +27,9 @@ def check_model(cls: type) -> None:
     subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
     docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
     fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
-    ``MACRO``, ``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``, ``APP``, ``QUICK`` and
-    ``FAULTS`` of the documented types; every setting a published number's or a claim's
-    condition names is a parameter.
+    ``MACRO``, ``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``, ``APP``, ``QUICK``,
+    ``FAULTS`` and ``SUMMARY_UNITS`` of the documented types; every setting a published
+    number's or a claim's condition names is a parameter.
     """
     _check(cls)
 
@@ -94,6 +95,13 @@ def _check(cls: type) -> None:
             f"{name}.FAULTS must be a frozenset of fault kinds among "
             f"{', '.join(sorted(FAULT_KINDS))}, got {cls.FAULTS!r}"
         )
+    units = cls.SUMMARY_UNITS
+    for key, quantity in units.items():
+        if not (isinstance(quantity, Quantity) and quantity.unit in UNITS):
+            raise ContractError(
+                f"{name}.SUMMARY_UNITS[{key!r}] must be an abm.units.Quantity whose unit is one "
+                f"of {', '.join(sorted(UNITS))}, got {quantity!r}"
+            )
     unknown = set(cls.QUICK) - {f.name for f in dataclasses.fields(cls.Params)}
     if unknown:
         raise ContractError(f"{name}.QUICK names no parameter: {', '.join(sorted(unknown))}")

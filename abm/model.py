@@ -22,6 +22,7 @@ from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
 from abm.clock import Clock, call_later
+from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
 from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
@@ -33,6 +34,8 @@ from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle, resolve_styles
+from abm.units import Quantity
+from abm.units import declare as declare_units
 
 #: How a failed robot is drawn unless the model says otherwise.
 FAILED_STYLE = StateStyle("#000000", marker="X", size=45.0, layer=6.0)
@@ -63,6 +66,9 @@ class SwarmModel(mesa.Model):
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
       already shows every part of the model (empty when the defaults do); the contract tests
       run every model with them.
+    - ``SUMMARY_UNITS``: the unit and meaning of each key of the model's :meth:`metrics`
+      (key or ``fnmatch`` pattern -> :class:`~abm.units.Quantity`); the common keys are
+      documented once in :data:`abm.units.COMMON`.
     - ``FAULTS``: the kinds of fault the model handles ("robot", "link", "sensor"; see
       :mod:`abm.faults`): the fault keywords of other kinds must stay at their defaults. A
       model declares "robot" once its behaviour copes with :meth:`on_robot_failed`, "link"
@@ -109,10 +115,12 @@ class SwarmModel(mesa.Model):
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}
     FAULTS: ClassVar[frozenset[str]] = frozenset()
+    SUMMARY_UNITS: ClassVar[Mapping[str, Quantity]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         cls.__signature__ = _signature(cls.Params)
+        declare_units(cls.SUMMARY_UNITS)
 
     def __init__(
         self,
@@ -198,12 +206,13 @@ class SwarmModel(mesa.Model):
         return cls(seed=seed, **params.as_dict())
 
     @property
-    def datacollector(self) -> mesa.DataCollector:
-        """Mesa's DataCollector of :meth:`reporters` (made on first use, once the model is
-        built).
+    def datacollector(self) -> StepCollector:
+        """Mesa's DataCollector of :meth:`reporters` and ``time`` (s), keyed by the step count
+        (so ``mesa.batch_run``'s ``Step`` counts steps); made on first use, once the model is
+        built.
         """
         if self._datacollector is None:
-            self._datacollector = mesa.DataCollector(model_reporters=self.reporters())
+            self._datacollector = StepCollector(self.reporters())
         return self._datacollector
 
     @property

@@ -64,6 +64,8 @@ class Layer:
         extent: ``(x0, x1, y0, y1)`` (m) the raster spans.
         colour: its colour.
         size: marker area of the points (pt^2).
+        marker: matplotlib marker of the points (e.g. ``"*"`` for one robot the model
+            marks, such as a base station).
 
     """
 
@@ -73,3 +75,4 @@ class Layer:
     extent: tuple[float, float, float, float] | None = None
     colour: str = "#000000"
     size: float = 4.0
+    marker: str = "o"

@@ -65,7 +65,7 @@ def _hue_levels(df: pd.DataFrame, layout: ReportLayout) -> list:
 
 def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     """Each of ``layout.metrics`` against ``layout.x`` (mean +- standard error), side by side."""
-    runs = ok_runs(df)
+    runs, names = _positions(ok_runs(df), layout.x)
     metrics = [m for m in layout.metrics if m in runs]
     hues = _hue_levels(runs, layout)
     fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 4.2), squeeze=False)
@@ -83,10 +83,11 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             err_kws={"capsize": 3},
             ax=ax,
             color=None if len(hues) > 1 else "#00798c",
+            linestyle="" if names else "-",  # names in alphabetical order: no line between
         )
         xs = sorted(runs[layout.x].unique())
         if len(xs) <= MAX_TICKS:  # a tick per condition; beyond that matplotlib's own ticks
-            ticks = [f"{x:g}" for x in xs]
+            ticks = [names[int(x)] if names else f"{x:g}" for x in xs]
             ax.set_xticks(xs)
             # long labels (small rates such as 0.0005) would run into each other: slant them
             crowded = sum(len(t) for t in ticks) > 24
@@ -110,6 +111,17 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     return fig
 
 
+def _positions(runs: pd.DataFrame, x: str) -> tuple[pd.DataFrame, list[str]]:
+    """``runs`` with a non-numeric ``x`` (names, e.g. arenas) as positions 0, 1, ... and the
+    names in that order; a numeric ``x`` unchanged, with no names.
+    """
+    column = runs[x]
+    if pd.api.types.is_numeric_dtype(column) and column.dtype != bool:
+        return runs, []
+    names = sorted(column.astype(str).unique())
+    return runs.assign(**{x: column.astype(str).map(names.index)}), names
+
+
 def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     """``layout.stacked`` stacked per ``x`` value; one panel per ``hue`` value."""
     runs = ok_runs(df)
@@ -130,7 +142,8 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             bottom += means[name].to_numpy()
         ax.errorbar(x, bottom, yerr=total.to_numpy(), fmt="none", ecolor="black", capsize=3)
         ax.set_xticks(x)
-        ax.set_xticklabels([f"{p:g}" for p in means.index])
+        ax.set_xticklabels([f"{p:g}" if isinstance(p, int | float) else str(p)
+                            for p in means.index])  # fmt: skip
         ax.set_xlabel(label(layout, layout.x))
         if level is not None:
             ax.set_title(f"{label(layout, layout.hue)}: {level}")
@@ -138,10 +151,23 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     unit = "kJ" if "(kJ)" in label(layout, parts[0]) else ""
     axes[0][0].set_ylabel(f"Mean per run {f'({unit})' if unit else ''}".strip())
     handles, labels = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=len(parts), frameon=False,
-               title="Component (error bar: standard error of the total)")  # fmt: skip
-    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    _legend_below(fig, handles, labels, "Component (error bar: standard error of the total)")
     return fig
+
+
+def _legend_below(fig: plt.Figure, handles: list, labels: list[str], title: str) -> None:
+    """A legend under the panels in as many columns as fit the figure's width (one panel is
+    narrower than three labels side by side), the panels laid out above it.
+    """
+    for ncol in range(len(labels), 0, -1):
+        legend = fig.legend(handles, labels, loc="lower center", ncol=ncol, frameon=False,
+                            title=title)  # fmt: skip
+        fig.canvas.draw()
+        box = legend.get_window_extent()
+        if box.width <= 0.98 * fig.bbox.width or ncol == 1:
+            break
+        legend.remove()
+    fig.tight_layout(rect=(0, min(0.6, box.height / fig.bbox.height + 0.02), 1, 1))
 
 
 def compare_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:

@@ -34,11 +34,13 @@ from analysis.sweep import load_results, run_sweep, swept_keys
 
 __all__ = [
     "METHODS",
+    "RUN_COLUMNS",
     "analyse",
     "fit_runs",
     "macro_spec",
     "methods",
     "read_runs",
+    "methods_note",
     "write_fit_report",
 ]
 
@@ -420,10 +422,48 @@ def _published_columns(table: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
     return t
 
 
+#: Columns of a run the fit report's runs table shows (all of them go to runs.csv).
+RUN_COLUMNS = ("run_id", "rep", "time", "end_reason", "status")
+
+
+def methods_note(overall: pd.DataFrame) -> str:
+    """What the methods table holds, in as many words as it has rows."""
+    ours = [m for m in overall["method"] if not str(m).startswith("paper")]
+    ways = "one way" if len(ours) == 1 else f"{len(ours)} ways"
+    text = f"The same runs, a0 and alpha6 per condition got {ways} (one row each)"
+    if any(str(m).startswith("the paper's method") for m in ours):
+        text += (
+            ". In the paper's method errors small in parameter space, such as 1e-4 in alpha6, "
+            "compound over thousands of steps; the joint refinement fits the same six lambdas "
+            "to all count curves at once, minimising the mean RMSD it is judged on"
+        )
+    elif len(ours) == 1:
+        text += ": the lambda regression did not run (see the note above)"
+    if len(ours) < len(overall):
+        text += ". Then the paper's own figures"
+    return text + "."
+
+
 def write_fit_report(
-    result: dict, summaries: pd.DataFrame, spec: MacroSpec, out: str | Path, meta: list
+    result: dict,
+    summaries: pd.DataFrame,
+    spec: MacroSpec,
+    out: str | Path,
+    meta: list,
+    conditions: Sequence[str] = (),
 ) -> Path:
-    """Write ``out/fit_report.html``; returns its path."""
+    """Write ``out/fit_report.html`` and every run's summary as ``out/runs.csv``; returns the
+    HTML's path.
+
+    Args:
+        result: :func:`analyse`'s result.
+        summaries: one row per run.
+        spec: the model's MACRO.
+        out: the output folder.
+        meta: (name, value) rows of the page's header.
+        conditions: the columns that tell conditions apart (shown in the runs table).
+
+    """
     out = Path(out)
     t = _published_columns(result["table"], spec)
     overall = methods(result["table"], spec)
@@ -447,10 +487,17 @@ def write_fit_report(
             f"{heldout['rmsd_b'].mean():.3g} (in-sample: w {t['rmsd_w'].mean():.3g}, b "
             f"{t['rmsd_b'].mean():.3g})."
         )
+    # panels in the fits' order: the condition values' own (6, 12, 24), not their text's
+    curves = result["curves"].groupby("condition", sort=False)
+    titles = {c: f"{c} ({int(o['runs'].max())} runs)" for c, o in curves}
     figures = [
-        _curve_figure(obs, spec, f"{label} ({int(obs['runs'].max())} runs)")
-        for label, obs in result["curves"].groupby("condition", sort=True)
+        {"title": titles[c], "src": _curve_figure(curves.get_group(c), spec, titles[c])}
+        for c in result["fits"]["condition"]
     ]
+    runs = summaries.drop(columns=["traceback", "error"], errors="ignore")
+    out.mkdir(parents=True, exist_ok=True)
+    runs.to_csv(out / "runs.csv", index=False)
+    shown = [c for c in dict.fromkeys([RUN_COLUMNS[0], *conditions, *RUN_COLUMNS[1:]]) if c in runs]
     return render_page(
         "fit_report.html.j2",
         out / "fit_report.html",
@@ -458,11 +505,17 @@ def write_fit_report(
         subtitle=spec.source,
         meta=meta,
         notes=result["notes"],
+        methods_note=methods_note(overall),
         fits=table(t, digits=4),
         overall=table(overall, digits=4, text_columns=("method",)),
         lambdas=None if lambdas is None else table(lambdas, digits=4),
         heldout=None if heldout is None else table(heldout, digits=4),
         held_text=held_text,
         figures=figures,
-        runs=table(summaries.drop(columns=["traceback", "error"], errors="ignore"), digits=4),
+        runs=table(
+            runs[shown].sort_values([c for c in (*conditions, "rep") if c in shown], kind="stable"),
+            digits=4,
+            text_columns=("run_id", "end_reason", "status"),
+        ),
+        runs_csv="runs.csv",
     )

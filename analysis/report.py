@@ -11,8 +11,10 @@ Pearson's r, the condition means and the runs that failed. A model without a lay
 from its swept parameters.
 """
 
+import contextlib
 import datetime
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -22,7 +24,9 @@ import pandas as pd
 from abm.errors import ABMError, ConfigError
 from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
+from abm.units import unit_of
 from analysis import stats
+from analysis.anova import RESAMPLES
 from analysis.compare import (
     BY_CONSTRUCTION,
     NOT_IN_SWEEP,
@@ -34,6 +38,8 @@ from analysis.compare import (
 )
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
+from analysis.statistics_table import anova_items, pearson_rows, statistics_frame, tests_on_page
+from analysis.statistics_table import write_csv as write_statistics
 from analysis.sweep import load_results, read_manifest, swept_keys
 
 __all__ = ["layout_for", "write_report"]
@@ -148,6 +154,8 @@ def write_report(
     comparison = compare_published(every, published, defaults, cls.CENSORED) if published else None
     judged = _claims(sweeps, claims, defaults)
     names = ", ".join(s.name for s in sweeps)
+    blocks = [_block(s, cls, published, len(sweeps) > 1) for s in sweeps]
+    statistics = _statistics(blocks, out)
     path = render_page(
         "sweep_report.html.j2",
         out,
@@ -159,7 +167,8 @@ def write_report(
         claims=_shown_rows(judged) if judged else None,
         tally=_tally(comparison, judged),
         not_in_sweep=NOT_IN_SWEEP,
-        blocks=[_block(s, cls, published, len(sweeps) > 1) for s in sweeps],
+        blocks=blocks,
+        statistics=statistics,
     )
     comparison_csv(comparison, judged).to_csv(path.with_name("comparison.csv"), index=False)
     return path
@@ -196,8 +205,10 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     runs = stats.ok_runs(sweep.runs)
     failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]
     layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)
+    layout = _for_this_grid(layout, runs, swept_keys(sweep.manifest, runs), cls)
     folder = sweep.folder / "figures"
-    figures = save_figures(runs, layout, folder) if len(runs) else {}
+    with _noted() as warned:
+        figures = save_figures(runs, layout, folder) if len(runs) else {}
     shown = [
         {
             "src": image_data(path),
@@ -222,7 +233,9 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         + f"; {sweep.manifest.get('replications', '?')} runs each, sweep seed "
         + f"{sweep.manifest.get('seed', '?')}",
         "figures": shown,
-        "anova": _anova(runs, layout) if len(runs) else [],
+        "name": sweep.name,
+        "labels": {m: label(layout, m).replace("(kJ)", "(J)") for m in runs.columns},
+        **_tests(runs, layout, _seed(sweep), conditions, warned),
         "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
         "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
@@ -315,26 +328,135 @@ def _factors(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
     return [f for f in (layout.x, layout.hue) if f is not None and f in runs]
 
 
+def _for_this_grid(
+    layout: ReportLayout, runs: pd.DataFrame, swept: list[str], cls: type | None
+) -> ReportLayout:
+    """The layout made to show what this grid swept and measured: its metrics those the runs
+    measured (:func:`_metrics`); against the first swept key that varies when the layout's
+    ``x`` does not (a custom grid of names, e.g. arenas); every column labelled with its unit.
+    """
+    x = layout.x
+    if x is None:
+        x = next((k for k in swept if k in runs and runs[k].nunique() > 1), None)
+    units = {} if cls is None else cls.SUMMARY_UNITS
+    labels = {
+        column: f"{column.replace('_', ' ')} ({unit})"
+        for column in runs.columns
+        if (unit := unit_of(column, units)) and unit not in ("text", "id", "flag")
+    }
+    layout = replace(layout, x=x, labels={**labels, **layout.labels})
+    return replace(layout, metrics=tuple(_metrics(runs, layout)))
+
+
 def _metrics(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
-    wanted = [*layout.metrics, *([layout.total] if layout.total else [])]
-    return [m for m in dict.fromkeys(wanted) if m in runs and _numeric(runs, m)]
+    """The layout's numeric metrics these runs measured (not NaN in every run); when they
+    measured none of them (a custom grid the paper never ran, runs cut before the model's own
+    metrics exist), the common summary keys they did measure, so that every sweep shows its
+    metrics against its swept keys.
+    """
+
+    def measured(columns) -> list[str]:
+        return [m for m in dict.fromkeys(columns) if m in runs and _numeric(runs, m)
+                and runs[m].notna().any()]  # fmt: skip
+
+    declared = measured([*layout.metrics, *([layout.total] if layout.total else [])])
+    return declared or measured(COMMON_METRICS)
 
 
-def _anova(runs: pd.DataFrame, layout: ReportLayout) -> list[dict]:
+@contextlib.contextmanager
+def _noted(notes: list[str] | None = None) -> Iterator[list[str]]:
+    """Record the warnings numpy, statsmodels, pandas or matplotlib raise inside, as notes for
+    the page (each once), instead of letting them reach the terminal.
+    """
+    notes = [] if notes is None else notes
+    with warnings.catch_warnings(record=True) as caught, np.errstate(all="warn"):
+        warnings.simplefilter("always")
+        yield notes
+    for w in caught:
+        text = f"{w.category.__name__}: {w.message}"
+        if text not in notes:
+            notes.append(text)
+
+
+def _tests(
+    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: list[str], notes: list[str]
+) -> dict:
+    """The block's ANOVAs and correlation, and every warning raised while drawing and testing."""
+    if not len(runs):
+        return {"anova": [], "correlation": None, "warnings": notes}
+    with _noted(notes):
+        return {"anova": _anova(runs, layout, seed, conditions), "warnings": notes,
+                "correlation": _correlation(runs, layout, seed)}  # fmt: skip
+
+
+def _seed(sweep: _Sweep) -> int:
+    """The seed of the report's bootstrap intervals: the sweep's own seed (0 when unknown)."""
+    seed = sweep.manifest.get("seed")
+    return seed if isinstance(seed, int) and seed >= 0 else 0
+
+
+def _anova(
+    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: Sequence[str] = ()
+) -> list[stats.Anova]:
+    """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused;
+    then, when the grid swept other keys (at most two, e.g. the hierarchy's W and S beside
+    its drawn N = 1 + W + W S), over those.
+    """
     factors = _factors(runs, layout)
-    if not factors:
-        return []
-    out = []
-    for metric in _metrics(runs, layout):
-        measured = runs.dropna(subset=[metric])  # a metric some conditions do not have
-        if measured.empty or (measured[factors].nunique() < 2).any():
-            continue
-        result = stats.anova(measured, metric, factors)
-        if not result.empty:
-            shown = result.reset_index(names="source")
-            out.append({"title": label(layout, metric).replace("(kJ)", "(J)"),
-                        "table": table(shown, text_columns=("source",))})  # fmt: skip
-    return out
+    swept = [k for k in conditions if k in runs and _groupable(runs, [k])[k].nunique() > 1]
+    sets = [factors] if factors else []
+    if swept and len(swept) <= 2 and set(swept) != set(factors):
+        sets.append(swept)
+    grouped = _groupable(runs, swept)
+    return [
+        stats.anova(grouped, metric, chosen, seed=seed)
+        for chosen in sets
+        for metric in _metrics(runs, layout)
+    ]
+
+
+def _correlation(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> dict | None:
+    """Pearson's r of the layout's two correlated columns over the condition means."""
+    if not (layout.correlate and all(c in runs for c in layout.correlate)):
+        return None
+    x, y = layout.correlate
+    return {"x": x, "y": y, **stats.pearson(runs, x, y, by=_factors(runs, layout), seed=seed)}
+
+
+def _statistics(blocks: list[dict], out: Path) -> dict:
+    """Every test of the page in one table (Holm over all of them), written as
+    ``statistics.csv`` beside the HTML; each block gets its ANOVA items and correlation line.
+    """
+    anovas = [(block["name"], result) for block in blocks for result in block["anova"]]
+    extra = [
+        row
+        for block in blocks
+        if block["correlation"] is not None
+        for row in pearson_rows(block["name"], block["correlation"]["x"],
+                                block["correlation"]["y"], block["correlation"])
+    ]  # fmt: skip
+    frame = statistics_frame(anovas, extra)
+    path = write_statistics(frame, out.parent / "statistics.csv")
+    for block in blocks:
+        block["anova"] = anova_items(frame, block["name"], block["labels"])
+        block["correlation"] = _correlation_note(frame, block["name"])
+    return {"tests": tests_on_page(frame), "csv": path.name, "resamples": RESAMPLES}
+
+
+def _correlation_note(frame: pd.DataFrame, sweep: str) -> str | None:
+    rows = frame[(frame["sweep"] == sweep) & (frame["test"] == "Pearson r")]
+    if rows.empty:
+        return None
+    row = rows.iloc[0]
+    x, y = row["metric"].split(" ~ ")
+    if not row["computed"]:
+        return f"Pearson r of the condition means of {x} and {y}: not computed: {row['reason']}."
+    return (
+        f"Pearson r of the condition means of {x} and {y} across {row['source']}: "
+        f"r = {row['r']:.3f} (95 % bootstrap interval {row['ci_low']:.3f} to "
+        f"{row['ci_high']:.3f}; df = {row['df']:.0f}, p = {row['p']:.2g}, "
+        f"Holm-adjusted p = {row['p_holm']:.2g})."
+    )
 
 
 def _groupable(runs: pd.DataFrame, factors: list[str]) -> pd.DataFrame:
@@ -388,15 +510,6 @@ def _factor_sections(
                     "(Stirling et al. Sect. 5). analysis.stats.optimal_period takes other weights."
                 )
                 sections.append({"title": f"Optimal {x}", "note": note, "table": table(best)})
-    if layout.correlate and all(c in runs for c in layout.correlate):
-        r = stats.pearson(runs, *layout.correlate, by=_factors(runs, layout))
-        if r["n"] >= 3:
-            note = (
-                f"Pearson r of the condition means of {layout.correlate[0]} and "
-                f"{layout.correlate[1]} across {r['n']} conditions: r = {r['r']:.3f} "
-                f"(df = {r['df']}, p = {r['p']:.2g})."
-            )
-            sections.append({"title": "Correlation", "note": note, "table": None})
     factors = list(dict.fromkeys([*_factors(runs, layout), *(conditions or [])]))
     extra = [m for m in ("coverage_area", "energy_total", *layout.stacked) if m in runs]
     shown = [m for m in dict.fromkeys([*metrics, *extra]) if _numeric(runs, m)]
@@ -409,7 +522,9 @@ def _factor_sections(
             if factors
             else means[["metric", "mean", "sem", "n"]]
         )
-        note = "Times in s, energies in J, coverage in % of the free area."
+        # the means are of the runs' own values: energies in J even where a figure draws kJ
+        units = {m: label(layout, m).replace("(kJ)", "(J)") for m in shown}
+        note = "; ".join(f"{m}: {text}" for m, text in units.items() if text != m)
         sections.append({"title": "Condition means", "note": note,
                          "table": table(wide.replace({np.nan: None}), digits=4)})  # fmt: skip
     return sections

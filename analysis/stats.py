@@ -1,8 +1,9 @@
 """Statistics of sweep results (tidy DataFrames, one row per run), for any model.
 
 The analyses of Stirling et al. (2010), with the factors and metrics named by the caller (the
-report takes them from the model's layout): two-way ANOVA over swept factors, Pearson's r of
-condition means, percent-change tables between two values of a factor, and the optimal value of
+report takes them from the model's layout): two-way ANOVA over swept factors (refusing what
+the design cannot support, :mod:`analysis.anova`), Pearson's r of condition means with a
+bootstrap interval, percent-change tables between two values of a factor, and the optimal value of
 a factor (Sect. 5: cubic interpolations of the condition means of some metrics, each
 normalised to [0, 1], summed with weights; the value at the minimum).
 """
@@ -13,8 +14,10 @@ import numpy as np
 import pandas as pd
 
 from abm.errors import ConfigError
+from analysis.anova import RESAMPLES, Anova, anova
 
 __all__ = [
+    "Anova",
     "ok_runs",
     "condition_means",
     "anova",
@@ -49,38 +52,22 @@ def condition_means(df: pd.DataFrame, metrics: Sequence[str], by: Sequence[str])
     return grouped.agg(mean="mean", sem="sem", n="count").reset_index()
 
 
-def anova(df: pd.DataFrame, metric: str, factors: Sequence[str], typ: int = 2) -> pd.DataFrame:
-    """Two-way ANOVA (statsmodels OLS, type ``typ`` sums of squares) of ``metric``.
-
-    Factors with a single level in ``df`` are left out (a one-way ANOVA remains).
-
-    Returns:
-        One row per source (each factor, their interaction, Residual): ``sum_sq``, ``df``,
-        ``F``, ``PR(>F)`` and ``eta_sq`` (share of the total sum of squares).
-
-    """
-    from statsmodels.formula.api import ols
-    from statsmodels.stats.anova import anova_lm
-
-    runs = ok_runs(df)
-    _check_columns(runs, [metric, *factors])
-    used = [f for f in factors if runs[f].nunique() > 1]
-    if not used or len(runs) <= runs.groupby(used).ngroups:
-        return pd.DataFrame(columns=["sum_sq", "df", "F", "PR(>F)", "eta_sq"])
-    data = runs[[metric, *used]].astype({metric: float}).rename(columns={metric: "y"})
-    terms = " * ".join(f"C({f})" for f in used)
-    fit = ols(f"y ~ {terms}", data=data).fit()
-    table = anova_lm(fit, typ=typ)
-    table["eta_sq"] = table["sum_sq"] / table["sum_sq"].sum()
-    table.index = [i.replace("C(", "").replace(")", "") for i in table.index]
-    return table
-
-
-def pearson(df: pd.DataFrame, x: str, y: str, by: Sequence[str]) -> dict:
+def pearson(
+    df: pd.DataFrame,
+    x: str,
+    y: str,
+    by: Sequence[str],
+    *,
+    seed: int | None = 0,
+    resamples: int = RESAMPLES,
+) -> dict:
     """Pearson's r between the condition means of ``x`` and ``y`` (conditions: values of ``by``).
 
     Returns:
-        ``{"r", "p", "df", "n"}``; r and p are NaN with fewer than 3 conditions.
+        ``{"r", "p", "df", "n", "r_low", "r_high", "reason"}``: ``r_low``/``r_high`` the 95 %
+        percentile bootstrap interval of r (runs resampled within their conditions, the means
+        and r recomputed; seeded by ``seed``); ``reason`` says why r was not computed (fewer
+        than 3 conditions, or a constant mean), else None.
 
     """
     from scipy.stats import pearsonr
@@ -88,14 +75,37 @@ def pearson(df: pd.DataFrame, x: str, y: str, by: Sequence[str]) -> dict:
     runs = ok_runs(df)
     by = [b for b in by if b in runs.columns and runs[b].nunique() > 0]
     _check_columns(runs, [x, y])
+    runs = runs.dropna(subset=[x, y])
     means = (
         runs.groupby(by, observed=True)[[x, y]].mean() if by else runs[[x, y]].mean().to_frame().T
     )
     n = len(means)
-    if n < 3 or means[x].nunique() < 2 or means[y].nunique() < 2:
-        return {"r": float("nan"), "p": float("nan"), "df": max(n - 2, 0), "n": n}
+    out = {"r": float("nan"), "p": float("nan"), "df": max(n - 2, 0), "n": n,
+           "r_low": float("nan"), "r_high": float("nan"), "reason": None}  # fmt: skip
+    if n < 3:
+        return {**out, "reason": f"{n} conditions: r needs at least 3"}
+    for column in (x, y):
+        if means[column].nunique() < 2:
+            return {**out, "reason": f"the mean of {column} is the same in every condition"}
     r, p = pearsonr(means[x].astype(float), means[y].astype(float))
-    return {"r": float(r), "p": float(p), "df": n - 2, "n": n}
+    low, high = _pearson_interval(runs, x, y, by, seed, resamples)
+    return {**out, "r": float(r), "p": float(p), "r_low": low, "r_high": high}
+
+
+def _pearson_interval(runs, x, y, by, seed, resamples) -> tuple[float, float]:
+    """95 % percentile bootstrap interval of the r of condition means."""
+    if resamples <= 0 or not by:
+        return float("nan"), float("nan")
+    rng = np.random.default_rng(seed)
+    groups = [part[[x, y]].to_numpy(float) for _, part in runs.groupby(by, observed=True)]
+    draws = np.empty(resamples)
+    for k in range(resamples):
+        means = np.array([g[rng.integers(0, len(g), len(g))].mean(axis=0) for g in groups])
+        with np.errstate(all="ignore"):
+            draws[k] = np.corrcoef(means[:, 0], means[:, 1])[0, 1]
+    if np.isnan(draws).all():
+        return float("nan"), float("nan")
+    return float(np.nanpercentile(draws, 2.5)), float(np.nanpercentile(draws, 97.5))
 
 
 def percent_change(

@@ -242,3 +242,51 @@ def test_papers_method_recovers_known_a0_alpha6_from_noisy_curves():
     assert side["rmsd_w"].iloc[1] + side["rmsd_b"].iloc[1] <= (
         side["rmsd_w"].iloc[0] + side["rmsd_b"].iloc[0] + 1e-6
     )
+
+
+# ---------------------------------------------------------------------- the fit report
+def _fit_runs_of_three_radii():
+    """Runs of three radii (6, 12, 24: their text sorts 12, 24, 6) with 60 summary columns."""
+    from abm.published import MacroSpec
+    from analysis.fit import analyse
+
+    spec = MacroSpec(moving="wander", settled="beacon", step=1.0, source="synthetic")
+    counts, rows = [], []
+    for radius, a0 in ((6, 0.05), (12, 0.04), (24, 0.03)):
+        part = _synthetic(a0, 0.998, seeds=2, steps=300)
+        for seed, run in part.groupby("seed"):
+            run_id = f"r{radius}-{seed}"
+            counts.append(run.drop(columns="seed").assign(run_id=run_id, radius=radius))
+            rows.append({"run_id": run_id, "rep": seed, "radius": radius, "time": 300.0,
+                         "end_reason": "time limit", "status": "ok",
+                         **{f"metric_{k}": float(k) for k in range(60)}})  # fmt: skip
+    summaries, counts = pd.DataFrame(rows), pd.concat(counts, ignore_index=True)
+    return analyse(summaries, counts, spec, ["radius"]), summaries, spec
+
+
+def test_fit_report_says_what_it_shows(tmp_path):
+    from analysis.fit import write_fit_report
+
+    result, summaries, spec = _fit_runs_of_three_radii()
+    meta = [("wall time", "1 s with 1 worker")]
+    page = write_fit_report(result, summaries, spec, tmp_path, meta, ["radius"]).read_text()
+    # the panels in the radii's order, not their text's
+    titles = [t.split(" (")[0] for t in page.split('alt="')[1:]]
+    assert [t for t in titles if t.startswith("radius=")] == ["radius=6", "radius=12", "radius=24"]
+    # no regression here (the spec names none): one way of fitting, and the page says one
+    methods = page.split("Fitting methods side by side")[1].split("<h2>")[0]
+    assert methods.count("<tr>") == 2  # the heading and one method
+    assert "got one way (one row each)" in methods and "five ways" not in page
+    # the runs table fits the page: the run, its condition, its end; the rest in runs.csv
+    runs = page.split("<h2>Runs</h2>")[1]
+    heads = runs.split("</thead>")[0].count("<th class")
+    assert heads == 6
+    assert len(pd.read_csv(tmp_path / "runs.csv").columns) == len(summaries.columns)
+
+
+def test_fit_wall_time_counts_its_workers():
+    from analysis.cli.fit import _wall_time
+
+    assert _wall_time(11.2, 1) == "11 s with 1 worker"
+    assert _wall_time(11.2, 2) == "11 s with 2 workers"
+    assert _wall_time(3.0, None) == "3 s (runs read, not run)"

@@ -231,7 +231,8 @@ class SceneView:
                 points = np.asarray(layer.points, dtype=float).reshape(-1, 2)
                 if artist is None:
                     self._layers[layer.label] = self.ax.scatter(
-                        *points.T, s=layer.size, color=layer.colour, linewidths=0, zorder=3,
+                        *points.T, s=layer.size, color=layer.colour, marker=layer.marker,
+                        linewidths=0, zorder=3,
                     )  # fmt: skip
                 else:
                     artist.set_offsets(points)
@@ -273,8 +274,10 @@ class SceneView:
             if layer.raster is not None:
                 handles.append(Patch(facecolor=layer.colour, alpha=0.6, label=label))
             else:
-                handles.append(Line2D([], [], linestyle="none", marker="o", markersize=4,
-                                      color=layer.colour, alpha=0.6, label=label))  # fmt: skip
+                size = float(np.clip(np.sqrt(layer.size), 4.0, 12.0))
+                handles.append(Line2D([], [], linestyle="none", marker=layer.marker,
+                                      markersize=size, color=layer.colour, alpha=0.6,
+                                      label=label))  # fmt: skip
         if self.has_walls:  # a periodic square has none
             handles.append(Patch(facecolor=WALL_COLOUR, label="wall"))
         return handles

@@ -83,9 +83,9 @@ def main(args: argparse.Namespace) -> int:
         ("counted states", f"w = {spec.moving}, b = {spec.settled}, step {spec.step:g} s"),
         ("conditions", ", ".join(conditions) or "one"),
         ("runs", f"{len(summaries)}; {source}"),
-        ("wall time", f"{elapsed:.0f} s with {args.workers} workers"),
+        ("wall time", _wall_time(elapsed, None if args.read else args.workers)),
     ]
-    report = write_fit_report(result, summaries, spec, out, meta)
+    report = write_fit_report(result, summaries, spec, out, meta, conditions)
     table = result["table"]
     shown = [c for c in ("condition", "runs", "w", "b", "w_hat", "b_hat", "t", "a0", "alpha6",
                          "rmsd_w", "rmsd_b", "rmsd_w_reg", "rmsd_b_reg", "rmsd_w_fit",
@@ -101,5 +101,12 @@ def main(args: argparse.Namespace) -> int:
     (out / "fit.json").write_text(
         json.dumps({"model": name, "conditions": conditions, "runs": len(summaries)}, indent=2)
     )
-    print(f"\nwrote {report}\nwrote {out / 'fit.json'}")
+    print(f"\nwrote {report}\nwrote {out / 'runs.csv'}\nwrote {out / 'fit.json'}")
     return 0
+
+
+def _wall_time(seconds: float, workers: int | None) -> str:
+    """The wall time, with the local processes that ran the runs (None: runs were read)."""
+    if workers is None:
+        return f"{seconds:.0f} s (runs read, not run)"
+    return f"{seconds:.0f} s with {workers} worker{'' if workers == 1 else 's'}"

@@ -30,6 +30,7 @@ def main(args: argparse.Namespace) -> int:
             )
     path = write_report(args.sweep, args.out)
     print(f"wrote {path}")
+    print(f"wrote {path.parent / 'statistics.csv'}")
     for folder in args.sweep:
         print(f"wrote {folder / 'figures'}")
     return 0

@@ -258,14 +258,14 @@ def _title(name: str, summary: dict) -> str:
 
 
 def unit_of(key: str) -> str:
-    """The unit of a summary key by the contract's naming (SI; coverage in % of free area)."""
-    if key == "time" or key.endswith("_time") or key.endswith("_period"):
-        return "s"
-    if key.startswith("energy"):
-        return "J"
-    if key in ("coverage_area", "ca", "cb"):
-        return "%"
-    return ""
+    """The unit of a summary key as the framework (``abm.units.COMMON``) or the model
+    (``SUMMARY_UNITS``) declares it; nothing for names, identifiers, true/false keys, counts
+    and plain numbers.
+    """
+    from abm.units import unit_of as declared
+
+    unit = declared(key)
+    return "" if unit in ("text", "id", "flag", "count", "1") else unit
 
 
 def format_summary(summary: dict) -> str:

@@ -17,13 +17,14 @@ from abm.errors import ConfigError
 from abm.model import SwarmModel
 from abm.physics import FlightParams
 from abm.robot import Robot
-from abm.styles import StateStyle
+from abm.styles import Layer, StateStyle
 from abm.worlds import MAPS, WORLD_KINDS, World, builtin_map, make_world
 from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
 from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
 from models.beacon_explorer.repair import link_fault, robot_failed
+from models.beacon_explorer.units import SUMMARY_UNITS
 
 __all__ = ["BeaconExplorerModel"]
 
@@ -56,6 +57,8 @@ class BeaconExplorerModel(SwarmModel):
     REPORT = published.REPORT
     APP = "models.beacon_explorer.app"
     FAULTS = frozenset({"robot", "link", "sensor"})
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
@@ -325,6 +328,14 @@ class BeaconExplorerModel(SwarmModel):
             "n_failed": counts.get("failed", 0),
             "branches": self.world.branches,
         }
+
+    def layers(self) -> list[Layer]:
+        """The base beacon, marked: it stands at the entrance from the start (Sect. 3) and is
+        the one robot of ``robots`` that is not among the ``n_robots`` launched.
+        """
+        base = np.asarray([self.base.pos], dtype=float)
+        return [Layer("base beacon (robots = n_robots + 1)", points=base, colour="#E69F00",
+                      size=420.0, marker="*")]  # fmt: skip
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray]:
         """Beacons' desired directions (points, vectors of length I_r) for drawings."""

@@ -16,6 +16,7 @@ from abm.styles import StateStyle
 from models.flocking.kernel import CellList, flock_step, order_parameters
 from models.flocking.params import FlockingParams
 from models.flocking.published import PUBLISHED, REPORT
+from models.flocking.units import SUMMARY_UNITS
 
 __all__ = ["Bird", "FlockingModel"]
 
@@ -64,6 +65,8 @@ class FlockingModel(SwarmModel):
     PUBLISHED = PUBLISHED
     REPORT = REPORT
     APP = "models.flocking.app"
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)

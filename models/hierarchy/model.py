@@ -37,6 +37,7 @@ from models.hierarchy.params import HierarchyParams
 from models.hierarchy.planning import padded_cells
 from models.hierarchy.probmap import ProbMap, Rect
 from models.hierarchy.protocol import KINDS, StartMsg
+from models.hierarchy.units import SUMMARY_UNITS
 from models.hierarchy.world import build_world, start_layout
 
 __all__ = ["BODY_SIDE", "HierarchyModel"]
@@ -86,6 +87,8 @@ class HierarchyModel(SwarmModel):
     REPORT = published.REPORT
     APP = "models.hierarchy.app"
     QUICK = {"workers": 2, "scouts_per_worker": 2, "world_size": 4.0, "worker_spacing": 1.6}
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)

@@ -29,6 +29,7 @@ from abm.styles import StateStyle
 from abm.worlds.bitmap import MAPS, load_map, map_digest, map_entropy
 from models.stigmergy import published
 from models.stigmergy.params import P0, StigmergyParams
+from models.stigmergy.units import SUMMARY_UNITS
 from models.stigmergy.wander import WanderController, nearest_distance
 
 __all__ = ["StigmergyModel"]
@@ -60,6 +61,8 @@ class StigmergyModel(SwarmModel):
     REPORT = published.REPORT
     APP = "models.stigmergy.app"
     FAULTS = frozenset({"robot"})
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)

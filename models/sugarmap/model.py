@@ -39,6 +39,7 @@ from models.sugarmap.params import SugarMapParams
 from models.sugarmap.particles import MapGrid, ParticleFilter, global_map
 from models.sugarmap.planner import CoveragePlanner
 from models.sugarmap.rtof import RToF
+from models.sugarmap.units import SUMMARY_UNITS
 
 __all__ = ["CHECKPOINTS", "SugarMapModel"]
 
@@ -76,6 +77,8 @@ class SugarMapModel(SwarmModel):
     REPORT = published.REPORT
     APP = "models.sugarmap.app"
     QUICK = {"arena": "testbed", "n_anchors": 5, "n_explorers": 2, "init_cutoff": 60.0}
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)

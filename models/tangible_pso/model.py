@@ -39,6 +39,7 @@ from models.tangible_pso.feasibility import OUTCOMES, follow, localised
 from models.tangible_pso.params import DEPOT_RADIUS, TangiblePSOParams
 from models.tangible_pso.scenario import load_scenario
 from models.tangible_pso.transition import plan_paths, shift_proposals
+from models.tangible_pso.units import SUMMARY_UNITS
 
 __all__ = ["TangiblePSOModel"]
 
@@ -78,6 +79,8 @@ class TangiblePSOModel(SwarmModel):
     REPORT = published.REPORT
     APP = "models.tangible_pso.app"
     QUICK = {"particles": 10, "iterations": 12}
+
+    SUMMARY_UNITS = SUMMARY_UNITS
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)

@@ -1,0 +1,45 @@
+"""The unit and meaning of each key of the hierarchical swarm's summary; the common keys are
+documented in :data:`abm.units.COMMON`.
+
+Scan areas and drive distances are in cm^2 and cm, the units of the report the model
+reproduces (its published numbers and figures are in them).
+"""
+
+from abm.units import Quantity
+
+__all__ = ["SUMMARY_UNITS"]
+
+SUMMARY_UNITS = {
+    "topology": Quantity("text", "the swarm's topology (hst, flat)"),
+    "N": Quantity("count", "robots N = 1 + W + W S (queen, workers, scouts)"),
+    "links": Quantity("count", "links of the comm graph"),
+    "W": Quantity("count", "workers W"),
+    "S": Quantity("count", "scouts per worker S"),
+    "scouts": Quantity("count", "scouts in all"),
+    "complete": Quantity("flag", "the queen called the coverage complete (1.0) or not (0.0)"),
+    "completion_time": Quantity("s", "simulated time of the queen's call (NaN: none)"),
+    "scout_scan_area": Quantity("cm^2", "sum of pi r^2 over a scout's SCANs, mean per scout"),
+    "worker_scan_area": Quantity("cm^2", "sum of pi r^2 of a worker's bubbles, mean per worker"),
+    "queen_scan_area": Quantity("cm^2", "the world's area, the queen's bubble"),
+    "scout_drive": Quantity("cm", "smoothed path length driven, mean per scout"),
+    "worker_drive": Quantity("cm", "smoothed path length driven, mean per worker"),
+    "queen_iterations": Quantity("count", "the queen's planning iterations"),
+    "worker_iterations": Quantity("count", "planning iterations, mean per worker"),
+    "known_free_fraction": Quantity("1", "share of the free cells the queen's map knows free"),
+    "wave_order_violations": Quantity("count", "moves out of wave order"),
+    "robot_proximity_events": Quantity("count", "two robots closer than the safety distance"),
+    "sibling_proximity_events": Quantity("count", "two scouts of one worker too close"),
+    "path_cells_blocked": Quantity("count", "planned path cells found blocked"),
+    "stalled_moves": Quantity("count", "moves the path follower gave up"),
+    "workers_failed": Quantity("count", "workers failed"),
+    "reattached": Quantity("count", "scouts reattached to another worker"),
+    "messages": Quantity("count", "messages sent"),
+    "messages_task": Quantity("count", "messages sent during the task"),
+    "messages_startup": Quantity("count", "messages sent during start-up"),
+    "bytes": Quantity("byte", "bytes of all messages"),
+    "max_node_load": Quantity("count", "most messages sent plus received by one robot"),
+    "queen_load": Quantity("count", "messages sent plus received by the queen"),
+    "worker_load_max": Quantity("count", "most messages sent plus received by a worker"),
+    "scout_load_max": Quantity("count", "most messages sent plus received by a scout"),
+    "msg_*": Quantity("count", "messages of the kind *"),
+}
