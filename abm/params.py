@@ -24,6 +24,7 @@ import numpy as np
 from abm.errors import ConfigError, check_choice, check_range
 
 __all__ = [
+    "COLLISION_ROWS",
     "FAULT_KEYWORDS",
     "FaultParams",
     "MAX_PERIODS",
@@ -43,6 +44,9 @@ _RULE = "abm.rule"
 #: anyone means: at ~1e6 SimPy events/s the run would take a quarter of an hour per process at
 #: best, and below ``time_limit`` x 2^-52 the clock cannot advance at all (the run never ends).
 MAX_PERIODS = 1e9
+#: Most collision rows a run keeps in its event log by default (ours): about 40 MB of rows.
+#: Past it collisions are still counted (the summary's ``collisions``), not logged one by one.
+COLLISION_ROWS = 100_000
 #: The base fields that are periods whatever a model's own declaration of them says.
 _BASE_PERIODS = ("step_duration", "dt", "trace_interval")
 
@@ -96,6 +100,7 @@ class _RunParams:
     step_duration: float = param(1.0, low=0.0, low_open=True)
     dt: float = param(0.1, low=0.0, low_open=True)
     trace_interval: float | None = param(1.0, low=0.0, low_open=True)
+    collision_rows: int | None = param(COLLISION_ROWS, low=0, integer=True)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -186,6 +191,10 @@ class SwarmParams(FaultParams, _RunParams):
         dt: physics tick: flying robots move and their controller runs once per tick (s).
         trace_interval: how often robot positions are sampled for rendering (s); None: never
             (faster).
+        collision_rows: most collisions logged one per row in the event log (ours; default
+            100,000); later ones are counted in the summary's ``collisions`` but not logged,
+            and a ``rows_capped`` event marks where the rows stop. None: log every one (a
+            crowded run can log tens of millions); 0: none.
 
     """
 
