@@ -26,6 +26,7 @@ from abm.errors import ConfigError, check_choice, check_range
 __all__ = [
     "COLLISION_ROWS",
     "FAULT_KEYWORDS",
+    "MAX_FAULT_EVENTS",
     "FaultParams",
     "MAX_PERIODS",
     "SwarmParams",
@@ -44,6 +45,12 @@ _RULE = "abm.rule"
 #: anyone means: at ~1e6 SimPy events/s the run would take a quarter of an hour per process at
 #: best, and below ``time_limit`` x 2^-52 the clock cannot advance at all (the run never ends).
 MAX_PERIODS = 1e9
+#: Most events a fault process over the whole network (outages, loss bursts) may be expected to
+#: inject in one run (ours): ``rate * time_limit``. Each costs some 7-15 us of simulation
+#: (measured on beacon-explorer) plus the model's repair, so this is tens of seconds of work;
+#: a larger rate is a storm no study means (``link_outage_rate=1e12`` over 30 s asked for
+#: 3e13 outages and ran on without a word).
+MAX_FAULT_EVENTS = 1e6
 #: Most collision rows a run keeps in its event log by default (ours): about 40 MB of rows.
 #: Past it collisions are still counted (the summary's ``collisions``), not logged one by one.
 COLLISION_ROWS = 100_000
@@ -60,6 +67,7 @@ def param(
     integer: bool = False,
     choices: Sequence | None = None,
     period: bool = False,
+    events: bool = False,
 ) -> object:
     """A dataclass field with a default and the rule its values must follow.
 
@@ -72,6 +80,9 @@ def param(
         choices: the accepted values, for a field that takes one of a few names.
         period: the field is a time period (s) a process waits again and again; it must leave
             at most :data:`MAX_PERIODS` periods in ``time_limit`` (see :class:`SwarmParams`).
+        events: the field is the rate (1/s) of a Poisson process of events over the whole run
+            (not per robot, where each robot fails once at most); it may be expected to give
+            at most :data:`MAX_FAULT_EVENTS` events in ``time_limit``.
 
     """
     rule = {
@@ -81,6 +92,7 @@ def param(
         "integer": integer,
         "choices": None if choices is None else tuple(choices),
         "period": period,
+        "events": events,
     }
     return dataclasses.field(default=default, metadata={_RULE: rule})
 
@@ -145,9 +157,9 @@ class FaultParams:
     fault_shape: float = param(1.0, low=0.0, low_open=True)
     fault_times: tuple[float, ...] = param(())
     fault_states: tuple[str, ...] = param(())
-    link_outage_rate: float = param(0.0, low=0.0)
+    link_outage_rate: float = param(0.0, low=0.0, events=True)
     link_outage_duration: float = param(10.0, low=0.0, low_open=True)
-    loss_burst_rate: float = param(0.0, low=0.0)
+    loss_burst_rate: float = param(0.0, low=0.0, events=True)
     loss_burst_duration: float = param(5.0, low=0.0, low_open=True)
     loss_burst_loss: float = param(1.0, low=0.0, high=1.0, low_open=True)
     sensor_fault_rate: float = param(0.0, low=0.0)
@@ -210,6 +222,8 @@ class SwarmParams(FaultParams, _RunParams):
         with ``period=True``) leaves at most :data:`MAX_PERIODS` periods in ``time_limit``.
         """
         for f in dataclasses.fields(self):
+            if field_rule(f).get("events"):
+                self._check_events(f.name, getattr(self, f.name))
             if not (field_rule(f).get("period") or f.name in _BASE_PERIODS):
                 continue
             value = getattr(self, f.name)
@@ -219,6 +233,18 @@ class SwarmParams(FaultParams, _RunParams):
                     f"time_limit={self.time_limit!r} s (the run would never end in practice): "
                     f"{f.name} must be >= time_limit / {MAX_PERIODS:.0e}"
                 )
+
+    def _check_events(self, name: str, rate: float) -> None:
+        """A rate of events over the whole run gives at most :data:`MAX_FAULT_EVENTS` of them
+        in ``time_limit`` on average.
+        """
+        if rate * self.time_limit > MAX_FAULT_EVENTS:
+            raise ConfigError(
+                f"{name}={rate!r} per s asks for {rate * self.time_limit:.3g} events in "
+                f"time_limit={self.time_limit!r} s, more than the {MAX_FAULT_EVENTS:.0e} a run "
+                f"may hold (each costs simulation work): {name} must be <= "
+                f"{MAX_FAULT_EVENTS / self.time_limit:.6g} here"
+            )
 
     def replace(self, **changes: object) -> "SwarmParams":
         """A copy with some fields changed (validated like a new instance)."""
