@@ -124,7 +124,8 @@ def field_bytes(
 
     """
     rows, cols = (float(s) for s in shape)
-    reach = max([0.0, *(np.ceil(r / resolution) for r in radii)])
+    # A disc is clipped to the grid (an offset beyond its larger side lands on no pixel).
+    reach = min(max([0.0, *(np.ceil(r / resolution) for r in radii)]), max(rows, cols))
     out = {"pheromone field": 9.0 * (rows + 2 * reach) * (cols + 2 * reach)}
     for r in sorted(set(seen_radii)):
         k = len(disc_offsets(r, resolution, 1, int(max(rows, cols)))[0])

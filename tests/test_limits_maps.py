@@ -176,3 +176,28 @@ def test_a_transparent_pixel_reads_as_on_a_white_page(tmp_path):
     Image.fromarray(rgba, mode="RGBA").save(path)
     free_top_down = load_map(path).free[::-1]
     assert free_top_down.tolist() == [[False] * 4, [True] * 4, [False] * 4, [True] * 4]
+
+
+@pytest.mark.parametrize(
+    ("cls", "key", "extra"),
+    [(StigmergyModel, "map", {"start": (5.0, 5.0)}), (BeaconExplorerModel, "world", {})],
+)
+def test_the_estimate_is_not_below_what_a_model_takes_for_its_map(tmp_path, cls, key, extra):
+    """The model's arrays for a 600 x 600 map, built and run briefly, stay within the
+    estimate the loader checked (what the model allocates besides them is small)."""
+    import tracemalloc
+
+    from models.beacon_explorer.model import _map_parts as beacon_parts
+    from models.stigmergy.model import _map_parts as stigmergy_parts
+
+    warm = _hall_png(tmp_path / "warm.png", 30, 30)
+    cls(seed=1, **{key: str(warm)}, **extra).run(until=5.0)  # imports, kernels, caches
+    path = _hall_png(tmp_path / "hall.png", 600, 600)
+    tracemalloc.start()
+    try:
+        model = cls(seed=1, **{key: str(path)}, **extra).run(until=5.0)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    parts = stigmergy_parts if cls is StigmergyModel else beacon_parts
+    assert peak <= sum(map_parts((600, 600), parts(model.params)).values())
