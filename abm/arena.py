@@ -6,19 +6,38 @@ wall. Grid walls make every geometric query exact and cheap: a ray or a move is 
 cell (Amanatides-Woo traversal) in compiled loops over all rays (:mod:`abm.gridkernels`).
 """
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
 
 from abm import gridkernels
-from abm.errors import MapError, check_range
+from abm.errors import ABMError, MapError, check_range
+from abm.memory import check_map_memory
 
-__all__ = ["Arena", "CARDINALS", "MAX_MAP_PIXELS"]
+__all__ = [
+    "ARENA_BYTES_PER_PIXEL",
+    "Arena",
+    "CARDINALS",
+    "MAX_MAP_PIXELS",
+    "MapParts",
+    "map_parts",
+]
 
-#: Most pixels a map may have (ours): an arena keeps ~10 bytes a pixel (the grid, its padded
-#: copy, a summed-area table), so this is about half a gigabyte; 7 km x 7 km at 1 m a pixel.
+#: Bytes an arena keeps per map pixel: the grid and its padded copy (1 + 1), the free runs in
+#: four directions (4 x int32) and the summed-area table of walls (int64).
+ARENA_BYTES_PER_PIXEL = 26
+#: Bytes per pixel a bitmap file takes while it is decoded (the image, its grey copy and the
+#: flipped grid; up to 4 bytes a pixel for an RGBA image), on top of the arena's own.
+DECODE_BYTES_PER_PIXEL = 8
+
+#: Most pixels a map may have whatever the memory (ours): 7 km x 7 km at 1 m a pixel. Below it,
+#: what a map may cost is set by the memory its model needs (:mod:`abm.memory`).
 MAX_MAP_PIXELS = 50_000_000
+
+#: What a model allocates for a map of ``(rows, cols)`` pixels besides the arena: part name ->
+#: bytes (its coverage raster, pheromone field, ...), for the memory check of the loaders.
+MapParts = Callable[[tuple[int, int]], Mapping[str, float]]
 
 #: Unit vectors of the four compass directions in the order the papers use: N, E, S, W.
 CARDINALS = np.array([[0.0, 1.0], [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0]])
@@ -59,7 +78,12 @@ class Arena:
         self.padded = np.pad(self.free, 1, constant_values=False)
         self.runs = _free_runs(self.free)
         # Summed-area table of wall cells: walls inside any cell rectangle in O(1).
-        self.walls_sat = np.pad((~self.free).astype(np.int64).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
+        # (Built in place: no temporary copies of a large map.)
+        self.walls_sat = np.zeros((self.rows + 1, self.cols + 1), dtype=np.int64)
+        inner = self.walls_sat[1:, 1:]
+        np.logical_not(self.free, out=inner, casting="unsafe")
+        np.cumsum(inner, axis=0, out=inner)
+        np.cumsum(inner, axis=1, out=inner)
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -87,14 +111,28 @@ class Arena:
 
     @classmethod
     def from_bitmap(
-        cls, path: str | Path, resolution: float = 1.0, name: str | None = None
+        cls,
+        path: str | Path,
+        resolution: float = 1.0,
+        name: str | None = None,
+        parts: MapParts | None = None,
     ) -> "Arena":
         """Load a bitmap map: PNG/PGM/BMP (dark pixels = wall) or NPY (True/nonzero = free).
+
+        The file's size is read from its header first, and the memory the arena and ``parts``
+        would take is checked against the machine's budget (:mod:`abm.memory`) before any
+        pixel is decoded.
 
         Args:
             path: the file.
             resolution: metres per pixel (the papers use 1 m).
             name: label; defaults to the file's stem.
+            parts: what the caller's model allocates for a map of this shape besides the
+                arena (bytes by part), counted in the memory check.
+
+        Raises:
+            MapError: a missing, unreadable or odd file, no free pixel, or a map whose model
+                would need more memory than the budget (the message gives both figures).
 
         """
         path = Path(path)
@@ -102,9 +140,9 @@ class Arena:
             raise MapError(f"map file {str(path)!r} does not exist")
         name = name or path.stem
         if path.suffix.lower() == ".npy":
-            free_top_down = _read_npy(path)
+            free_top_down = _read_npy(path, parts)
         else:
-            free_top_down = _read_image(path)
+            free_top_down = _read_image(path, parts)
         # Images store the top row first; the arena stores the south row first.
         try:
             return cls(free_top_down[::-1].copy(), resolution=resolution, name=name)
@@ -231,34 +269,81 @@ def _point_pairs(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(a), np.ascontiguousarray(b)
 
 
-def _check_size(path: Path, shape: tuple[int, ...]) -> None:
+def map_parts(
+    shape: tuple[int, int], parts: MapParts | None = None, decoding: bool = True
+) -> dict[str, float]:
+    """Bytes a map of ``shape`` pixels takes, by part: the arena's grids (and decoding its
+    file), then what ``parts`` says the model adds.
+    """
+    pixels = float(shape[0]) * float(shape[1])
+    out = {"arena": ARENA_BYTES_PER_PIXEL * pixels}
+    if decoding:
+        out["decoding the file"] = DECODE_BYTES_PER_PIXEL * pixels
+    if parts is not None:
+        out.update(parts(shape))
+    return out
+
+
+def _check_size(path: Path, shape: tuple[int, ...], parts: MapParts | None) -> None:
+    """Refuse a file map with too many pixels, or whose model would not fit in memory."""
     pixels = float(np.prod([float(n) for n in shape]))
     if pixels > MAX_MAP_PIXELS:
         raise MapError(
             f"map file {str(path)!r} has {pixels:.3g} pixels ({' x '.join(map(str, shape))}), "
             f"more than {MAX_MAP_PIXELS:.0e}"
         )
+    check_map_memory(str(path), (int(shape[0]), int(shape[1])), map_parts(shape, parts))
 
 
-def _read_npy(path: Path) -> np.ndarray:
-    """The free grid of a .npy map, top row first (True / nonzero = free); shape checked first."""
+#: The first bytes of every .npy file (numpy's format, version 1 to 3).
+_NPY_MAGIC = b"\x93NUMPY"
+
+
+def _read_npy(path: Path, parts: MapParts | None = None) -> np.ndarray:
+    """The free grid of a .npy map, top row first (True / nonzero = free); shape and memory
+    checked first. A NaN is neither wall nor free: a map holding one is refused.
+    """
+    where = str(path)
+    if path.is_symlink():
+        where += f" (a link to {str(path.resolve())!r})"
+    with open(path, "rb") as f:
+        head = f.read(len(_NPY_MAGIC))
+    if head != _NPY_MAGIC:
+        raise MapError(
+            f"map file {where!r} is not a .npy array file: it does not begin with numpy's "
+            "header (save the map with numpy.save, or give a PNG/PGM/BMP image)"
+        )
     try:
         image = np.load(path, mmap_mode="r", allow_pickle=False)
     except Exception as exc:  # numpy raises several types for a bad file
-        raise MapError(f"map file {str(path)!r} is not a readable .npy array: {exc}") from exc
+        raise MapError(f"map file {where!r} is not a readable .npy array: {exc}") from exc
     if image.ndim != 2:
-        raise MapError(f"map file {str(path)!r} must hold a 2-D array, got {image.shape}")
-    _check_size(path, image.shape)
+        raise MapError(f"map file {where!r} must hold a 2-D array, got {image.shape}")
+    _check_size(path, image.shape, parts)
     if image.dtype.kind not in "biuf":
-        raise MapError(
-            f"map file {str(path)!r} must hold booleans or numbers, got dtype {image.dtype}"
-        )
+        raise MapError(f"map file {where!r} must hold booleans or numbers, got dtype {image.dtype}")
+    if image.dtype.kind == "f":
+        nan = int(np.isnan(image).sum())
+        if nan:
+            raise MapError(
+                f"map file {where!r} holds {nan} NaN of {image.size} values: NaN is neither "
+                "wall (0) nor free (nonzero); give every pixel a number"
+            )
     return np.asarray(image).astype(bool)
 
 
-def _read_image(path: Path) -> np.ndarray:
+#: Largest ``alpha * (255 - grey)`` (both 0..255) of a free pixel: blended over white by its
+#: alpha, ``grey * a + 255 * (255 - a) >= 128 * 255``.
+_FREE_BLEND = 127 * 255
+
+
+def _read_image(path: Path, parts: MapParts | None = None) -> np.ndarray:
     """The free grid of a PNG/PGM/BMP map, top row first (grey >= 128 = free); the image's size
-    is checked from its header before its pixels are decoded.
+    and memory are checked from its header before its pixels are decoded.
+
+    An image with transparency is read as it shows on a white page: each pixel's grey is
+    blended with white by its alpha (a fully transparent pixel is free whatever its colour).
+    An image transparent everywhere shows nothing and is refused.
     """
     import warnings
 
@@ -268,9 +353,13 @@ def _read_image(path: Path) -> np.ndarray:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # checked below
             with Image.open(path) as img:
-                _check_size(path, (img.height, img.width))
-                grey = np.asarray(img.convert("L"))
-    except MapError:
+                _check_size(path, (img.height, img.width), parts)
+                if "A" in img.getbands() or "transparency" in img.info:
+                    grey_alpha = np.asarray(img.convert("RGBA").convert("LA"))
+                    grey, alpha = grey_alpha[..., 0], grey_alpha[..., 1]
+                else:
+                    grey, alpha = np.asarray(img.convert("L")), None
+    except ABMError:  # the size and memory checks' own refusals
         raise
     except Image.DecompressionBombError as exc:  # Pillow's own check, at twice its limit
         raise MapError(
@@ -280,23 +369,32 @@ def _read_image(path: Path) -> np.ndarray:
         raise MapError(
             f"map file {str(path)!r} is not a readable image (PNG, PGM, BMP or .npy): {exc}"
         ) from exc
-    return grey >= 128
+    if alpha is None:
+        return grey >= 128
+    if not alpha.any():
+        raise MapError(
+            f"map file {str(path)!r} is transparent everywhere (alpha 0 in every pixel): it "
+            "shows no wall and no free space; give the image opaque pixels (dark = wall)"
+        )
+    darkness = np.subtract(255, grey, dtype=np.uint16)
+    darkness *= alpha
+    return darkness <= _FREE_BLEND
 
 
 def _free_runs(free: np.ndarray) -> np.ndarray:
     """``runs[iy, ix, d]``: free cells beyond cell (ix, iy) in direction d (N, E, S, W).
 
-    The four runs of a cell sit side by side (one memory access per point in a large arena).
+    The four runs of a cell sit side by side (one memory access per point in a large arena);
+    they are written in place, so a large map needs no temporary copies.
     """
     rows, cols = free.shape
-    runs = np.zeros((4, rows, cols), dtype=np.int64)
-    f = free.astype(np.int64)
+    runs = np.zeros((rows, cols, 4), dtype=np.int32)
     for iy in range(rows - 2, -1, -1):  # north: rows above
-        runs[0, iy] = f[iy + 1] * (runs[0, iy + 1] + 1)
+        np.multiply(free[iy + 1], runs[iy + 1, :, 0] + 1, out=runs[iy, :, 0])
     for iy in range(1, rows):  # south
-        runs[2, iy] = f[iy - 1] * (runs[2, iy - 1] + 1)
+        np.multiply(free[iy - 1], runs[iy - 1, :, 2] + 1, out=runs[iy, :, 2])
     for ix in range(cols - 2, -1, -1):  # east
-        runs[1, :, ix] = f[:, ix + 1] * (runs[1, :, ix + 1] + 1)
+        np.multiply(free[:, ix + 1], runs[:, ix + 1, 1] + 1, out=runs[:, ix, 1])
     for ix in range(1, cols):  # west
-        runs[3, :, ix] = f[:, ix - 1] * (runs[3, :, ix - 1] + 1)
-    return np.ascontiguousarray(runs.transpose(1, 2, 0), dtype=np.int32)
+        np.multiply(free[:, ix - 1], runs[:, ix - 1, 3] + 1, out=runs[:, ix, 3])
+    return runs

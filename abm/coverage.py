@@ -23,11 +23,38 @@ from abm.arena import Arena
 from abm.discs import disc_offsets
 from abm.errors import ConfigError, check_choice, check_range
 
-__all__ = ["MAX_PIXELS", "CoverageRaster"]
+__all__ = ["MAX_PIXELS", "CoverageRaster", "raster_bytes"]
 
 #: Most pixels a coverage raster may have (ours): with its first-covered times (8 bytes each)
 #: that is about a gigabyte.
 MAX_PIXELS = 1e8
+
+
+#: Bytes a raster keeps per raster pixel: free and covered (1 + 1), first-covered time (8).
+BYTES_PER_PIXEL = 10
+
+
+def raster_bytes(shape: tuple[int, int], resolution: float, pixel: float | None = None) -> float:
+    """Bytes a :class:`CoverageRaster` of ``pixel`` m takes over a map of ``shape`` pixels of
+    ``resolution`` m (for the loaders' memory check, :mod:`abm.memory`, before it exists).
+    """
+    if pixel is None:
+        return BYTES_PER_PIXEL * float(shape[0]) * float(shape[1])
+    _check_pixels(shape, resolution, pixel)
+    split = max(1, int(round(resolution / pixel)))
+    return BYTES_PER_PIXEL * float(shape[0]) * float(shape[1]) * split * split
+
+
+def _check_pixels(shape: tuple[int, int], resolution: float, pixel: float) -> None:
+    """Refuse a raster of more than :data:`MAX_PIXELS` pixels."""
+    split = resolution / pixel
+    size = float(shape[0]) * float(shape[1])
+    if split * split * size > MAX_PIXELS:
+        raise ConfigError(
+            f"pixel={pixel!r} m splits this {shape[1] * resolution:g} x "
+            f"{shape[0] * resolution:g} m arena into more than {MAX_PIXELS:.0e} pixels; pixel "
+            f"must be >= {resolution * np.sqrt(size / MAX_PIXELS):.3g} m here"
+        )
 
 
 class CoverageRaster:
@@ -57,13 +84,8 @@ class CoverageRaster:
         check_range("pixel", pixel, 0.0, low_open=True)
         self.arena = arena
         self.radius = float(radius)
+        _check_pixels(arena.free.shape, arena.resolution, pixel)
         split = arena.resolution / pixel
-        if split * split * arena.free.size > MAX_PIXELS:
-            raise ConfigError(
-                f"pixel={pixel!r} m splits this {arena.width:g} x {arena.height:g} m arena "
-                f"into more than {MAX_PIXELS:.0e} pixels; pixel must be >= "
-                f"{arena.resolution * np.sqrt(arena.free.size / MAX_PIXELS):.3g} m here"
-            )
         self.subdivision = max(1, int(round(split)))
         self.pixel = arena.resolution / self.subdivision
         self.line_of_sight = bool(line_of_sight)

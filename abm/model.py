@@ -171,7 +171,9 @@ class SwarmModel(mesa.Model):
         self.ledger = EnergyLedger(self.env, PowerModes(powers))
         if (failures or params.fault_kinds & {"robot"}) and FAILED not in self.STATES:
             self.STATES = (*self.STATES, FAILED)
-        self.recorder = Recorder(self.env, self.STATES)
+        self.recorder = Recorder(
+            self.env, self.STATES, row_limits={"collision": params.collision_rows}
+        )
         self.faults = FaultInjector(self)
         self.coverage: CoverageRaster | None = None
         self.wall_collisions = 0

@@ -24,7 +24,9 @@ import numpy as np
 from abm.errors import ConfigError, check_choice, check_range
 
 __all__ = [
+    "COLLISION_ROWS",
     "FAULT_KEYWORDS",
+    "MAX_FAULT_EVENTS",
     "FaultParams",
     "MAX_PERIODS",
     "SwarmParams",
@@ -43,6 +45,15 @@ _RULE = "abm.rule"
 #: anyone means: at ~1e6 SimPy events/s the run would take a quarter of an hour per process at
 #: best, and below ``time_limit`` x 2^-52 the clock cannot advance at all (the run never ends).
 MAX_PERIODS = 1e9
+#: Most events a fault process over the whole network (outages, loss bursts) may be expected to
+#: inject in one run (ours): ``rate * time_limit``. Each costs some 7-15 us of simulation
+#: (measured on beacon-explorer) plus the model's repair, so this is tens of seconds of work;
+#: a larger rate is a storm no study means (``link_outage_rate=1e12`` over 30 s asked for
+#: 3e13 outages and ran on without a word).
+MAX_FAULT_EVENTS = 1e6
+#: Most collision rows a run keeps in its event log by default (ours): about 40 MB of rows.
+#: Past it collisions are still counted (the summary's ``collisions``), not logged one by one.
+COLLISION_ROWS = 100_000
 #: The base fields that are periods whatever a model's own declaration of them says.
 _BASE_PERIODS = ("step_duration", "dt", "trace_interval")
 
@@ -56,6 +67,7 @@ def param(
     integer: bool = False,
     choices: Sequence | None = None,
     period: bool = False,
+    events: bool = False,
 ) -> object:
     """A dataclass field with a default and the rule its values must follow.
 
@@ -68,6 +80,9 @@ def param(
         choices: the accepted values, for a field that takes one of a few names.
         period: the field is a time period (s) a process waits again and again; it must leave
             at most :data:`MAX_PERIODS` periods in ``time_limit`` (see :class:`SwarmParams`).
+        events: the field is the rate (1/s) of a Poisson process of events over the whole run
+            (not per robot, where each robot fails once at most); it may be expected to give
+            at most :data:`MAX_FAULT_EVENTS` events in ``time_limit``.
 
     """
     rule = {
@@ -77,6 +92,7 @@ def param(
         "integer": integer,
         "choices": None if choices is None else tuple(choices),
         "period": period,
+        "events": events,
     }
     return dataclasses.field(default=default, metadata={_RULE: rule})
 
@@ -96,6 +112,7 @@ class _RunParams:
     step_duration: float = param(1.0, low=0.0, low_open=True)
     dt: float = param(0.1, low=0.0, low_open=True)
     trace_interval: float | None = param(1.0, low=0.0, low_open=True)
+    collision_rows: int | None = param(COLLISION_ROWS, low=0, integer=True)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -140,9 +157,9 @@ class FaultParams:
     fault_shape: float = param(1.0, low=0.0, low_open=True)
     fault_times: tuple[float, ...] = param(())
     fault_states: tuple[str, ...] = param(())
-    link_outage_rate: float = param(0.0, low=0.0)
+    link_outage_rate: float = param(0.0, low=0.0, events=True)
     link_outage_duration: float = param(10.0, low=0.0, low_open=True)
-    loss_burst_rate: float = param(0.0, low=0.0)
+    loss_burst_rate: float = param(0.0, low=0.0, events=True)
     loss_burst_duration: float = param(5.0, low=0.0, low_open=True)
     loss_burst_loss: float = param(1.0, low=0.0, high=1.0, low_open=True)
     sensor_fault_rate: float = param(0.0, low=0.0)
@@ -186,6 +203,10 @@ class SwarmParams(FaultParams, _RunParams):
         dt: physics tick: flying robots move and their controller runs once per tick (s).
         trace_interval: how often robot positions are sampled for rendering (s); None: never
             (faster).
+        collision_rows: most collisions logged one per row in the event log (ours; default
+            100,000); later ones are counted in the summary's ``collisions`` but not logged,
+            and a ``rows_capped`` event marks where the rows stop. None: log every one (a
+            crowded run can log tens of millions); 0: none.
 
     """
 
@@ -201,6 +222,8 @@ class SwarmParams(FaultParams, _RunParams):
         with ``period=True``) leaves at most :data:`MAX_PERIODS` periods in ``time_limit``.
         """
         for f in dataclasses.fields(self):
+            if field_rule(f).get("events"):
+                self._check_events(f.name, getattr(self, f.name))
             if not (field_rule(f).get("period") or f.name in _BASE_PERIODS):
                 continue
             value = getattr(self, f.name)
@@ -210,6 +233,18 @@ class SwarmParams(FaultParams, _RunParams):
                     f"time_limit={self.time_limit!r} s (the run would never end in practice): "
                     f"{f.name} must be >= time_limit / {MAX_PERIODS:.0e}"
                 )
+
+    def _check_events(self, name: str, rate: float) -> None:
+        """A rate of events over the whole run gives at most :data:`MAX_FAULT_EVENTS` of them
+        in ``time_limit`` on average.
+        """
+        if rate * self.time_limit > MAX_FAULT_EVENTS:
+            raise ConfigError(
+                f"{name}={rate!r} per s asks for {rate * self.time_limit:.3g} events in "
+                f"time_limit={self.time_limit!r} s, more than the {MAX_FAULT_EVENTS:.0e} a run "
+                f"may hold (each costs simulation work): {name} must be <= "
+                f"{MAX_FAULT_EVENTS / self.time_limit:.6g} here"
+            )
 
     def replace(self, **changes: object) -> "SwarmParams":
         """A copy with some fields changed (validated like a new instance)."""

@@ -20,7 +20,7 @@ from abm.discs import disc_offsets
 from abm.errors import ConfigError, check_range
 from abm.visibility import cached_disc_visibility
 
-__all__ = ["PheromoneField", "disc_offsets"]
+__all__ = ["PheromoneField", "disc_offsets", "field_bytes"]
 
 
 _NO_TABLE = np.zeros((1, 1), dtype=np.uint8)
@@ -100,6 +100,39 @@ def _visible_readings(store, points, res, rows, cols, pad, offsets, weights, tab
             ay += weights[k, 1] * v
         out[i, 0] = ax
         out[i, 1] = ay
+    return out
+
+
+def field_bytes(
+    shape: tuple[int, int],
+    resolution: float,
+    radii: tuple[float, ...] = (),
+    seen_radii: tuple[float, ...] = (),
+    relative_radii: tuple[float, ...] = (),
+) -> dict[str, float]:
+    """Bytes a :class:`PheromoneField` over a map of ``shape`` pixels takes, by part (for the
+    loaders' memory check, :mod:`abm.memory`, before it exists).
+
+    Args:
+        shape: ``(rows, cols)``.
+        resolution: pixel side (m).
+        radii: every disc radius (m) it deposits or reads with (they widen the zero margin).
+        seen_radii: the radii used with ``line_of_sight``: each has a visibility table of one
+            bit per disc pixel per grid pixel.
+        relative_radii: the radii read as relative readings without line of sight: each has
+            two weights (float64) per grid pixel, and 40 bytes a pixel more while they are
+            computed (the pixel centres and the mask as floats).
+
+    """
+    rows, cols = (float(s) for s in shape)
+    # A disc is clipped to the grid (an offset beyond its larger side lands on no pixel).
+    reach = min(max([0.0, *(np.ceil(r / resolution) for r in radii)]), max(rows, cols))
+    out = {"pheromone field": 9.0 * (rows + 2 * reach) * (cols + 2 * reach)}
+    for r in sorted(set(seen_radii)):
+        k = len(disc_offsets(r, resolution, 1, int(max(rows, cols)))[0])
+        out[f"pheromone visibility, {r:g} m disc"] = rows * cols * (np.ceil(k / 8) + 1)
+    for r in sorted(set(relative_radii)):
+        out[f"pheromone weights, {r:g} m disc"] = 56.0 * rows * cols
     return out
 
 

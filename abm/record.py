@@ -1,6 +1,6 @@
 """The recorder: an event log and state-count time series, as tidy pandas DataFrames."""
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import pandas as pd
@@ -16,16 +16,32 @@ class Recorder:
     robots in each state and appends a row to the state series whenever a count changes;
     ``sample`` appends a row of the model's own measurements (a time series of metrics).
 
+    Kinds of event that can happen millions of times in a crowded run (collisions: 41.5 M
+    rows, 5.7 GB, in a 2,000-robot run) may have a row limit: past it, events of that kind are
+    counted (:attr:`dropped`) but not kept, and one ``rows_capped`` event (with the ``kind``
+    and its ``limit``) marks in the log where the rows stop. Whoever counts the events (the
+    model's collision counters) counts them all the same.
+
     Args:
         env: the clock.
         states: the robot states counted (columns of :meth:`state_counts`).
+        row_limits: event kind -> most rows kept of it (None: all).
 
     """
 
-    def __init__(self, env: simpy.Environment, states: Iterable[str]) -> None:
+    def __init__(
+        self,
+        env: simpy.Environment,
+        states: Iterable[str],
+        row_limits: Mapping[str, int | None] | None = None,
+    ) -> None:
         self.env = env
         self.states = tuple(states)
         self.counts = dict.fromkeys(self.states, 0)
+        self.row_limits = {k: v for k, v in (row_limits or {}).items() if v is not None}
+        #: Event kind -> events not kept past its row limit.
+        self.dropped: dict[str, int] = {}
+        self._kept = dict.fromkeys(self.row_limits, 0)
         self._events: list[dict] = []
         self._series: list[tuple] = []
         self._samples: list[dict] = []
@@ -37,7 +53,24 @@ class Recorder:
         return len(self._events)
 
     def log(self, kind: str, robot: int | None = None, **fields: object) -> None:
-        """Append an event at ``env.now``."""
+        """Append an event at ``env.now`` (or count it, past its kind's row limit)."""
+        if kind in self._kept:
+            limit = self.row_limits[kind]
+            if self._kept[kind] >= limit:
+                if kind not in self.dropped:
+                    self.dropped[kind] = 0
+                    self._events.append(
+                        {
+                            "time": self.env.now,
+                            "event": "rows_capped",
+                            "robot": None,
+                            "kind": kind,
+                            "limit": limit,
+                        }  # fmt: skip
+                    )
+                self.dropped[kind] += 1
+                return
+            self._kept[kind] += 1
         self._events.append({"time": self.env.now, "event": kind, "robot": robot, **fields})
 
     def move(self, old: str | None, new: str | None) -> None:

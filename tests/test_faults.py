@@ -224,3 +224,30 @@ def test_faulty_sensors_report_stuck_or_noisy_readings(kind):
     else:
         assert not np.allclose(second[broken, 0], 10.0 + np.arange(len(ids))[broken])
     assert set(model.events().query("event == 'sensor_fault'").robot) == set(ids[broken])
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    name=st.sampled_from(["link_outage_rate", "loss_burst_rate"]),
+    rate=st.floats(0.0, 1e15, allow_nan=False),
+    time_limit=st.floats(1e-3, 1e7, allow_nan=False),
+)
+def test_a_network_wide_fault_rate_may_ask_for_at_most_a_million_events(name, rate, time_limit):
+    from abm.params import MAX_FAULT_EVENTS
+
+    keywords = {name: rate, "time_limit": time_limit}
+    if rate * time_limit <= MAX_FAULT_EVENTS:
+        assert getattr(FaultyTiny.make_params(**keywords), name) == rate
+    else:
+        with pytest.raises(ConfigError, match=f"^{name}={rate!r} per s asks for .* events in"):
+            FaultyTiny.make_params(**keywords)
+
+
+def test_an_outage_storm_is_refused_before_it_starts_naming_the_keyword():
+    """``link_outage_rate=1e12`` over 30 s ran for over 20 s, 3e13 outages asked for; per-robot
+    hazards need no such rule (each robot fails once at most)."""
+    from models.beacon_explorer import BeaconExplorerModel
+
+    with pytest.raises(ConfigError, match=r"link_outage_rate=1000000000000.0 .* <= 33333.3 here"):
+        BeaconExplorerModel(seed=1, link_outage_rate=1e12, time_limit=30.0)
+    assert FaultyTiny(seed=1, fault_rate=1e12, time_limit=30.0).run().time <= 30.0

@@ -39,6 +39,15 @@ def png_bytes(free: np.ndarray, mode: str, fmt: str) -> bytes:
     return buffer.getvalue()
 
 
+def alpha_png(free: np.ndarray, alpha: np.ndarray) -> bytes:
+    """``free`` drawn white on black with the transparency ``alpha`` (0 = clear), as RGBA."""
+    grey = np.where(free, 255, 0).astype(np.uint8)
+    rgba = np.dstack([grey, grey, grey, np.resize(alpha, free.shape).astype(np.uint8)])
+    buffer = io.BytesIO()
+    Image.fromarray(rgba, mode="RGBA").save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
 def huge_png(width: int, height: int) -> bytes:
     """A PNG whose header claims ``width`` x ``height`` pixels (its data is one tiny row)."""
     header = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
@@ -94,6 +103,13 @@ FILES = st.one_of(
     st.tuples(st.builds(lambda b, k: b[: k % max(len(b), 1)],
                         st.builds(npy_bytes, hnp.arrays(bool, (20, 20))), st.integers(0, 500)),
               st.just(".npy")),  # truncated
+    st.tuples(st.builds(alpha_png, GRIDS, st.one_of(
+        st.sampled_from([np.zeros(1), np.full(1, 255), np.array([0, 255]), np.array([127, 128])]),
+        hnp.arrays(np.uint8, st.integers(1, 50)))), st.just(".png")),  # transparency
+    st.tuples(st.builds(npy_bytes, hnp.arrays(np.float64, st.tuples(
+        st.integers(1, 30), st.integers(1, 30)), elements=st.sampled_from(
+            [0.0, 1.0, np.nan, np.inf, -np.inf, -0.0])
+    )), st.just(".npy")),  # NaN and infinities
 )  # fmt: skip
 
 
@@ -118,12 +134,50 @@ def _write(folder, data: bytes, suffix: str):
 
 
 @examples(250)
-@given(file=FILES)
-def test_fuzzed_map_files_load_or_raise_map_error_naming_the_file(tmp_path_factory, file):
+@given(file=FILES, linked=st.booleans())
+def test_fuzzed_map_files_load_or_raise_map_error_naming_the_file(tmp_path_factory, file, linked):
     path = _write(tmp_path_factory.mktemp("map"), *file)
+    if linked:  # the map is a symbolic link to the file, under another name
+        link = path.with_name(f"link{path.suffix}")
+        link.symlink_to(path.with_name(f"fuzzed{path.suffix}"))
+        path = link
     with case("map-file:Arena.from_bitmap", [str(path)]):
         arena = Arena.from_bitmap(path)
         assert arena.free.any() and arena.free.size <= MAX_MAP_PIXELS
+
+
+@examples(60)
+@given(
+    rows=st.integers(1, 20_000),
+    cols=st.integers(1, 20_000),
+    budget=st.integers(1, 2**28),
+    suffix=st.sampled_from([".png", ".npy"]),
+)
+def test_a_map_beyond_the_memory_budget_is_refused_before_decoding(
+    tmp_path_factory, rows, cols, budget, suffix
+):
+    """Any header size against any budget: the loader decodes the map only when the arena's
+    estimate fits (and then the map loads); else a MapError names the file and both figures.
+    """
+    from abm.arena import map_parts
+    from abm.memory import ENV
+
+    folder = tmp_path_factory.mktemp("map")
+    if suffix == ".png":
+        path = _write(folder, huge_png(cols, rows), suffix)
+    else:  # one free pixel; the rest of the (sparse) file is read only if the map fits
+        path = folder / "fuzzed.npy"
+        np.lib.format.open_memmap(path, mode="w+", dtype=bool, shape=(rows, cols))[0, 0] = True
+    need = sum(map_parts((rows, cols)).values())
+    with pytest.MonkeyPatch.context() as patch, case("map-file:memory budget", [str(path)]):
+        patch.setenv(ENV, str(budget))
+        try:
+            Arena.from_bitmap(path)
+        except MapError as exc:
+            if rows * cols <= MAX_MAP_PIXELS and need > budget:
+                assert "would need ~" in str(exc) and "this machine allows" in str(exc)
+            raise
+        assert need <= budget
 
 
 @pytest.mark.parametrize("model", sorted(MAP_PARAMS))

@@ -34,9 +34,16 @@ NASTY = st.one_of(
 )
 
 
+#: Rates of events over the whole run, from none to a storm (``events=True`` fields).
+STORMS = st.sampled_from([0.0, 1e-3, 0.1, 10.0, 1e4, 1e6, 1e12, 1e300])
+
+
 def _values(field) -> st.SearchStrategy:
-    choices = field_rule(field).get("choices") or ()
+    rule = field_rule(field)
+    choices = rule.get("choices") or ()
     own = [st.sampled_from(choices)] if choices else []
+    if rule.get("events"):
+        own.append(STORMS)
     return st.one_of(*own, st.just(field.default), NASTY)
 
 
@@ -87,6 +94,15 @@ def test_fuzzed_parameters_run_or_raise_config_error_naming_them(model):
         ("tangible-pso", {"speed": 5e-324}, r"speed must be in \[0.01, inf\]"),
         ("tangible-pso", {"mav_radius": 4}, r"grown by mav_radius 4 m"),
         ("tangible-pso", {"n_mavs": 8}, r"no feasible start for n_mavs=8 MAVs"),
+        (
+            "beacon-explorer",
+            {"link_outage_rate": 1e12, "time_limit": 30},
+            r"link_outage_rate=1000000000000.0 per s asks for 3e\+13 events",
+        ),
+        ("stigmergy", {"loss_burst_rate": 1e300}, r"loss_burst_rate=1e\+300 per s asks"),
+        ("tangible-pso", {"fault_rate": 1e12}, r"^fault_rate=1000000000000.0: MAV failures"),
+        ("tangible-pso", {"fault_times": (1,)}, r"^fault_times=\(1.0,\): MAV failures"),
+        ("beacon-explorer", {"collision_rows": -1}, r"collision_rows must be in \[0, inf\]"),
     ],
 )
 def test_fuzz_findings_raise_config_error(model, kwargs, match):

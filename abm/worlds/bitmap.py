@@ -16,8 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from abm.arena import Arena
+from abm.arena import Arena, MapParts, map_parts
 from abm.errors import ConfigError, MapError
+from abm.memory import check_map_memory
 from abm.worlds.floorplans import FLOOR_PLANS
 
 __all__ = [
@@ -273,31 +274,42 @@ def builtin_map(name: str) -> Arena:
 
 
 def load_map(
-    map: str | Path | Arena | np.ndarray,
-    resolution: float = 1.0,  # noqa: A002
+    map: str | Path | Arena | np.ndarray,  # noqa: A002
+    resolution: float = 1.0,
+    parts: MapParts | None = None,
 ) -> Arena:
     """Turn a built-in map name, a bitmap file, a boolean array or an arena into an arena.
+
+    A file's size is read from its header and the memory the arena and ``parts`` would take
+    is checked against the machine's budget (:mod:`abm.memory`) before any pixel is decoded;
+    an array's or an arena's before its model allocates more for it.
 
     Args:
         map: a name from :data:`MAPS`, a PNG/PGM/BMP/NPY path (black = not navigable), a boolean
             array (True = free, row 0 = south) or an :class:`Arena`.
         resolution: metres per pixel of a file or array (default 1 m, the paper's).
+        parts: what the caller's model allocates for a map of a given shape besides the arena
+            (bytes by part: its coverage raster, pheromone field, ...).
 
     Raises:
-        MapError: unreadable file, no free cell.
+        MapError: unreadable or odd file, no free cell, more memory than the budget.
         ConfigError: an unknown name.
 
     """
     if isinstance(map, Arena):
+        if parts is not None:
+            check_map_memory(map.name, map.free.shape, parts(map.free.shape))
         return map
     if isinstance(map, np.ndarray):
+        if map.ndim == 2:
+            check_map_memory("array", map.shape, map_parts(map.shape, parts, decoding=False))
         return Arena(map, resolution=resolution, name="array")
     if isinstance(map, str) and map in MAPS:
         if resolution != 1.0:
             raise ConfigError(f"resolution of a built-in map is 1 m, got {resolution!r}")
         return builtin_map(map)
     if isinstance(map, str | Path) and Path(map).suffix.lower() in MAP_SUFFIXES:
-        return Arena.from_bitmap(map, resolution=resolution)
+        return Arena.from_bitmap(map, resolution=resolution, parts=parts)
     raise ConfigError(
         f"map must be one of {', '.join(MAPS)}, a map file ({', '.join(MAP_SUFFIXES)}), a "
         f"boolean array or an Arena, got {map!r}"

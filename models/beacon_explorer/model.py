@@ -11,7 +11,7 @@ import numpy as np
 import simpy
 
 from abm.arena import Arena
-from abm.coverage import CoverageRaster
+from abm.coverage import CoverageRaster, raster_bytes
 from abm.energy import Battery
 from abm.errors import ConfigError
 from abm.model import SwarmModel
@@ -124,7 +124,9 @@ class BeaconExplorerModel(SwarmModel):
             arena = builtin_map(p.world)
             start = np.asarray(MAPS[p.world].start if p.start is None else p.start, dtype=float)
         else:
-            arena = Arena.from_bitmap(p.world, resolution=p.map_resolution or 1.0)
+            arena = Arena.from_bitmap(
+                p.world, resolution=p.map_resolution or 1.0, parts=_map_parts(p)
+            )
             start = arena.free_cell_centres()[0] if p.start is None else np.asarray(p.start)
         if not arena.is_free(start[None])[0]:
             raise ConfigError(
@@ -341,3 +343,19 @@ class BeaconExplorerModel(SwarmModel):
         """Beacons' desired directions (points, vectors of length I_r) for drawings."""
         _ids, pos, vectors, _to_empty = self.beacons.signals()
         return pos, vectors
+
+
+def _map_parts(p: BeaconExplorerParams):
+    """What the model allocates per map pixel besides the arena (bytes by part, for the map
+    loader's memory check): the coverage raster of ``coverage_pixel`` and the world's list of
+    free cells (two int64 a pixel, and as much while it is built).
+    """
+
+    def parts(shape: tuple[int, int]) -> dict[str, float]:
+        resolution = p.map_resolution or 1.0
+        return {
+            "coverage raster": raster_bytes(shape, resolution, p.coverage_pixel),
+            "free-cell list": 32.0 * shape[0] * shape[1],
+        }
+
+    return parts

@@ -19,10 +19,10 @@ import numpy as np
 import pandas as pd
 
 from abm.arena import Arena
-from abm.coverage import CoverageRaster
+from abm.coverage import CoverageRaster, raster_bytes
 from abm.errors import ConfigError
 from abm.model import SwarmModel
-from abm.pheromone import PheromoneField
+from abm.pheromone import PheromoneField, field_bytes
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import StateStyle
@@ -71,7 +71,7 @@ class StigmergyModel(SwarmModel):
                 f"map_resolution applies to map files and arrays; the built-in map {p.map!r} "
                 f"has 1 m pixels, got map_resolution={p.map_resolution!r}"
             )
-        arena = load_map(p.map, resolution=p.map_resolution or 1.0)
+        arena = load_map(p.map, resolution=p.map_resolution or 1.0, parts=_map_parts(p))
         start = self._start(p, arena)
         super().__init__(
             p,
@@ -235,3 +235,25 @@ class StigmergyModel(SwarmModel):
             "launch_period": self.launch_period,
             "map_digest": map_digest(self.arena),
         }
+
+
+def _map_parts(p: StigmergyParams):
+    """What the model allocates per map pixel besides the arena (bytes by part, for the map
+    loader's memory check): the coverage raster, the pheromone field with its visibility
+    tables or weights, and the obstacle field f2 (two float64 a pixel).
+    """
+    radii = (p.c_rw, p.pheromone_radius)
+    seen = radii if p.deposit_line_of_sight else ()
+    if p.f1_line_of_sight:
+        seen = (*seen, p.pheromone_radius)
+    relative = (p.pheromone_radius,) if p.f1_relative and not p.f1_line_of_sight else ()
+
+    def parts(shape: tuple[int, int]) -> dict[str, float]:
+        resolution = 1.0 if isinstance(p.map, str) and p.map in MAPS else p.map_resolution or 1.0
+        return {
+            "coverage raster": raster_bytes(shape, resolution),
+            **field_bytes(shape, resolution, radii, seen, relative),
+            "obstacle field f2": 16.0 * shape[0] * shape[1],
+        }
+
+    return parts

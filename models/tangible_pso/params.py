@@ -143,9 +143,14 @@ class TangiblePSOParams(SwarmParams):
         if "robot" in self.fault_kinds and (
             not self.deploy or not set(self.fault_states) <= {"deploying"}
         ):
+            given = ", ".join(
+                f"{k}={getattr(self, k)!r}"
+                for k in ("fault_rate", "fault_times")
+                if getattr(self, k)
+            )
             raise ConfigError(
-                "MAV failures are modelled while the real swarm deploys: set deploy=True "
-                "(and leave fault_states empty or ('deploying',)), got "
+                f"{given}: MAV failures are modelled while the real swarm deploys: set "
+                "deploy=True (and leave fault_states empty or ('deploying',)), got "
                 f"deploy={self.deploy}, fault_states={self.fault_states!r}"
             )
         if self.w_end > self.w_start:
