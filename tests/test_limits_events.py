@@ -52,7 +52,7 @@ def test_collision_rows_zero_logs_none_and_the_default_keeps_today_s_logs(every_
 
 @pytest.mark.parametrize("value", [-1, 2.5, "many"])
 def test_a_bad_collision_rows_is_refused_naming_it(value):
-    with pytest.raises(ConfigError, match="collision_rows"):
+    with pytest.raises(ConfigError, match="collision_rows must be"):
         BeaconExplorerModel(seed=1, collision_rows=value)
 
 
