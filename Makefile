@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 
 VIZ_STAMP := $(VENV)/.viz-installed
 
-.PHONY: demo test lint format bench clean venv viz viz-setup
+.PHONY: demo test test-all test-slow lint format bench clean venv viz viz-setup
 
 venv: $(STAMP)
 
@@ -32,8 +32,17 @@ viz: $(VIZ_STAMP)
 demo: $(STAMP)
 	$(PY) examples/beacon_explorer.py
 
+# The quick tier: every unit, property, contract and bad-input test, each model once.
 test: $(VIZ_STAMP)
+	$(PY) -m pytest -m "not slow"
+
+# Everything: the quick tier and the slow one (browser pages, kill -9 recovery, long statistics).
+test-all: $(VIZ_STAMP)
 	$(PY) -m pytest
+
+# Only what the quick tier leaves out (CI runs `make test` then this, so nothing runs twice).
+test-slow: $(VIZ_STAMP)
+	$(PY) -m pytest -m slow
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check . && $(VENV)/bin/ruff format --check .

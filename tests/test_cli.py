@@ -147,6 +147,7 @@ def test_sweep_then_report(tmp_path, capsys):
     assert written and all(p.exists() for p in written)
 
 
+@pytest.mark.slow
 def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
     """Two maps x three radii: the lambda regression (it needs 3 radii) and the held-out check
     (it needs 2 maps) both run and reach the report."""

@@ -56,6 +56,7 @@ def _rows(out: Path) -> pd.DataFrame:
     return df.drop(columns=[c for c in df if "wall" in c or c in where])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("executor", ["processes", "dask"])
 def test_a_sweep_killed_with_sigkill_leaves_no_process_and_resumes_exactly(executor, tmp_path):
     if executor == "dask":

@@ -15,6 +15,9 @@ from abm.pools import process_pool
 from analysis.runner import run_model
 from models.beacon_explorer.published import CORRIDOR_24_VS_6, HOVER_RATIO
 
+#: Statistical checks over 80 beacon/explorer runs: the full tier (`make test-all`).
+pytestmark = pytest.mark.slow
+
 SEEDS = range(1, 31)
 
 

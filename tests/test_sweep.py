@@ -160,6 +160,7 @@ def _ctrl_c_as_in_a_terminal() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+@pytest.mark.slow
 def test_ctrl_c_loses_nothing_and_restart_completes(tmp_path):
     out = tmp_path / "small"
     sweep_file = tmp_path / "small.toml"

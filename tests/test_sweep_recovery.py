@@ -50,6 +50,7 @@ def _files(folder: Path) -> list[str]:
     return sorted(p.name for p in folder.glob("*.parquet")) if folder.is_dir() else []
 
 
+@pytest.mark.slow
 def test_sweep_killed_at_seeded_random_moments_completes_each_run_once(tmp_path, reference):
     sweep_file = tmp_path / "killed.toml"
     sweep_file.write_text(SWEEP_TOML)
@@ -153,6 +154,7 @@ def test_damaged_files_are_set_aside_named_and_run_again(tmp_path, reference, ca
     assert set(load_results(out, series=True)["run_id"]) == set(ids)
 
 
+@pytest.mark.slow
 def test_a_dask_worker_killed_mid_run_does_not_lose_the_sweep(tmp_path, reference):
     from dask.distributed import Client, LocalCluster
 

@@ -42,6 +42,7 @@ def _cache_filled() -> bool:
 
 
 pytestmark = [
+    pytest.mark.slow,  # a browser session per model (6-30 s each): the full tier, make test-all
     pytest.mark.skipif(
         not Path(CHROMIUM).exists(), reason="chromium is missing (apt-get install -y chromium)"
     ),
