@@ -40,7 +40,21 @@ def test_runs_cut_by_the_time_limit_give_censored_rows_and_no_verdict():
     assert corridor["ours"].iloc[0] == f"{at_limit} -> {at_limit}"  # 6 s -> 24 s
     assert "not judged from censored values" in corridor["reason"].iloc[0]
     assert not set(coverage["verdict"]) & JUDGED
-    # metrics the limit does not censor are still judged
+    # what a run accumulates (flight time, energy, collisions, coverage) is cut short too:
+    # the paper's runs never ended at a time limit, so none of it is judged
+    corridor_rows = rows[rows["section"] == "corridor"]
+    for quantity in ("flight", "total energy", "collisions", "coverage area", "complete"):
+        cut = corridor_rows[corridor_rows["quantity"].str.startswith(quantity)]
+        assert len(cut) > 0 and set(cut["verdict"]) == {"censored"}, quantity
+    # a property of the world, which the limit does not cut, is still shown
+    branches = corridor_rows[corridor_rows["quantity"].str.startswith("corridor branches")]
+    assert "censored" not in set(branches["verdict"])
+
+
+def test_runs_that_end_by_themselves_are_judged_on_what_they_accumulate():
+    runs = corridor_results().assign(end_reason="complete")
+    rows = compare_published(runs, BEACON, parameter_defaults(BeaconExplorerModel),
+                             BEACON_CENSORED)  # fmt: skip
     flight = rows[(rows["section"] == "corridor") & rows["quantity"].str.startswith("flight")]
     assert flight["verdict"].iloc[0] == "holds"
 
