@@ -26,7 +26,8 @@ from abm.published import Claim, Published, ReportLayout
 from abm.registry import model_class
 from abm.units import unit_of
 from analysis import stats
-from analysis.anova import RESAMPLES
+from analysis.anova import RESAMPLES, Anova
+from analysis.censoring import censored_mask
 from analysis.compare import (
     BY_CONSTRUCTION,
     NOT_IN_SWEEP,
@@ -221,6 +222,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         for key, path in figures.items()
     ]
     conditions = swept_keys(sweep.manifest, runs)
+    cut = _censored_here(runs, cls)
     curves = [m for m in layout.curves if m in sweep.samples]
     if curves and len(runs):
         path = save_curves(sweep.samples, runs, layout, curves, conditions, folder)
@@ -235,8 +237,8 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
         "figures": shown,
         "name": sweep.name,
         "labels": {m: label(layout, m).replace("(kJ)", "(J)") for m in runs.columns},
-        **_tests(runs, layout, _seed(sweep), conditions, warned),
-        "sections": _factor_sections(runs, layout, published, conditions) if len(runs) else [],
+        **_tests(runs, layout, _seed(sweep), conditions, warned, cut),
+        "sections": _factor_sections(runs, layout, published, conditions, cut) if len(runs) else [],
         "macro": _macro(sweep, cls) if len(runs) else None,
         "failed": table(failed.drop(columns=["traceback"], errors="ignore").head(20))
         if len(failed)
@@ -348,6 +350,24 @@ def _for_this_grid(
     return replace(layout, metrics=tuple(_metrics(runs, layout)))
 
 
+def _censored_here(runs: pd.DataFrame, cls: type | None) -> dict[str, str]:
+    """The model's censored metrics (``CENSORED``) that the end of some of these runs cut
+    short, each with why ("4 of 8 runs ended by time limit"): their values are lower bounds,
+    so the statistics below refuse them, as the comparison does.
+    """
+    cut = {}
+    for spec in () if cls is None else cls.CENSORED:
+        if spec.metric in runs:
+            hit = int(censored_mask(runs, spec).sum())
+            if hit:
+                ends = " or ".join(spec.ends)
+                cut[spec.metric] = (
+                    f"{hit} of {len(runs)} runs censored ({ends}): their {spec.metric} is only "
+                    "a lower bound"
+                )
+    return cut
+
+
 def _metrics(runs: pd.DataFrame, layout: ReportLayout) -> list[str]:
     """The layout's numeric metrics these runs measured (not NaN in every run); when they
     measured none of them (a custom grid the paper never ran, runs cut before the model's own
@@ -379,14 +399,21 @@ def _noted(notes: list[str] | None = None) -> Iterator[list[str]]:
 
 
 def _tests(
-    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: list[str], notes: list[str]
+    runs: pd.DataFrame,
+    layout: ReportLayout,
+    seed: int,
+    conditions: list[str],
+    notes: list[str],
+    cut: dict[str, str],
 ) -> dict:
-    """The block's ANOVAs and correlation, and every warning raised while drawing and testing."""
+    """The block's ANOVAs and correlation, and every warning raised while drawing and testing;
+    a metric some runs censor (``cut``) is refused, not tested on its lower bounds.
+    """
     if not len(runs):
         return {"anova": [], "correlation": None, "warnings": notes}
     with _noted(notes):
-        return {"anova": _anova(runs, layout, seed, conditions), "warnings": notes,
-                "correlation": _correlation(runs, layout, seed)}  # fmt: skip
+        return {"anova": _anova(runs, layout, seed, conditions, cut), "warnings": notes,
+                "correlation": _correlation(runs, layout, seed, cut)}  # fmt: skip
 
 
 def _seed(sweep: _Sweep) -> int:
@@ -396,7 +423,11 @@ def _seed(sweep: _Sweep) -> int:
 
 
 def _anova(
-    runs: pd.DataFrame, layout: ReportLayout, seed: int, conditions: Sequence[str] = ()
+    runs: pd.DataFrame,
+    layout: ReportLayout,
+    seed: int,
+    conditions: Sequence[str] = (),
+    cut: dict[str, str] | None = None,
 ) -> list[stats.Anova]:
     """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused;
     then, when the grid swept other keys (at most two, e.g. the hierarchy's W and S beside
@@ -408,16 +439,25 @@ def _anova(
     if swept and len(swept) <= 2 and set(swept) != set(factors):
         sets.append(swept)
     grouped = _groupable(runs, swept)
+    cut = cut or {}
     return [
-        stats.anova(grouped, metric, chosen, seed=seed)
+        Anova(metric, tuple(chosen), None, cut[metric])
+        if metric in cut
+        else stats.anova(grouped, metric, chosen, seed=seed)
         for chosen in sets
         for metric in _metrics(runs, layout)
     ]
 
 
-def _correlation(runs: pd.DataFrame, layout: ReportLayout, seed: int) -> dict | None:
-    """Pearson's r of the layout's two correlated columns over the condition means."""
+def _correlation(
+    runs: pd.DataFrame, layout: ReportLayout, seed: int, cut: dict[str, str] | None = None
+) -> dict | None:
+    """Pearson's r of the layout's two correlated columns over the condition means (None when
+    a column is missing or censored in some run).
+    """
     if not (layout.correlate and all(c in runs for c in layout.correlate)):
+        return None
+    if any(c in (cut or {}) for c in layout.correlate):
         return None
     x, y = layout.correlate
     return {"x": x, "y": y, **stats.pearson(runs, x, y, by=_factors(runs, layout), seed=seed)}
@@ -478,14 +518,18 @@ def _factor_sections(
     layout: ReportLayout,
     published: list[Published],
     conditions: list[str] | None = None,
+    cut: dict[str, str] | None = None,
 ) -> list[dict]:
     """Percent changes, optimum, Pearson's r and condition means (titles, notes, tables); the
     means are per condition of every swept parameter (``conditions``), so no factor is
-    averaged over.
+    averaged over. Metrics some runs censor (``cut``) get no percent change and no optimum;
+    their condition means are marked as lower bounds.
     """
     sections = []
     x, hue = layout.x, layout.hue
+    cut = cut or {}
     metrics = _metrics(runs, layout)
+    changed = [m for m in metrics if m not in cut]
     if x is not None and _numeric(runs, x) and metrics:
         values = sorted(runs[x].unique())
         pairs = [(values[0], values[-1])]
@@ -495,13 +539,22 @@ def _factor_sections(
             if p.measure == "change" and p.factor == x and p.a in values and p.b in values
         ]
         pairs = list(dict.fromkeys(pairs))
-        changes = stats.percent_change_table(runs, pairs, metrics, factor=x, by=hue)
-        if not changes.empty:
+        refused = "; ".join(f"not computed for {m}: {cut[m]}" for m in metrics if m in cut)
+        changes = (
+            stats.percent_change_table(runs, pairs, changed, factor=x, by=hue)
+            if changed
+            else pd.DataFrame()
+        )
+        if not changes.empty or refused:
             changes = changes.rename(columns={"change": "change (%)"})
-            sections.append({"title": f"Percent changes between values of {x}", "note": "",
-                             "table": table(changes)})  # fmt: skip
+            sections.append({"title": f"Percent changes between values of {x}", "note": refused,
+                             "table": table(changes) if not changes.empty else None})  # fmt: skip
         optimum = [m for m in layout.optimum if m in runs]
-        if optimum:
+        if any(m in cut for m in optimum):
+            why = "; ".join(cut[m] for m in optimum if m in cut)
+            sections.append({"title": f"Optimal {x}", "note": f"not computed: {why}",
+                             "table": None})  # fmt: skip
+        elif optimum:
             best = stats.optimal_period(runs, dict.fromkeys(optimum, 1.0), factor=x, by=hue)
             if not best.empty:
                 note = (
@@ -525,6 +578,9 @@ def _factor_sections(
         # the means are of the runs' own values: energies in J even where a figure draws kJ
         units = {m: label(layout, m).replace("(kJ)", "(J)") for m in shown}
         note = "; ".join(f"{m}: {text}" for m, text in units.items() if text != m)
+        bounds = [m for m in shown if m in cut]
+        if bounds:
+            note += f". Lower bounds only (runs cut short): {', '.join(bounds)}"
         sections.append({"title": "Condition means", "note": note,
                          "table": table(wide.replace({np.nan: None}), digits=4)})  # fmt: skip
     return sections

@@ -51,6 +51,24 @@ def test_runs_cut_by_the_time_limit_give_censored_rows_and_no_verdict():
     assert "censored" not in set(branches["verdict"])
 
 
+def test_a_report_of_runs_cut_by_the_time_limit_tests_nothing_on_their_lower_bounds(tmp_path):
+    """ANOVA, percent changes and the optimum refuse a metric some runs censor (the smoke
+    sweep's 60 s runs had F and p for flight time, and an optimal period from coverage times
+    that were all the limit); the condition means say they are lower bounds.
+    """
+    folder = tmp_path / "cut"
+    write_sweep(folder, corridor_results().assign(end_reason="time limit", coverage_time=120.0))
+    html = write_report(folder).read_text()
+    tests = pd.read_csv(folder / "statistics.csv")
+    anova = tests[tests["test"] == "ANOVA"].drop_duplicates("metric").set_index("metric")
+    for metric in ("flight_time", "energy_total", "collisions", "coverage_time"):
+        assert not anova.loc[metric, "computed"], metric
+        assert "censored (time limit" in anova.loc[metric, "reason"], metric
+    assert "not computed for flight_time: 36 of 36 runs censored (time limit)" in html
+    assert 'Optimal launch_period</h3>\n<p class="note">not computed: ' in html
+    assert "Lower bounds only (runs cut short): " in html
+
+
 def test_runs_that_end_by_themselves_are_judged_on_what_they_accumulate():
     runs = corridor_results().assign(end_reason="complete")
     rows = compare_published(runs, BEACON, parameter_defaults(BeaconExplorerModel),
