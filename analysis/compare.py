@@ -440,37 +440,37 @@ def comparison_csv(published: pd.DataFrame | None, claims: list[dict] | None) ->
     condition, the paper's value and spread, our mean and 95 % interval, runs, the censored
     share, the verdict and the reason (columns :data:`CSV_COLUMNS`).
     """
-    rows = []
-    for row in [] if published is None else published.to_dict("records"):
-        rows.append(
-            {
-                "claim or metric": f"{row['section']}: {row['quantity']}",
-                "condition": row["condition"],
-                "paper value": row["_value"],
-                "paper spread": row["_spread"],
-                "ours mean": row["_mean"],
-                "ours 95% low": row["_low"],
-                "ours 95% high": row["_high"],
-                "runs": row["runs"],
-                "censored share": row["_censored"],
-                "verdict": row["verdict"],
-                "reason": row["reason"],
-            }
-        )
-    for row in claims or []:
-        rows.append(
-            {
-                "claim or metric": f"{row['id']}: {row['claim']}",
-                "condition": row["set-up"],
-                "paper value": None,
-                "paper spread": None,
-                "ours mean": row["_mean"],
-                "ours 95% low": row["_low"],
-                "ours 95% high": row["_high"],
-                "runs": row["runs"],
-                "censored share": row["_censored"],
-                "verdict": row["verdict"],
-                "reason": row["why"],
-            }
-        )
+    rows = [
+        _csv_row(
+            row,
+            f"{row['section']}: {row['quantity']}",
+            row["condition"],
+            row["reason"],
+            paper=(row["_value"], row["_spread"]),
+        )  # fmt: skip
+        for row in ([] if published is None else published.to_dict("records"))
+    ]
+    rows += [
+        _csv_row(row, f"{row['id']}: {row['claim']}", row["set-up"], row["why"])
+        for row in claims or []
+    ]
     return pd.DataFrame(rows, columns=list(CSV_COLUMNS))
+
+
+def _csv_row(
+    row: Mapping, name: str, condition: object, reason: object, paper: tuple = (None, None)
+) -> dict:
+    """One row of ``comparison.csv`` from a page row (a published number's or a claim's)."""
+    return {
+        "claim or metric": name,
+        "condition": condition,
+        "paper value": paper[0],
+        "paper spread": paper[1],
+        "ours mean": row["_mean"],
+        "ours 95% low": row["_low"],
+        "ours 95% high": row["_high"],
+        "runs": row["runs"],
+        "censored share": row["_censored"],
+        "verdict": row["verdict"],
+        "reason": reason,
+    }

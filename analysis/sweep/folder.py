@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 
 from abm.errors import OutputError
+from abm.orphans import alive, identity
 from analysis.sweep.integrity import RESULT_FOLDERS, SET_ASIDE
 
 __all__ = ["LOCK", "SweepLock", "check_out"]
@@ -60,35 +61,6 @@ def check_out(out: Path) -> None:
         )
 
 
-def _proc_start(pid: int) -> str | None:
-    """The process's start time in clock ticks since boot (Linux), None where unknown; with
-    the pid it names one process even after the pid is reused.
-    """
-    try:
-        stat = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return None
-    return stat.rpartition(")")[2].split()[19]
-
-
-def _alive(pid: int, start: str | None) -> bool:
-    """True while process ``pid`` (started at ``start``) exists on this host."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()[0]
-    except OSError:
-        return True
-    if state in ("Z", "X"):  # exited, not yet reaped by its parent
-        return False
-    now = _proc_start(pid)
-    return start is None or now is None or now == start
-
-
 class SweepLock:
     """The lock of a sweep folder, held while a sweep writes there (a context manager)."""
 
@@ -98,7 +70,7 @@ class SweepLock:
         self.me = {
             "pid": os.getpid(),
             "host": socket.gethostname(),
-            "start": _proc_start(os.getpid()),
+            "start": identity().partition(":")[2] or None,
             "since": datetime.datetime.now().isoformat(timespec="seconds"),
         }
 
@@ -144,7 +116,7 @@ class SweepLock:
                 f"{self.path} is a damaged lock file; if no sweep runs in {self.out}, delete "
                 "it and run the command again"
             )
-        if host != self.me["host"] or _alive(pid, holder.get("start")):
+        if host != self.me["host"] or alive(f"{pid}:{holder.get('start') or ''}"):
             where = "" if host == self.me["host"] else f" (if it is gone, delete {self.path})"
             raise OutputError(
                 f"{self.out} is in use by another sweep: pid {pid} on {host}, since "
