@@ -4,6 +4,7 @@ the beacon/explorer picture marks the base beacon that ``robots`` counts and ``n
 """
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from abm import registry
@@ -117,3 +118,18 @@ def test_the_picture_marks_the_base_beacon(tmp_path):
     assert "base beacon (robots = n_robots + 1)" in labels
     marked = view.ax.collections
     assert any(np.allclose(c.get_offsets(), [model.base.pos]) for c in marked)
+
+
+def test_the_hierarchy_claims_quote_square_metres_and_metres():
+    """C2 and C6 quote the scouts' means in the summary's units (the report's are cm², cm)."""
+    from models.hierarchy.claims import TESTS
+
+    rows = [
+        {"W": w, "S": s, "N": 1 + w + w * s, "scout_scan_area": 600.0 / (w * s),
+         "scout_drive": 300.0 / (w * s)}
+        for w in (2, 3) for s in (2, 3, 4)
+    ]  # fmt: skip
+    runs = pd.DataFrame(rows)
+    area, drive = TESTS["C2"](runs, None), TESTS["C6"](runs, None)
+    assert "150.0 m² at N=7 -> 50.0 m² at N=16" in area.ours
+    assert "75.0 m at N=7 -> 25.0 m at N=16" in drive.ours
