@@ -66,6 +66,12 @@ class Layer:
         size: marker area of the points (pt^2).
         marker: matplotlib marker of the points (e.g. ``"*"`` for one robot the model
             marks, such as a base station).
+        layer: drawing order of the points, as :attr:`StateStyle.layer` (robots are drawn at
+            their state's, 4-6 in the models here): 3 keeps a cloud under the robots; a marked
+            robot's marker goes between the robots it must show over and those it must not hide.
+        still: the layer is the same during the whole run (a base station that never
+            moves). A saved run keeps the layers of its end only, so ``abm render`` draws a
+            still layer in every frame and any other only in a frame at the run's end.
 
     """
 
@@ -76,3 +82,5 @@ class Layer:
     colour: str = "#000000"
     size: float = 4.0
     marker: str = "o"
+    layer: float = 3.0
+    still: bool = False

@@ -9,6 +9,10 @@ model:
   range and in line of sight (as :class:`abm.comms.CommNetwork` links them);
 - covered area: the pixels first covered at or before t (the model's own raster records when),
   so the last frame is the model's final raster;
+- the model's layers (:meth:`abm.model.SwarmModel.layers`): the run folder keeps them as they
+  were at the end of the run, so a layer the model declares still (``Layer.still``, such as the
+  base beacon's star) is drawn at every time, and any other (a belief map, particles, bubbles)
+  only at the run's end time, the one time it is known;
 - arrows (e.g. beacons' desired directions) are not recorded, so renders leave them out (the
   live ``abm viz`` page shows them).
 
@@ -50,6 +54,7 @@ class RunReplay:
         self._comm = positions["comm"].to_numpy(bool)
         self.sample_times = np.unique(self._times)
         self.comm_range = float(run.meta["comm_range"])
+        self.still_layers = [layer for layer in run.layers if layer.still]
         self.first_covered = run.first_covered
         self._n_free = None
         if self.first_covered is not None:
@@ -84,6 +89,7 @@ class RunReplay:
             states=states,
             links=self._links(xy[comm]),
             covered=None if self.first_covered is None else self.first_covered <= time,
+            layers=self.run.layers if time >= self.run.end_time else self.still_layers,
         )
 
     def _links(self, nodes: np.ndarray) -> np.ndarray:

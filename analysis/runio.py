@@ -9,9 +9,11 @@ A run folder holds:
 - ``summary.parquet``: the model's one-row summary;
 - ``arena.npz``: the arena's free grid, its resolution (m) and, for a model that covers, the
   time (s) each coverage pixel was first covered (inf: never), which gives the covered area at
-  any time;
+  any time; the points and rasters of the model's layers (:meth:`abm.model.SwarmModel.layers`,
+  e.g. the base beacon's star) at the end of the run;
 - ``run.json``: the model (name and class), its states and their styles, its parameters and
-  seed, the comm range (m), the coverage raster's settings and the end time (s).
+  seed, the comm range (m), the coverage raster's settings, the end time (s) and how each layer
+  is drawn (label, colour, marker, size, drawing order, extent, whether it is still).
 
 Everything a picture needs is in the folder: drawing a run imports no model code.
 """
@@ -23,7 +25,7 @@ import shutil
 import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +33,7 @@ import pandas as pd
 
 from abm.arena import Arena
 from abm.errors import ABMError, OutputError
-from abm.styles import StateStyle
+from abm.styles import Layer, StateStyle
 
 __all__ = [
     "RUN_FILES",
@@ -72,6 +74,8 @@ class SavedRun:
         meta: the contents of run.json.
         first_covered: per coverage pixel, when it was first covered (s; inf: never), or None
             for a model that does not cover.
+        layers: the model's layers at the end of the run (none for a folder saved before
+            layers were kept).
 
     """
 
@@ -83,6 +87,7 @@ class SavedRun:
     summary: dict
     meta: dict
     first_covered: np.ndarray | None
+    layers: list[Layer] = field(default_factory=list)
 
     @property
     def states(self) -> tuple[str, ...]:
@@ -186,6 +191,11 @@ def _write_run(model, folder: Path) -> None:
     }
     if coverage is not None:
         arrays["first_covered"] = coverage.first_covered
+    layers = list(model.layers())
+    for i, layer in enumerate(layers):
+        for part in ("points", "raster"):
+            if getattr(layer, part) is not None:
+                arrays[f"layer{i}_{part}"] = np.asarray(getattr(layer, part), dtype=float)
     with _opened(folder / "arena.npz", "wb") as file:
         np.savez_compressed(file, **arrays)
     cls = type(model)
@@ -207,9 +217,42 @@ def _write_run(model, folder: Path) -> None:
         },
         "end_time": float(model.time),
         "end_reason": model.end_reason,
+        "layers": [_layer_meta(layer) for layer in layers],
     }
     with _opened(folder / "run.json", "w") as file:
         file.write(json.dumps(meta, indent=2) + "\n")
+
+
+def _layer_meta(layer: Layer) -> dict:
+    """How ``layer`` is drawn, as plain data (its points and raster go to arena.npz)."""
+    return {
+        "label": layer.label,
+        "colour": layer.colour,
+        "size": float(layer.size),
+        "marker": layer.marker,
+        "layer": float(layer.layer),
+        "extent": None if layer.extent is None else [float(v) for v in layer.extent],
+        "still": bool(layer.still),
+    }
+
+
+def _layer(spec: dict, i: int, data) -> Layer:
+    """Layer ``i`` of a saved run: its spec from run.json, its arrays from arena.npz."""
+    arrays = {
+        part: data[f"layer{i}_{part}"] if f"layer{i}_{part}" in data.files else None
+        for part in ("points", "raster")
+    }
+    extent = spec["extent"]
+    return Layer(
+        str(spec["label"]),
+        colour=str(spec["colour"]),
+        size=float(spec["size"]),
+        marker=str(spec["marker"]),
+        layer=float(spec["layer"]),
+        extent=None if extent is None else tuple(float(v) for v in extent),
+        still=bool(spec["still"]),
+        **arrays,
+    )
 
 
 @contextmanager
@@ -254,6 +297,10 @@ def load_run(out_dir: str | Path) -> SavedRun:
                 data["free"].astype(bool), float(data["resolution"]), name=str(data["name"])
             )
             first = data["first_covered"] if "first_covered" in data.files else None
+            specs = meta.get("layers", [])
+            if not isinstance(specs, list) or not all(isinstance(x, dict) for x in specs):
+                raise ValueError("run.json's layers are not a list of objects")
+            layers = [_layer(spec, i, data) for i, spec in enumerate(specs)]
         summary = _parquet(folder / "summary.parquet").iloc[0].to_dict()
         return SavedRun(
             folder=folder,
@@ -264,6 +311,7 @@ def load_run(out_dir: str | Path) -> SavedRun:
             summary=summary,
             meta=meta,
             first_covered=first,
+            layers=layers,
         )
     except (ValueError, KeyError, IndexError, EOFError, zipfile.BadZipFile) as exc:  # cut short
         raise RunFolderError(

@@ -26,8 +26,8 @@ def main() -> None:
     print(f"HST, W = {WORKERS}, S = {SCOUTS_PER_WORKER} (N = {s['N']}), 20 m room, seed {SEED}:")
     print(f"  ended by          {s['end_reason']} at t = {s['time']:.1f} s")
     print(f"  free cells known  {100 * s['known_free_fraction']:.2f} %")
-    print(f"  scout  scan area  {s['scout_scan_area']:.0f} cm^2, drive {s['scout_drive']:.0f} cm")
-    print(f"  worker scan area  {s['worker_scan_area']:.0f} cm^2, drive {s['worker_drive']:.0f} cm")
+    print(f"  scout  scan area  {s['scout_scan_area']:.1f} m^2, drive {s['scout_drive']:.1f} m")
+    print(f"  worker scan area  {s['worker_scan_area']:.1f} m^2, drive {s['worker_drive']:.1f} m")
     print(f"  queen iterations  {s['queen_iterations']}, worker iterations "
           f"{s['worker_iterations']:.1f} (mean)")  # fmt: skip
     log = model.comms.log.frame()

@@ -10,11 +10,19 @@ import pandas as pd
 import pytest
 
 from abm.errors import ConfigError
+from abm.styles import Layer
 from abm.viz.scene import WALL_COLOUR, view_of
-from analysis.render import RunReplay, render_animation, render_snapshots, snapshot_times
+from analysis.render import (
+    RunFigure,
+    RunReplay,
+    render_animation,
+    render_snapshots,
+    snapshot_times,
+)
 from analysis.runio import RUN_FILES, RunFolderError, load_run, save_run
 from models.beacon_explorer import BeaconExplorerModel
 from models.flocking import FlockingModel
+from models.hierarchy import HierarchyModel
 
 
 @pytest.fixture(scope="module")
@@ -142,3 +150,83 @@ def test_the_legend_names_walls_only_where_the_arena_has_some(model):
 
     assert "wall" in labels(model)
     assert "wall" not in labels(FlockingModel(seed=1))  # a periodic square without walls
+
+
+#: The base beacon's star (models/beacon_explorer: Layer "base beacon ...", colour #E69F00).
+STAR = "#E69F00"
+
+
+def _arena_part(image):
+    """The arena panel of a RunFigure image (left of the plots, above the legend)."""
+    h, w = image.shape[:2]
+    return image[: int(0.85 * h), : int(0.45 * w)]
+
+
+def test_the_run_folder_keeps_the_models_layers(model, run_dir):
+    (base,) = load_run(run_dir).layers
+    (want,) = model.layers()
+    assert base.label == want.label and base.still
+    assert np.array_equal(base.points, [model.base.pos])
+    look = ("colour", "marker", "size", "layer")
+    assert [getattr(base, k) for k in look] == [getattr(want, k) for k in look]
+
+
+def test_every_frame_marks_the_base_beacon(run_dir, tmp_path):
+    run = load_run(run_dir)
+    times = [0.0, run.end_time / 2, run.end_time]
+    for path in render_snapshots(run, times, tmp_path):
+        assert _pixels_near(_arena_part(iio.imread(path)), STAR) > 15, path.name
+    frames = iio.imread(render_animation(run, tmp_path / "a.gif", frames=3, progress=False))
+    for frame in frames:
+        assert _pixels_near(_arena_part(frame), STAR, tol=30) > 10
+    figure = RunFigure(run)
+    figure.draw(run.end_time / 2)
+    labels = [h.get_label() for h in figure.view.legend_handles()]
+    assert "base beacon (robots = n_robots + 1)" in labels
+
+
+def test_a_layer_that_changes_is_drawn_only_at_the_end(run_dir):
+    """A saved run knows a changing layer (particles, a belief map) only at its end."""
+    run = load_run(run_dir)
+    cloud = Layer("cloud", points=np.array([[5.0, 5.0], [6.0, 6.0]]), colour="#F0E442")
+    run.layers.append(cloud)
+    replay = RunReplay(run)
+    assert [layer.label for layer in replay.scene_at(run.end_time).layers][-1] == "cloud"
+    assert "cloud" not in [layer.label for layer in replay.scene_at(run.end_time / 2).layers]
+    figure = RunFigure(run)
+    figure.draw(run.end_time)
+    assert "cloud" in [h.get_label() for h in figure.view.legend_handles()]
+    figure.draw(0.0)  # back in time: hidden again, and out of the legend
+    assert "cloud" not in [h.get_label() for h in figure.view.legend_handles()]
+    drawn = [np.asarray(c.get_offsets()) for c in figure.ax_map.collections]
+    (artist,) = [c for c, xy in zip(figure.ax_map.collections, drawn, strict=True)
+                 if xy.shape == cloud.points.shape and np.allclose(xy, cloud.points)]  # fmt: skip
+    assert not artist.get_visible()
+
+
+def test_rasters_and_points_of_layers_survive_the_folder(tmp_path):
+    model = HierarchyModel(seed=1, **HierarchyModel.QUICK).run()
+    save_run(model, tmp_path / "h")
+    saved = load_run(tmp_path / "h").layers
+    want = model.layers()
+    assert [layer.label for layer in saved] == [layer.label for layer in want]
+    assert any(layer.raster is not None for layer in want)
+    for got, layer in zip(saved, want, strict=True):
+        for part in ("points", "raster"):
+            a, b = getattr(got, part), getattr(layer, part)
+            assert (a is None) == (b is None) and (a is None or np.array_equal(a, b)), part
+        assert got.extent == (None if layer.extent is None else tuple(layer.extent))
+        assert not got.still
+
+
+def test_a_folder_saved_before_layers_loads_without_them(run_dir, tmp_path):
+    old = tmp_path / "old"
+    shutil.copytree(run_dir, old)
+    meta = json.loads((old / "run.json").read_text())
+    meta.pop("layers")
+    (old / "run.json").write_text(json.dumps(meta))
+    assert load_run(old).layers == []
+    meta["layers"] = "star"
+    (old / "run.json").write_text(json.dumps(meta))
+    with pytest.raises(RunFolderError, match="layers are not a list of objects"):
+        load_run(old)

@@ -67,7 +67,7 @@ def _report_quietly(folder, capsys) -> str:
 
 #: The rest of a hierarchy run's summary (one real run's values), for the claims' checks.
 HIERARCHY_REST = {
-    "wall_collisions": 0, "robot_collisions": 0, "queen_scan_area": 360000.0,
+    "wall_collisions": 0, "robot_collisions": 0, "queen_scan_area": 36.0,
     "queen_iterations": 7, "worker_iterations": 25.5, "known_free_fraction": 0.999,
     "wave_order_violations": 0, "robot_proximity_events": 0, "sibling_proximity_events": 0,
     "path_cells_blocked": 0, "stalled_moves": 0, "workers_failed": 0, "reattached": 0,
@@ -91,10 +91,10 @@ def hierarchy_runs() -> pd.DataFrame:
                      "scouts_per_worker": s, "time": 300.0 + rng.normal(0, 9),
                      "end_reason": "cannot_complete", "collisions": 0, "topology": "hst",
                      "complete": 0.0, "N": 1 + w + w * s,
-                     "W": w, "S": s, "scout_scan_area": 2e5 + rng.normal(0, 1e4),
-                     "worker_scan_area": 6e5 + rng.normal(0, 1e4),
-                     "scout_drive": 2500.0 + rng.normal(0, 90),
-                     "worker_drive": 1400.0 + rng.normal(0, 90), "status": "ok",
+                     "W": w, "S": s, "scout_scan_area": 20.0 + rng.normal(0, 1.0),
+                     "worker_scan_area": 60.0 + rng.normal(0, 1.0),
+                     "scout_drive": 25.0 + rng.normal(0, 0.9),
+                     "worker_drive": 14.0 + rng.normal(0, 0.9), "status": "ok",
                      "links": w + w * s, "scouts": w * s, **HIERARCHY_REST}
                 )  # fmt: skip
     return pd.DataFrame(rows)
@@ -116,7 +116,7 @@ def test_the_hierarchy_collinear_n_is_refused_without_a_warning(tmp_path, capsys
     # the keys the grid swept, W and S, are crossed: those ANOVAs are computed
     swept = stats[stats["factors"] == "workers x scouts_per_worker"]
     assert swept["computed"].all() and set(swept["metric"]) == set(drawn["metric"])
-    assert "Scout drive distance (cm), over workers x scouts_per_worker</h4>" in page
+    assert "Scout drive distance (m), over workers x scouts_per_worker</h4>" in page
 
 
 @pytest.mark.slow

@@ -4,6 +4,7 @@ the beacon/explorer picture marks the base beacon that ``robots`` counts and ``n
 """
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from abm import registry
@@ -45,13 +46,48 @@ def test_abm_run_prints_each_models_units():
     assert unit_of("envsize") == "m^2"
     assert unit_of("coverage_500") == "%"  # a SugarMap checkpoint, by its pattern
     assert unit_of("coverage_time") == "s"  # the exact key wins over that pattern
-    assert unit_of("scout_drive") == "cm"  # the hierarchy's report's own unit, said
+    assert unit_of("scout_drive") == "m"  # SI, though the hierarchy's report plots cm
     assert unit_of("bytes") == "byte" and unit_of("entropy") == "bit"
     # names, seeds, flags, counts and plain numbers print bare
     for key in ("end_reason", "seed", "complete", "n_robots", "polarisation"):
         assert unit_of(key) == "", key
     text = format_summary({"n_robots": 20, "robots": 21, "energy_flight": 2.5})
     assert text.splitlines()[2].split()[-1] == "J"
+
+
+#: Every unit a summary may use: SI (s, m, m^2, J, W, 1/s) and the unit-free kinds.
+SI = {"s", "m", "m^2", "J", "W", "1/s", "%", "1", "count", "flag", "text", "id", "bit", "byte"}
+
+
+@pytest.mark.parametrize("name", registry.model_names())
+def test_every_declared_unit_is_si(name):
+    units = registry.model_class(name).SUMMARY_UNITS
+    assert {key: q.unit for key, q in units.items() if q.unit not in SI} == {}
+
+
+def test_the_contract_refuses_centimetres():
+    cls = registry.model_class("flocking")
+    for unit in ("cm", "cm^2"):
+        bad = type("InCm", (cls,), {"SUMMARY_UNITS": {"updates": Quantity(unit, "x")}})
+        with pytest.raises(ContractError, match="SUMMARY_UNITS\\['updates'\\].*one of"):
+            check_model(bad)
+
+
+def test_the_hierarchy_summary_is_in_metres():
+    """Areas in m^2 and lengths in m: the queen's area is the 20 m room's 400 m^2 and a
+    scout's scan area and drive distance are the sums of its bubbles' pi r^2 and path lengths
+    (both in metres inside the model).
+    """
+    cls = registry.model_class("hierarchy")
+    model = cls(seed=1, **dict(cls.QUICK)).run()
+    summary = model.summary()
+    units = {key: quantity_of(cls.SUMMARY_UNITS, key).unit for key in summary}
+    assert {k: u for k, u in units.items() if u not in SI} == {}
+    assert units["queen_scan_area"] == "m^2" and units["scout_drive"] == "m"
+    assert summary["queen_scan_area"] == pytest.approx(model.arena.width * model.arena.height)
+    scouts = model.scouts
+    assert summary["scout_scan_area"] == pytest.approx(np.mean([s.scan_area for s in scouts]))
+    assert summary["scout_drive"] == pytest.approx(np.mean([s.drive_distance for s in scouts]))
 
 
 def test_robots_and_n_robots_are_explained():
@@ -82,3 +118,18 @@ def test_the_picture_marks_the_base_beacon(tmp_path):
     assert "base beacon (robots = n_robots + 1)" in labels
     marked = view.ax.collections
     assert any(np.allclose(c.get_offsets(), [model.base.pos]) for c in marked)
+
+
+def test_the_hierarchy_claims_quote_square_metres_and_metres():
+    """C2 and C6 quote the scouts' means in the summary's units (the report's are cm², cm)."""
+    from models.hierarchy.claims import TESTS
+
+    rows = [
+        {"W": w, "S": s, "N": 1 + w + w * s, "scout_scan_area": 600.0 / (w * s),
+         "scout_drive": 300.0 / (w * s)}
+        for w in (2, 3) for s in (2, 3, 4)
+    ]  # fmt: skip
+    runs = pd.DataFrame(rows)
+    area, drive = TESTS["C2"](runs, None), TESTS["C6"](runs, None)
+    assert "150.0 m² at N=7 -> 50.0 m² at N=16" in area.ours
+    assert "75.0 m at N=7 -> 25.0 m at N=16" in drive.ours

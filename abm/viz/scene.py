@@ -211,7 +211,14 @@ class SceneView:
                 )
 
     def _draw_layers(self, layers: list[Layer]) -> None:
-        """Extra point clouds and rasters, each artist made once and then updated."""
+        """Extra point clouds and rasters, each artist made once and then updated; a layer
+        drawn before but absent from this scene is hidden and leaves the legend.
+        """
+        shown = {layer.label for layer in layers}
+        for label, artist in self._layers.items():
+            artist.set_visible(label in shown)
+            if label not in shown:
+                self._layer_specs.pop(label, None)
         for layer in layers:
             artist = self._layers.get(layer.label)
             if layer.raster is not None:
@@ -232,7 +239,7 @@ class SceneView:
                 if artist is None:
                     self._layers[layer.label] = self.ax.scatter(
                         *points.T, s=layer.size, color=layer.colour, marker=layer.marker,
-                        linewidths=0, zorder=3,
+                        linewidths=0, zorder=layer.layer,
                     )  # fmt: skip
                 else:
                     artist.set_offsets(points)

@@ -333,11 +333,13 @@ class BeaconExplorerModel(SwarmModel):
 
     def layers(self) -> list[Layer]:
         """The base beacon, marked: it stands at the entrance from the start (Sect. 3) and is
-        the one robot of ``robots`` that is not among the ``n_robots`` launched.
+        the one robot of ``robots`` that is not among the ``n_robots`` launched. It never moves
+        (still), and its star is drawn over the ground robots waiting under it (layer 4), under
+        the beacons' circles (5), so the base's own circle sits in the star.
         """
         base = np.asarray([self.base.pos], dtype=float)
         return [Layer("base beacon (robots = n_robots + 1)", points=base, colour="#E69F00",
-                      size=420.0, marker="*")]  # fmt: skip
+                      size=420.0, marker="*", layer=4.5, still=True)]  # fmt: skip
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray]:
         """Beacons' desired directions (points, vectors of length I_r) for drawings."""

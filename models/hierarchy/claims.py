@@ -3,7 +3,9 @@
 Each function takes the runs (one row per run: parameters and summary) and the model's time
 series (unused) and returns a :class:`abm.published.Verdict`, or None when the runs lack the
 claim's set-up. The thresholds are the spec's (§4.5), not the report's: the report publishes no
-numbers, so only shapes and trends are judged.
+numbers, so only shapes and trends are judged. Every threshold is a correlation, a ratio or a
+share, free of units; the verdicts quote scan areas in m² and drive distances in m, the
+summary's units (the report's Figs. 36-38 are in cm² and cm: 1 m² = 10⁴ cm², 1 m = 100 cm).
 """
 
 import numpy as np
@@ -43,7 +45,7 @@ def _configs(runs: pd.DataFrame, metric: str) -> pd.DataFrame:
     return runs.groupby(["W", "S"], as_index=False).agg(N=("N", "first"), y=(metric, "mean"))
 
 
-def _falls(runs: pd.DataFrame, metric: str) -> Verdict | None:
+def _falls(runs: pd.DataFrame, metric: str, unit: str) -> Verdict | None:
     """C2/C6: Spearman rho(N, mean) <= -0.9 over configurations, each W-series non-increasing."""
     runs = _ok(runs)
     cfg = _configs(runs, metric) if len(runs) else runs
@@ -57,7 +59,7 @@ def _falls(runs: pd.DataFrame, metric: str) -> Verdict | None:
     first, last = cfg.loc[cfg["N"].idxmin()], cfg.loc[cfg["N"].idxmax()]
     ours = (
         f"Spearman rho(N, mean) = {rho:.3f} over {len(cfg)} configurations; "
-        f"{first.y:,.0f} at N={first.N:.0f} -> {last.y:,.0f} at N={last.N:.0f}; "
+        f"{first.y:,.1f} {unit} at N={first.N:.0f} -> {last.y:,.1f} {unit} at N={last.N:.0f}; "
         f"series not monotone: {', '.join(rises) or 'none'}"
     )
     return Verdict(
@@ -86,11 +88,11 @@ def c1(runs, samples) -> Verdict | None:
 
 
 def c2(runs, samples) -> Verdict | None:
-    return _falls(runs, "scout_scan_area")
+    return _falls(runs, "scout_scan_area", "m²")
 
 
 def c6(runs, samples) -> Verdict | None:
-    return _falls(runs, "scout_drive")
+    return _falls(runs, "scout_drive", "m")
 
 
 def _w_share(runs: pd.DataFrame, metric: str, size: str) -> tuple[float, float]:

@@ -44,7 +44,6 @@ __all__ = ["BODY_SIDE", "HierarchyModel"]
 
 #: Side of a scout's body (m): the 6-inch cube of the report ("Scout").
 BODY_SIDE = 0.1524
-CM = 100.0
 QUEEN = "queen"
 
 
@@ -343,8 +342,12 @@ class HierarchyModel(SwarmModel):
 
     # ------------------------------------------------------------------ results
     def metrics(self) -> dict:
-        """Per-level scan area and drive distance (cm^2, cm), iterations, completion time,
-        message counts and diagnostics (spec §4.2).
+        """Per-level scan area and drive distance, iterations, completion time, message counts
+        and diagnostics.
+
+        Scan areas are in m^2 and drive distances in m, like every length the model keeps (the
+        world, the bubbles' radii r and the paths are built in metres). The report gives them
+        in cm^2 and cm ("Data Collection", Figs. 36-38): 1 m^2 = 10^4 cm^2, 1 m = 100 cm.
         """
         p = self.params
         scouts, workers = self.scouts, self.workers
@@ -360,11 +363,11 @@ class HierarchyModel(SwarmModel):
             "scouts": len(scouts),
             "complete": float(self.completion_status == Status.COMPLETE.value),
             "completion_time": self.completion_time if self.completion_time else math.nan,
-            "scout_scan_area": CM**2 * float(np.mean([s.scan_area for s in scouts])),
-            "worker_scan_area": CM**2 * _mean([w.scan_area for w in workers]),
-            "queen_scan_area": CM**2 * self.arena.width * self.arena.height,
-            "scout_drive": CM * float(np.mean([s.drive_distance for s in scouts])),
-            "worker_drive": CM * _mean([w.drive_distance for w in workers]),
+            "scout_scan_area": float(np.mean([s.scan_area for s in scouts])),
+            "worker_scan_area": _mean([w.scan_area for w in workers]),
+            "queen_scan_area": self.arena.width * self.arena.height,
+            "scout_drive": float(np.mean([s.drive_distance for s in scouts])),
+            "worker_drive": _mean([w.drive_distance for w in workers]),
             "queen_iterations": self.queen.iterations,
             "worker_iterations": _mean([w.iterations for w in workers]),
             "known_free_fraction": self.known_free_fraction(),

@@ -2,6 +2,10 @@
 result figures are images whose values did not survive), every checkable claim C1-C14 of spec
 §4.4 with its test, and the paper-style figure layout (Figs. 36-38: mean scan area and drive
 distance per scout and per worker against the total number of robots N, one line per W).
+
+Units: the summary, and so the report's axes, are in SI (m^2, m). The report measures scan area
+in cm^2 and drive distance in cm ("Data Collection"); its only legible scale, Fig. 37's y axis
+"Scan Area (cm2)" running to 3,000,000 cm^2, is 300 m^2 (1 m^2 = 10^4 cm^2).
 """
 
 from abm.published import Censored, Claim, ReportLayout
@@ -180,15 +184,19 @@ REPORT = ReportLayout(
     labels={
         "N": "Number of robots N = 1 + W + W S",
         "W": "Workers W",
-        "scout_scan_area": "Scout scan area (cm²)",
-        "worker_scan_area": "Worker scan area (cm²)",
-        "scout_drive": "Scout drive distance (cm)",
-        "worker_drive": "Worker drive distance (cm)",
+        "scout_scan_area": "Scout scan area (m²)",
+        "worker_scan_area": "Worker scan area (m²)",
+        "scout_drive": "Scout drive distance (m)",
+        "worker_drive": "Worker drive distance (m)",
     },
     notes={
-        "scout_scan_area": "Σ π r² over every SCAN a scout received (spec A5), mean per scout",
-        "worker_scan_area": "Σ π r² of the bubbles the queen gave a worker, mean per worker",
-        "scout_drive": "Σ smoothed path lengths (spec A6), mean per scout",
-        "worker_drive": "Σ smoothed path lengths, mean per worker",
+        "scout_scan_area": "Σ π r² over every SCAN a scout received (spec A5), mean per scout; "
+        "the report's Figs. 36-37 plot cm² (1 m² = 10⁴ cm²)",
+        "worker_scan_area": "Σ π r² of the bubbles the queen gave a worker, mean per worker; "
+        "the report's Fig. 36 plots cm² (1 m² = 10⁴ cm²)",
+        "scout_drive": "Σ smoothed path lengths (spec A6), mean per scout; "
+        "the report's Fig. 38 plots cm (1 m = 100 cm)",
+        "worker_drive": "Σ smoothed path lengths, mean per worker; "
+        "the report's Fig. 38 plots cm (1 m = 100 cm)",
     },
 )

@@ -1,8 +1,10 @@
 """The unit and meaning of each key of the hierarchical swarm's summary; the common keys are
 documented in :data:`abm.units.COMMON`.
 
-Scan areas and drive distances are in cm^2 and cm, the units of the report the model
-reproduces (its published numbers and figures are in them).
+Every key is in SI like the other models': scan areas in m^2, drive distances in m. The report
+the model reproduces gives them in cm^2 and cm ("Data Collection"; the axes of Figs. 36-38);
+divide its numbers by 10^4 (areas) and 100 (distances) to compare: Fig. 37's axis runs to
+3,000,000 cm^2 = 300 m^2.
 """
 
 from abm.units import Quantity
@@ -18,11 +20,11 @@ SUMMARY_UNITS = {
     "scouts": Quantity("count", "scouts in all"),
     "complete": Quantity("flag", "the queen called the coverage complete (1.0) or not (0.0)"),
     "completion_time": Quantity("s", "simulated time of the queen's call (NaN: none)"),
-    "scout_scan_area": Quantity("cm^2", "sum of pi r^2 over a scout's SCANs, mean per scout"),
-    "worker_scan_area": Quantity("cm^2", "sum of pi r^2 of a worker's bubbles, mean per worker"),
-    "queen_scan_area": Quantity("cm^2", "the world's area, the queen's bubble"),
-    "scout_drive": Quantity("cm", "smoothed path length driven, mean per scout"),
-    "worker_drive": Quantity("cm", "smoothed path length driven, mean per worker"),
+    "scout_scan_area": Quantity("m^2", "sum of pi r^2 over a scout's SCANs, mean per scout"),
+    "worker_scan_area": Quantity("m^2", "sum of pi r^2 of a worker's bubbles, mean per worker"),
+    "queen_scan_area": Quantity("m^2", "the world's area, the queen's bubble"),
+    "scout_drive": Quantity("m", "smoothed path length driven, mean per scout"),
+    "worker_drive": Quantity("m", "smoothed path length driven, mean per worker"),
     "queen_iterations": Quantity("count", "the queen's planning iterations"),
     "worker_iterations": Quantity("count", "planning iterations, mean per worker"),
     "known_free_fraction": Quantity("1", "share of the free cells the queen's map knows free"),
