@@ -16,8 +16,10 @@ __all__ = ["CENSORED", "CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT", "ROOM"]
 #: The report publishes no numeric result value (spec §4.3), so there is nothing to list here.
 PUBLISHED: list = []
 
-#: The report's room: the empty 20 m x 20 m map every claim about the scaling was made on.
-ROOM = {"world_size": 20.0, "boxes": 0}
+#: The report's room and swarm: the empty 20 m x 20 m map and the queen-worker-scout tree
+#: every claim about the scaling was made on (a topology sweep's star, FC and ring runs are not
+#: pooled in).
+ROOM = {"world_size": 20.0, "boxes": 0, "topology": "hst"}
 
 _GRID = "the 42 configurations W = 2-7 x S = 2-8 on the empty 20 m room (hierarchy_scaling)"
 
