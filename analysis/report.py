@@ -42,6 +42,7 @@ from analysis.html import image_data, render_page, table
 from analysis.statistics_table import anova_items, pearson_rows, statistics_frame, tests_on_page
 from analysis.statistics_table import write_csv as write_statistics
 from analysis.sweep import load_results, read_manifest, swept_keys
+from analysis.sweep.folder import refuse_while_running
 
 __all__ = ["layout_for", "write_report"]
 
@@ -115,6 +116,7 @@ class _Sweep:
 def _load(folder: str | Path) -> _Sweep:
     folder = Path(folder)
     manifest = read_manifest(folder)  # one line for a missing, damaged or non-UTF-8 sweep.json
+    refuse_while_running(folder, "a report")
     name = manifest.get("name", folder.name)
     runs = load_results(folder).assign(sweep=name)
     samples = load_results(folder, samples=True)

@@ -18,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
+from abm.orphans import identity
 from analysis.cli import main
 from analysis.sweep import Sweep, load_results, load_sweep, plan
 
@@ -130,6 +131,31 @@ def test_a_lock_whose_holder_is_gone_is_broken_with_a_word(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"broke the lock of a sweep that is gone (pid {holder['pid']} on " in err
     assert len(load_results(out)) == 2 and not (out / ".lock").exists()
+
+
+def test_a_report_on_a_sweep_still_running_is_one_line_and_waits_for_no_lock(tmp_path, capsys):
+    """A report of a sweep being written judged its runs so far as the whole sweep (68 of 70
+    runs); while the lock's holder runs, the report stops in one line; a stale lock does not
+    stop it.
+    """
+    sweep_file = tmp_path / "s.toml"
+    sweep_file.write_text(SMALL)
+    out = tmp_path / "busy"
+    assert main(["sweep", str(sweep_file), "--executor", "serial", "--out", str(out)]) == 0
+    capsys.readouterr()
+    start = identity().partition(":")[2] or None
+    running = {"pid": os.getpid(), "host": os.uname().nodename, "start": start,
+               "since": "2026-01-01T00:00:00"}  # fmt: skip
+    (out / ".lock").write_text(json.dumps(running))
+    assert main(["report", str(out)]) == 2
+    (line,) = _errors(capsys.readouterr().err, "report")
+    assert f"{out} is being written by a running sweep (pid {os.getpid()} on " in line
+    assert not (out / "report.html").exists()
+    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)  # fmt: skip
+    (out / ".lock").write_text(json.dumps({**running, "pid": int(gone.stdout), "start": None}))
+    assert main(["report", str(out)]) == 0
+    assert (out / "report.html").exists()
 
 
 def test_a_lock_held_from_another_host_is_never_broken(tmp_path, capsys):

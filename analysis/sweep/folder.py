@@ -21,7 +21,7 @@ from abm.errors import OutputError
 from abm.orphans import alive, identity
 from analysis.sweep.integrity import RESULT_FOLDERS, SET_ASIDE
 
-__all__ = ["LOCK", "SweepLock", "check_out"]
+__all__ = ["LOCK", "SweepLock", "check_out", "refuse_while_running"]
 
 #: The lock file inside a sweep folder.
 LOCK = ".lock"
@@ -61,6 +61,20 @@ def check_out(out: Path) -> None:
         )
 
 
+def refuse_while_running(out: Path, what: str) -> None:
+    """Raise OutputError (one line) while a sweep that may still be running holds ``out``'s
+    lock: ``what`` (e.g. "a report") would read the runs finished so far as the whole sweep.
+    """
+    lock = SweepLock(out)
+    holder = lock.holder()
+    if holder and lock.running(holder):
+        raise OutputError(
+            f"{out} is being written by a running sweep (pid {holder['pid']} on "
+            f"{holder['host']}, since {holder.get('since')}): {what} would read only the runs "
+            "finished so far; run it when the sweep has ended"
+        )
+
+
 class SweepLock:
     """The lock of a sweep folder, held while a sweep writes there (a context manager)."""
 
@@ -91,12 +105,15 @@ class SweepLock:
 
     def __exit__(self, *exc: object) -> None:
         try:
-            if self._holder() == self.me:
+            if self.holder() == self.me:
                 self.path.unlink(missing_ok=True)
         except OSError:
             pass  # a folder gone read-only: the next sweep sees this process gone and breaks it
 
-    def _holder(self) -> dict | None:
+    def holder(self) -> dict | None:
+        """The lock file's holder (pid, host, start, since); None without a lock, {} for a
+        damaged one.
+        """
         try:
             holder = json.loads(self.path.read_text())
         except FileNotFoundError:
@@ -105,9 +122,18 @@ class SweepLock:
             return {}
         return holder if isinstance(holder, dict) else {}
 
+    def running(self, holder: dict) -> bool:
+        """Whether the lock's holder may still run: alive on this host, or on another host
+        (which this one cannot look into).
+        """
+        pid, host = holder.get("pid"), holder.get("host")
+        if not isinstance(pid, int) or not isinstance(host, str):
+            return False
+        return host != self.me["host"] or alive(f"{pid}:{holder.get('start') or ''}")
+
     def _break_or_refuse(self) -> None:
         """Remove the lock of a holder that is gone; refuse (one line) if it may be running."""
-        holder = self._holder()
+        holder = self.holder()
         if holder is None:
             return  # released meanwhile: try again
         pid, host = holder.get("pid"), holder.get("host")
@@ -116,7 +142,7 @@ class SweepLock:
                 f"{self.path} is a damaged lock file; if no sweep runs in {self.out}, delete "
                 "it and run the command again"
             )
-        if host != self.me["host"] or alive(f"{pid}:{holder.get('start') or ''}"):
+        if self.running(holder):
             where = "" if host == self.me["host"] else f" (if it is gone, delete {self.path})"
             raise OutputError(
                 f"{self.out} is in use by another sweep: pid {pid} on {host}, since "
