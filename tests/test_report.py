@@ -157,6 +157,22 @@ def test_cli_report_prints_where_it_wrote(tmp_path, capsys):
     assert "not a sweep folder" in capsys.readouterr().err
 
 
+def test_report_out_is_checked_before_the_work(tmp_path, capsys):
+    """``--out`` naming a folder is refused at once; a file in a folder not made yet gets its
+    folder (the report wrote for 10 s, then failed with "Cannot save file into a non-existent
+    directory"), with the tables beside it.
+    """
+    folder = tmp_path / "fake"
+    write_sweep(folder, corridor_results(n=2))
+    assert main(["report", str(folder), "--out", str(tmp_path)]) == 2
+    assert f"--out {tmp_path} is a folder" in capsys.readouterr().err
+    target = tmp_path / "new" / "deeper" / "r.html"
+    assert main(["report", str(folder), "--out", str(target)]) == 0
+    out = capsys.readouterr().out
+    for written in (target, target.parent / "comparison.csv", target.parent / "statistics.csv"):
+        assert written.exists() and f"wrote {written}" in out
+
+
 def test_a_points_only_key_is_a_condition_of_its_own_in_the_means(tmp_path):
     # a sweep whose [[points]] set hover_beacons on some runs only: those runs, and the others
     # (where the key is unset), each get their own row instead of being averaged together

@@ -28,9 +28,15 @@ def main(args: argparse.Namespace) -> int:
             raise ConfigError(
                 f"{folder} is not a sweep folder (no sweep.json); run `abm sweep FILE` first"
             )
+    if args.out is not None:  # checked before the work: a folder, or a place not writable
+        if args.out.is_dir():
+            raise ConfigError(f"--out {args.out} is a folder; give the HTML file's path")
+        args.out.parent.mkdir(parents=True, exist_ok=True)
     path = write_report(args.sweep, args.out)
     print(f"wrote {path}")
-    print(f"wrote {path.parent / 'statistics.csv'}")
+    for table in ("comparison.csv", "statistics.csv"):
+        if (path.parent / table).exists():
+            print(f"wrote {path.parent / table}")
     for folder in args.sweep:
         print(f"wrote {folder / 'figures'}")
     return 0
