@@ -240,10 +240,13 @@ def test_comparison_csv_rows_are_the_reports_rows(tmp_path):
     table = check_csv_against_html(folder, html)
     assert len(table) == len(BEACON)
     assert list(table.columns) == ["claim or metric", "condition", "paper value", "paper spread",
-                                   "ours mean", "ours 95% low", "ours 95% high", "runs",
-                                   "censored share", "verdict", "reason"]  # fmt: skip
+                                   "ours", "ours mean", "ours 95% low", "ours 95% high", "runs",
+                                   "censored share", "rule", "verdict", "reason"]  # fmt: skip
     flight = table[table["claim or metric"] == "corridor: flight time: change 24 s vs 6 s (%)"]
     assert flight["verdict"].iloc[0] == "holds" and float(flight["ours 95% high"].iloc[0]) < 0
+    # the row can be cited alone: what "ours" is and the rule that judged it
+    assert flight["ours"].iloc[0].startswith("-") and "difference" in flight["ours"].iloc[0]
+    assert flight["rule"].iloc[0].startswith("direction: Welch 95 % interval")
 
 
 def test_a_published_condition_must_name_parameters_of_the_model():
