@@ -286,9 +286,9 @@ def _judge(item: Published, runs: pd.DataFrame, before: pd.DataFrame | None, spe
     if item.measure == "mean":  # an ordering against the previous condition
         values, share = _values(runs, item.metric)
         described = _described(values, share)
-        if before is None:
+        if before is None or item.check == "first":
             why = (
-                "the first of this ordering"
+                item.note or "the first of this ordering"
                 if item.check == "first"
                 else "the previous condition of this ordering is not in these runs"
             )

@@ -154,6 +154,23 @@ def test_a_sweep_at_another_time_limit_is_not_compared_with_table_1():
     assert reasons == {"time limit is 600 here, 15000 in the paper"}
 
 
+def test_a_tie_in_the_papers_table_is_not_judged_as_a_fall():
+    """Table 1's map 1 cb is 8.16 % at 30 m and at 40 m: no direction to test (it was read as
+    "falls")."""
+    from models.stigmergy.published import PUBLISHED as TABLE1
+
+    runs = pd.DataFrame([{"run_id": f"{r}-{i}", "map": "hall100", "pheromone_radius": r,
+                          "time_limit": 15000.0, "time": 900.0 + i, "end_reason": "covered",
+                          "beacon": 8.0 + i, "wander": 2.0, "cb": 8.0 + (r - 30) / 10 + i,
+                          "status": "ok"}
+                         for r in (30.0, 40.0) for i in range(4)])  # fmt: skip
+    rows = compare_published(runs, TABLE1, parameter_defaults(StigmergyModel))
+    cb = rows[(rows["section"] == "map 1 (hall100)") & (rows["quantity"] == "cb (%)")]
+    at_40 = cb[cb["condition"].str.contains("radius 40")].iloc[0]
+    assert at_40["verdict"] == "(reference)"
+    assert at_40["reason"] == "the paper's value equals the previous radius's: no direction"
+
+
 def test_tangible_pso_c3_is_labelled_by_construction_and_not_counted(tmp_path):
     folder = tmp_path / "table1"
     grid = {"neighbours": [0, 1, 2], "motion_planning": [False, True]}
