@@ -61,7 +61,10 @@ def interval(values: Sequence[float], share: bool = False) -> tuple[float, float
         z = sps.norm.ppf(1 - ALPHA / 2)
         centre = (mean + z * z / (2 * n)) / (1 + z * z / n)
         half = z * np.sqrt(mean * (1 - mean) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-        return mean, float(max(0.0, centre - half)), float(min(1.0, centre + half))
+        # at a share of 0 (or 1) Wilson's bound is exactly 0 (or 1); rounding left 1.7e-16
+        low = 0.0 if mean == 0.0 else float(max(0.0, centre - half))
+        high = 1.0 if mean == 1.0 else float(min(1.0, centre + half))
+        return mean, low, high
     half = float(sps.t.ppf(1 - ALPHA / 2, n - 1) * x.std(ddof=1) / np.sqrt(n))
     return mean, mean - half, mean + half
 

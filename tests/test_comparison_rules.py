@@ -82,3 +82,12 @@ def test_records_declare_their_kind_and_measure():
         Published("s", "q", {}, 1.0, "direction", "m", "same sign", factor="f")
     with pytest.raises(ConfigError, match="why it has no verdict"):
         Published("s", "q", {}, 1.0, "level", "m", "shown")
+
+
+def test_a_share_of_none_or_all_has_an_exact_wilson_bound():
+    """A share of 0 printed its Wilson lower bound as 1.7e-16; the bound is exactly 0 (1)."""
+    from abm.verdicts import interval
+
+    for n in range(2, 300, 7):
+        assert interval([0.0] * n, share=True)[1] == 0.0
+        assert interval([1.0] * n, share=True)[2] == 1.0
