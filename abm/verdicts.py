@@ -14,6 +14,8 @@ our value and its 95 % interval, so the report shows how every verdict was reach
 - a **difference of differences** (:func:`contrast`, e.g. "the gain from 2 to 4 is larger
   than from 8 to 10"): the Welch 95 % interval of a linear combination of group means,
   judged like a direction.
+- a **larger spread** (:func:`spread`): the Brown-Forsythe test (Levene's about the
+  medians) with its p, judged like an ordering.
 - an **ordering over several values** (:func:`rank_order`): Spearman's rho over the runs with
   its two-sided p; it holds when rho has the paper's sign and p < 0.05, fails when rho has
   the other sign and p < 0.05, and is undecided otherwise.
@@ -44,6 +46,7 @@ __all__ = [
     "level_test",
     "pooled_share",
     "rank_order",
+    "spread",
 ]
 
 #: One minus the confidence of every interval, and the level of every test.
@@ -237,6 +240,26 @@ def combine(parts: Sequence[Verdict], ours: str, runs: int, why: str = "") -> Ve
         holds = None
     rules = list(dict.fromkeys(v.rule for v in parts if v.rule))
     return Verdict(ours, holds, why, "all of: " + "; ".join(rules), runs=runs)
+
+
+def spread(before: Sequence[float], after: Sequence[float], what: str = "") -> Verdict:
+    """Is the spread of ``after`` larger than that of ``before``? The Brown-Forsythe test
+    (Levene's test about the medians): holds when the SD is larger and p < 0.05, fails when
+    it is smaller and p < 0.05, and is undecided otherwise (``what`` names the values).
+    """
+    a = np.asarray(before, dtype=float)
+    b = np.asarray(after, dtype=float)
+    a, b = a[~np.isnan(a)], b[~np.isnan(b)]
+    rule = f"spread: Brown-Forsythe test (Levene about the medians), p < {ALPHA:g}, larger SD"
+    rule += f" of {what}" if what else ""
+    runs = len(a) + len(b)
+    if len(a) < 2 or len(b) < 2:
+        return Verdict("", None, "fewer than two values on a side", rule, runs=runs)
+    p = float(sps.levene(a, b, center="median").pvalue)
+    holds = None if not p < ALPHA else bool(b.std(ddof=1) > a.std(ddof=1))
+    why = "" if holds is not None else f"p = {p:.2g} >= {ALPHA:g}"
+    ours = f"SD {b.std(ddof=1):.3g} vs {a.std(ddof=1):.3g} (Brown-Forsythe p = {p:.2g})"
+    return Verdict(ours, holds, why, rule, runs=runs)
 
 
 def rank_order(factor: Sequence[float], values: Sequence[float], sign: int) -> Verdict:

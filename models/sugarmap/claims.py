@@ -17,7 +17,7 @@ import pandas as pd
 from scipy import stats as sps
 
 from abm.published import Verdict
-from abm.verdicts import ALPHA, combine, contrast, difference, rank_order
+from abm.verdicts import combine, contrast, difference, rank_order, spread
 
 __all__ = ["REFERENCE", "TESTS"]
 
@@ -214,34 +214,17 @@ def c07(runs, samples) -> Verdict | None:
     c2, c6 = _col(two, "coverage_1000"), _col(six, "coverage_1000")
     sd_rw = _col(rw, "coverage_1000").std(ddof=1) if not rw.empty else np.nan
     parts = [
-        _spread(c6, c2),
+        spread(c6, c2, "coverage at 1000 s"),
         difference(_col(six, "map_error"), _col(two, "map_error"), +1),
         difference(_col(six, "false_match_rate"), _col(two, "false_match_rate"), +1),
     ]
     return combine(
         parts,
-        f"SD at 1000 s: 2 anchors {c2.std(ddof=1):.1f}, 6 anchors {c6.std(ddof=1):.1f}, RW "
-        f"{sd_rw:.1f} ({parts[0].ours}); map error 2 - 6 anchors {parts[1].ours}; false-match "
-        f"rate 2 - 6 anchors {parts[2].ours}",
+        f"coverage at 1000 s, 2 vs 6 anchors: {parts[0].ours}, RW SD {sd_rw:.1f}; map error "
+        f"2 - 6 anchors {parts[1].ours}; false-match rate 2 - 6 anchors {parts[2].ours}",
         len(two) + len(six),
         "all three: spread, map error and false matches higher with 2 anchors",
     )
-
-
-def _spread(before: np.ndarray, after: np.ndarray) -> Verdict:
-    """Is the spread of ``after`` larger than that of ``before``? The Brown-Forsythe test
-    (Levene's test about the medians): holds when the SD is larger and p < 0.05, fails when
-    it is smaller and p < 0.05, and is undecided otherwise.
-    """
-    rule = f"spread: Brown-Forsythe test (Levene about the medians), p < {ALPHA:g}, larger SD"
-    runs = len(before) + len(after)
-    if len(before) < 2 or len(after) < 2:
-        return Verdict("", None, "fewer than two runs on a side", rule, runs=runs)
-    p = float(sps.levene(before, after, center="median").pvalue)
-    sd_a, sd_b = before.std(ddof=1), after.std(ddof=1)
-    holds = None if not p < ALPHA else bool(sd_b > sd_a)
-    why = "" if holds is not None else f"p = {p:.2g} >= {ALPHA:g}"
-    return Verdict(f"Brown-Forsythe p = {p:.2g}", holds, why, rule, runs=runs)
 
 
 def c22(runs, samples) -> Verdict | None:
