@@ -54,6 +54,14 @@ def test_c03_the_walk_still_rising_after_1500_s_needs_its_interval(effect, jitte
     assert verdict.holds is holds and verdict.low is not None
 
 
+@pytest.mark.parametrize(("jitter_walk", "holds"), [(10.0, True), (0.1, False), (1.2, None)])
+def test_c04_the_walks_high_variance_is_judged_by_a_brown_forsythe_test(jitter_walk, holds):
+    verdict = _judge(
+        "C04", _arm(SM, 1.0, coverage_1000=60), _arm(RW, jitter_walk, coverage_1000=40)
+    )
+    assert verdict.holds is holds and "Brown-Forsythe" in verdict.rule
+
+
 @pytest.mark.parametrize(
     ("gain_low", "gain_high", "jitter", "holds"),
     [(20.0, 2.0, 1.0, True), (2.0, 20.0, 1.0, False), (3.0, 2.0, 10.0, None)],

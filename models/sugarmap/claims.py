@@ -156,11 +156,8 @@ def c04(runs, samples) -> Verdict | None:
     rw = _walk(runs)
     if sm.empty or rw.empty or "coverage_1000" not in sm:
         return None
-    a, b = _col(rw, "coverage_1000"), _col(sm, "coverage_1000")
-    return Verdict(
-        f"SD at 1000 s: RW {a.std(ddof=1):.1f}, SM {b.std(ddof=1):.1f} points",
-        bool(a.std(ddof=1) > b.std(ddof=1)),
-    )
+    wider = spread(_col(sm, "coverage_1000"), _col(rw, "coverage_1000"), "coverage at 1000 s")
+    return replace(wider, ours=f"RW vs SM: {wider.ours} points")
 
 
 # ---------------------------------------------------------------------- Fig. 6
