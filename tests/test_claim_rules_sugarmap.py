@@ -154,3 +154,24 @@ def test_c23_less_overlap_than_the_walk_needs_its_interval(effect, jitter, holds
     rw = _arm(RW, jitter, overlap_1000=10)
     verdict = _judge("C23", sm, rw)
     assert verdict.holds is holds and verdict.low is not None
+
+
+@pytest.mark.parametrize("claim", ["C14", "C15"])
+@pytest.mark.parametrize(("step", "jitter", "holds"), [(1.0, 1.0, True), (-1.0, 1.0, False),
+                                                       (0.02, 20.0, None)])  # fmt: skip
+def test_c14_c15_the_particle_orderings_are_tested_over_the_runs(claim, step, jitter, holds):
+    # a positive step: coverage rises and overlap falls with the particles, as the paper says
+    arms = [_arm({**SM, "n_explorers": 2, "n_particles": k}, jitter,
+                 coverage_400=40 + step * k, overlap_400=30 - step * k)
+            for k in (1, 5, 10, 20)]  # fmt: skip
+    verdict = _judge(claim, *arms)
+    assert verdict.holds is holds and "Spearman" in verdict.rule
+
+
+@pytest.mark.parametrize(("step", "jitter", "holds"), [(2.0, 0.5, True), (-2.0, 0.5, False),
+                                                       (0.05, 20.0, None)])  # fmt: skip
+def test_c24_overlap_rising_with_the_noise_is_tested_over_the_runs(step, jitter, holds):
+    arms = [_arm({**SM, "n_explorers": 2, "noise_scale": x}, jitter, coverage_400=40,
+                 overlap_400=5 + step * x) for x in (0.0, 0.5, 1.0, 2.0)]  # fmt: skip
+    verdict = _judge("C24", *arms)
+    assert verdict.holds is holds and "Spearman" in verdict.rule

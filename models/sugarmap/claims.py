@@ -54,16 +54,6 @@ def _welch(a: np.ndarray, b: np.ndarray) -> float:
     return float(sps.ttest_ind(a, b, equal_var=False, alternative="greater").pvalue)
 
 
-def _rank(values: Sequence[float], factor: Sequence[float]) -> float:
-    rho = sps.spearmanr(factor, values).statistic if len(set(factor)) > 1 else np.nan
-    return float(rho)
-
-
-def _series(runs: pd.DataFrame, by: str, metric: str) -> dict:
-    """Per value of ``by``: the metric's values over the runs."""
-    return {k: _col(g, metric) for k, g in runs.groupby(by)} if by in runs else {}
-
-
 def _walk(runs: pd.DataFrame, walk: str = "lattice") -> pd.DataFrame:
     """The random walk's runs on the reference set-up (``walk``: "lattice" or "bounce")."""
     return _select(runs, **REFERENCE, algorithm="random_walk", random_walk=walk)
@@ -432,13 +422,9 @@ def c14(runs, samples) -> Verdict | None:
     if sm.empty:
         return None
     means = sm.groupby("n_particles")["coverage_400"].mean()
-    rho = _rank(means.to_numpy(), means.index.to_numpy(float))
-    ok = rho > 0 and means.iloc[-1] > means.iloc[0]
-    return Verdict(
-        "coverage at 400 ticks: " + ", ".join(f"{k}: {v:.1f}" for k, v in means.items()),
-        bool(ok),
-        f"Spearman rho over particle counts {rho:+.2f}",
-    )
+    rises = rank_order(sm["n_particles"], sm["coverage_400"], +1)
+    shown = ", ".join(f"{k}: {v:.1f}" for k, v in means.items())
+    return replace(rises, ours=f"coverage at 400 ticks: {shown}; {rises.ours}")
 
 
 def c15(runs, samples) -> Verdict | None:
@@ -446,12 +432,9 @@ def c15(runs, samples) -> Verdict | None:
     if sm.empty:
         return None
     means = sm.groupby("n_particles")["overlap_400"].mean()
-    rho = _rank(means.to_numpy(), means.index.to_numpy(float))
-    return Verdict(
-        "overlap at 400 ticks: " + ", ".join(f"{k}: {v:.2f}" for k, v in means.items()),
-        bool(rho < 0),
-        f"Spearman rho {rho:+.2f}",
-    )
+    falls = rank_order(sm["n_particles"], sm["overlap_400"], -1)
+    shown = ", ".join(f"{k}: {v:.2f}" for k, v in means.items())
+    return replace(falls, ours=f"overlap at 400 ticks: {shown}; {falls.ours}")
 
 
 def c16(runs, samples) -> Verdict | None:
@@ -568,13 +551,9 @@ def c24(runs, samples) -> Verdict | None:
     if sm.empty:
         return None
     overlap = sm.groupby("noise_scale")["overlap_400"].mean()
-    rho = _rank(overlap.to_numpy(), overlap.index.to_numpy(float))
-    return Verdict(
-        "overlap at 400 ticks by noise scale: "
-        + ", ".join(f"x{k:g}: {v:.2f}" for k, v in overlap.items()),
-        bool(rho > 0),
-        f"Spearman rho {rho:+.2f}",
-    )  # fmt: skip
+    rises = rank_order(sm["noise_scale"], sm["overlap_400"], +1)
+    shown = ", ".join(f"x{k:g}: {v:.2f}" for k, v in overlap.items())
+    return replace(rises, ours=f"overlap at 400 ticks by noise scale: {shown}; {rises.ours}")
 
 
 def c27(runs, samples) -> Verdict | None:
