@@ -215,10 +215,12 @@ def c07(runs, samples) -> Verdict | None:
 
 
 def c22(runs, samples) -> Verdict | None:
-    """SugarMap's advantage (mean coverage at 500 s minus the lattice walk's, in points) is
+    """SugarMap's advantage over the lattice walk, as a ratio of coverage at 500 s (a ratio:
+    in the 10 m square both cover most of the place, so points understate the advantage), is
     larger in the 20 m square than in the 10 m one at each swarm size, and with 2 explorers
-    than with 4 in each square: each of the four comparisons is a Welch interval of a
-    difference of differences that must exclude 0.
+    than with 4 in each square. Each of the four comparisons is a Welch interval of a
+    difference of differences of mean log coverage (log SM - log RW: the log of the ratio of
+    geometric means) that must exclude 0.
     """
     base = {k: v for k, v in REFERENCE.items() if k not in ("arena", "n_explorers")}
     ratio, cov = {}, {}
@@ -231,25 +233,30 @@ def c22(runs, samples) -> Verdict | None:
             a, b = _col(sm, "coverage_500"), _col(rw, "coverage_500")
             if not len(a) or not len(b):
                 return None
-            ratio[arena, n] = a.mean() - b.mean()
+            ratio[arena, n] = a.mean() / b.mean()
             cov[arena, n] = (a, b)
+    used = sum(len(a) + len(b) for a, b in cov.values())
+    if any((v <= 0).any() for pair in cov.values() for v in pair):
+        return Verdict("a run covered nothing by 500 s", None, "no log ratio: not judged",
+                       runs=used)  # fmt: skip
 
     def gain(one: tuple, other: tuple, what: str) -> Verdict:
         (a1, b1), (a2, b2) = cov[one], cov[other]
-        return contrast((a1, b1, a2, b2), (1, -1, -1, 1), +1, what)
+        logs = [np.log(v) for v in (a1, b1, a2, b2)]
+        return contrast(logs, (1, -1, -1, 1), +1, what)
 
-    larger = [gain(("open", n), ("open10", n), "the advantage in 20 m minus that in 10 m")
+    larger = [gain(("open", n), ("open10", n), "the log advantage in 20 m minus that in 10 m")
               for n in (2, 4)]  # fmt: skip
-    fewer = [gain((arena, 2), (arena, 4), "the advantage with 2 explorers minus with 4")
+    fewer = [gain((arena, 2), (arena, 4), "the log advantage with 2 explorers minus with 4")
              for arena in ("open", "open10")]  # fmt: skip
-    shown = ", ".join(f"{a} {n} explorers {r:+.1f}" for (a, n), r in ratio.items())
+    shown = ", ".join(f"{a} {n} explorers {r:.2f}x" for (a, n), r in ratio.items())
     tests = ", ".join(f"{w} {v.ours}" for w, v in zip(
         ("20 vs 10 m, 2 explorers", "20 vs 10 m, 4 explorers", "2 vs 4 explorers, 20 m",
          "2 vs 4 explorers, 10 m"), larger + fewer, strict=True))  # fmt: skip
     return combine(
         larger + fewer,
-        f"SM - RW coverage at 500 s: {shown} points; {tests}",
-        sum(len(a) + len(b) for a, b in cov.values()),
+        f"SM / RW coverage at 500 s: {shown}; differences of log ratios: {tests}",
+        used,
         "the advantage larger in the larger place and with fewer nodes",
     )
 
