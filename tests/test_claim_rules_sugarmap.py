@@ -175,3 +175,31 @@ def test_c24_overlap_rising_with_the_noise_is_tested_over_the_runs(step, jitter,
                  overlap_400=5 + step * x) for x in (0.0, 0.5, 1.0, 2.0)]  # fmt: skip
     verdict = _judge("C24", *arms)
     assert verdict.holds is holds and "Spearman" in verdict.rule
+
+
+def _split_runs(jitter: float, coverage: dict, growth: dict) -> pd.DataFrame:
+    """Fig. 8's runs: anchors + explorers = 10, explorers 2-8."""
+    return pd.concat(
+        [_arm({**SM, "n_explorers": e, "n_anchors": 10 - e}, jitter, coverage_1000=coverage[e],
+              map_error_500=0.1, map_error_3000=0.1 + growth[10 - e]) for e in range(2, 9)],
+        ignore_index=True,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(("knee", "jitter", "holds"), [(10.0, 1.0, True), (-10.0, 1.0, False),
+                                                       (1.0, 10.0, None)])  # fmt: skip
+def test_c12_the_knee_is_a_difference_of_gains_with_its_interval(knee, jitter, holds):
+    # gains of 5 points per explorer up to 6 explorers, then 5 - knee
+    coverage = {e: 30 + 5 * min(e, 6) + (5 - knee) * max(0, e - 6) for e in range(2, 9)}
+    verdict = _judge("C12", _split_runs(jitter, coverage, dict.fromkeys(range(2, 9), 0.0)))
+    assert verdict.holds is holds and "(gain 5->6) - (gain 6->7)" in verdict.rule
+
+
+@pytest.mark.parametrize(("few", "jitter", "holds"), [(0.5, 0.01, True), (-0.5, 0.01, False),
+                                                      (0.01, 0.5, None)])  # fmt: skip
+def test_c13_the_map_error_growth_with_few_anchors_needs_its_intervals(few, jitter, holds):
+    growth = {a: (few if a <= 3 else 0.0) for a in range(2, 9)}
+    runs = _split_runs(1.0, dict.fromkeys(range(2, 9), 50.0), growth)
+    runs["map_error_3000"] += jitter * np.tile(SPREAD, 7)
+    verdict = _judge("C13", runs)
+    assert verdict.holds is holds and "Welch" in verdict.rule
