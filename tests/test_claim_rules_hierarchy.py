@@ -28,6 +28,7 @@ def _runs(column: str, level, jitter: float, **fixed) -> pd.DataFrame:
                 "scout_scan_area": 100.0 / n, "worker_scan_area": 50.0 / n,
                 "scout_drive": 100.0 / n, "worker_drive": 20.0 / n**0.1,
                 "end_reason": "complete", "complete": True, "known_free_fraction": 1.0,
+                "completion_time": 1000.0,
                 **fixed, column: level(n) + jitter * rng.standard_normal(),
             })  # fmt: skip
     return pd.DataFrame(rows)
@@ -42,11 +43,13 @@ def test_c1_judges_the_mean_share_known_against_a_band_not_the_minimum(mean, jit
     assert verdict.holds is holds and "two-sided band 100 +- 0.1" in verdict.rule
 
 
-@pytest.mark.parametrize("claim", ["C2", "C6"])
+@pytest.mark.parametrize("claim", ["C2", "C6", "C9"])
 @pytest.mark.parametrize(("slope", "jitter", "holds"), [(-1.0, 1.0, True), (1.0, 1.0, False),
                                                         (-0.05, 30.0, None)])  # fmt: skip
-def test_c2_c6_the_fall_with_n_is_an_ordering_over_the_runs_with_its_p(claim, slope, jitter, holds):
-    metric = {"C2": "scout_scan_area", "C6": "scout_drive"}[claim]
+def test_c2_c6_c9_the_fall_with_n_is_an_ordering_over_the_runs_with_its_p(
+    claim, slope, jitter, holds
+):
+    metric = {"C2": "scout_scan_area", "C6": "scout_drive", "C9": "completion_time"}[claim]
     verdict = TESTS[claim](_runs(metric, lambda n: 100 + slope * n, jitter), None)
     assert verdict.holds is holds and "Spearman" in verdict.rule
 
