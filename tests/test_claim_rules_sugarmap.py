@@ -39,6 +39,14 @@ def _judge(claim: str, *arms: pd.DataFrame, samples=None):
 
 
 @pytest.mark.parametrize(("effect", "jitter", "holds"), CASES)
+def test_c01_sugarmap_ahead_of_the_walk_by_the_welch_interval(effect, jitter, holds):
+    sm = _arm(SM, jitter, **_coverage(50 + effect))
+    rw = _arm(RW, jitter, **_coverage(50))
+    verdict = _judge("C01", sm, rw)
+    assert verdict.holds is holds and "Welch 95 % interval" in verdict.rule
+
+
+@pytest.mark.parametrize(("effect", "jitter", "holds"), CASES)
 def test_c02_omstc_ahead_of_sugarmap_by_the_welch_interval(effect, jitter, holds):
     sm = _arm(SM, jitter, **_coverage(50), t90=2000)
     om = _arm(OM, jitter, **_coverage(50 + effect))
