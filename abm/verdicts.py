@@ -11,6 +11,11 @@ our value and its 95 % interval, so the report shows how every verdict was reach
 - a **direction** or an **ordering of two conditions** (:func:`difference`): the Welch 95 %
   interval of the difference of the means excludes zero on the paper's side (holds), on the
   other side (fails), or includes zero (undecided), with the two-sided Welch p.
+- a **difference of differences** (:func:`contrast`, e.g. "the gain from 2 to 4 is larger
+  than from 8 to 10"): the Welch 95 % interval of a linear combination of group means,
+  judged like a direction.
+- a **larger spread** (:func:`spread`): the Brown-Forsythe test (Levene's about the
+  medians) with its p, judged like an ordering.
 - an **ordering over several values** (:func:`rank_order`): Spearman's rho over the runs with
   its two-sided p; it holds when rho has the paper's sign and p < 0.05, fails when rho has
   the other sign and p < 0.05, and is undecided otherwise.
@@ -32,6 +37,8 @@ from abm.published import Published, Verdict
 __all__ = [
     "ALPHA",
     "band",
+    "combine",
+    "contrast",
     "correlation",
     "difference",
     "interval",
@@ -39,6 +46,7 @@ __all__ = [
     "level_test",
     "pooled_share",
     "rank_order",
+    "spread",
 ]
 
 #: One minus the confidence of every interval, and the level of every test.
@@ -189,6 +197,72 @@ def difference(
     ours = f"{diff:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
     why = _WHY[holds]
     return Verdict(ours, holds, why, rule, mean=diff, low=low, high=high, runs=runs)
+
+
+def contrast(
+    groups: Sequence[Sequence[float]], weights: Sequence[float], sign: int, what: str
+) -> Verdict:
+    """The direction rule on a linear contrast ``sum(w_i mean_i)`` of group means (e.g.
+    (m4 - m2) - (m10 - m8) with weights -1, 1, 1, -1): its Welch-Satterthwaite 95 % interval
+    excludes 0 on ``sign``'s side (holds), on the other (fails), or includes 0 (undecided).
+    ``what`` names the contrast in the rule.
+    """
+    xs = [np.asarray(g, dtype=float) for g in groups]
+    xs = [x[~np.isnan(x)] for x in xs]
+    word = "positive" if sign > 0 else "negative"
+    rule = f"direction: Welch 95 % interval of {what} excludes 0 ({word})"
+    runs = sum(len(x) for x in xs)
+    if any(len(x) < 2 for x in xs):
+        return Verdict("", None, "fewer than two runs in a group: no interval", rule, runs=runs)
+    value = float(sum(w * x.mean() for w, x in zip(weights, xs, strict=True)))
+    parts = [w * w * x.var(ddof=1) / len(x) for w, x in zip(weights, xs, strict=True)]
+    se = float(np.sqrt(sum(parts)))
+    if se == 0:
+        low = high = value
+        p = 0.0 if value != 0 else 1.0
+    else:
+        df = sum(parts) ** 2 / sum(v * v / (len(x) - 1) for v, x in zip(parts, xs, strict=True))
+        half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
+        low, high = value - half, value + half
+        p = float(2 * sps.t.sf(abs(value) / se, df))
+    holds = _sided(low, high, sign)
+    ours = f"{value:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
+    return Verdict(ours, holds, _WHY[holds], rule, mean=value, low=low, high=high, runs=runs)
+
+
+def combine(parts: Sequence[Verdict], ours: str, runs: int, why: str = "") -> Verdict:
+    """One verdict for a claim that needs every part to hold: it holds when all parts hold,
+    fails when any part fails, and is undecided otherwise; the rule lists the parts' rules
+    (``runs``: the runs the parts used together).
+    """
+    if any(v.holds is False for v in parts):
+        holds: bool | None = False
+    elif all(v.holds is True for v in parts) and parts:
+        holds = True
+    else:
+        holds = None
+    rules = list(dict.fromkeys(v.rule for v in parts if v.rule))
+    return Verdict(ours, holds, why, "all of: " + "; ".join(rules), runs=runs)
+
+
+def spread(before: Sequence[float], after: Sequence[float], what: str = "") -> Verdict:
+    """Is the spread of ``after`` larger than that of ``before``? The Brown-Forsythe test
+    (Levene's test about the medians): holds when the SD is larger and p < 0.05, fails when
+    it is smaller and p < 0.05, and is undecided otherwise (``what`` names the values).
+    """
+    a = np.asarray(before, dtype=float)
+    b = np.asarray(after, dtype=float)
+    a, b = a[~np.isnan(a)], b[~np.isnan(b)]
+    rule = f"spread: Brown-Forsythe test (Levene about the medians), p < {ALPHA:g}, larger SD"
+    rule += f" of {what}" if what else ""
+    runs = len(a) + len(b)
+    if len(a) < 2 or len(b) < 2:
+        return Verdict("", None, "fewer than two values on a side", rule, runs=runs)
+    p = float(sps.levene(a, b, center="median").pvalue)
+    holds = None if not p < ALPHA else bool(b.std(ddof=1) > a.std(ddof=1))
+    why = "" if holds is not None else f"p = {p:.2g} >= {ALPHA:g}"
+    ours = f"SD {b.std(ddof=1):.3g} vs {a.std(ddof=1):.3g} (Brown-Forsythe p = {p:.2g})"
+    return Verdict(ours, holds, why, rule, runs=runs)
 
 
 def rank_order(factor: Sequence[float], values: Sequence[float], sign: int) -> Verdict:

@@ -212,5 +212,5 @@ def test_claim_c14_is_judged_on_the_arms_runs(arms):
 
     verdict = c14(pd.DataFrame([m.summary() for m in arms.values()]), None)
     assert verdict is not None and "at 4 scouts" in verdict.ours
-    fc, hst = arms["fc"].summary()["messages_task"], arms["hst"].summary()["messages_task"]
-    assert verdict.holds == (fc > hst)
+    # one run per arm gives no interval of the difference: no verdict, and it says why
+    assert verdict.holds is None and "fewer than two runs" in verdict.ours

@@ -110,7 +110,7 @@ def test_a_claim_without_its_set_up_in_the_runs_gives_no_verdict():
 def test_c22_needs_the_larger_advantage_in_the_larger_place(big, small, holds):
     parts = []
     for arena, ratio in (("open", big), ("open10", small)):
-        for n, extra in ((2, 0.3), (4, 0.0)):  # fewer nodes: a larger advantage in both
+        for n, extra in ((2, 1.0), (4, 0.0)):  # fewer nodes: a larger advantage in both
             parts.append(_runs("sugarmap", 30 * (ratio + extra), arena=arena, n_explorers=n))
             parts.append(_runs("random_walk", 30, arena=arena, n_explorers=n))
     assert _verdict("C22", pd.concat(parts)).holds is holds

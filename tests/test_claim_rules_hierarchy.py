@@ -1,0 +1,98 @@
+"""The hierarchy's claims C1, C2, C4, C6, C7 and C14 are judged by a stated rule with an
+interval or a test: on made-up runs each holds when the effect is clear, does not hold when it
+is reversed, and is undecided when the runs' spread leaves it within noise (the former rules
+on condition means, a minimum or a ratio decided those runs)."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from models.hierarchy.claims import TESTS
+
+#: Configurations (W workers, S scouts per worker): N = 1 + W + W S robots.
+GRID = [(w, s) for w in (2, 3, 4, 5) for s in (1, 2, 3, 4)]
+#: Per-run offsets within a configuration (4 runs): mean 0.
+OFFSETS = np.array([-1.0, -0.33, 0.33, 1.0])
+
+
+def _runs(column: str, level, jitter: float, **fixed) -> pd.DataFrame:
+    """Four runs per configuration; ``column`` is level(N) plus jitter x a standard normal
+    (fixed seed: the same made-up runs every time)."""
+    rng = np.random.default_rng(5)
+    rows = []
+    for w, s in GRID:
+        n = 1 + w + w * s
+        for _ in OFFSETS:
+            rows.append({
+                "W": w, "S": s, "N": n, "topology": "hst", "wave_generator": True,
+                "scout_scan_area": 100.0 / n, "worker_scan_area": 50.0 / n,
+                "scout_drive": 100.0 / n, "worker_drive": 20.0 / n**0.1,
+                "end_reason": "complete", "complete": True, "known_free_fraction": 1.0,
+                "completion_time": 1000.0,
+                **fixed, column: level(n) + jitter * rng.standard_normal(),
+            })  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+@pytest.mark.parametrize(
+    ("mean", "jitter", "holds"), [(0.9999, 0.0001, True), (0.99, 0.001, False),
+                                  (0.999, 0.002, None)]
+)  # fmt: skip
+def test_c1_judges_the_mean_share_known_against_a_band_not_the_minimum(mean, jitter, holds):
+    verdict = TESTS["C1"](_runs("known_free_fraction", lambda n: mean, jitter), None)
+    assert verdict.holds is holds and "two-sided band 100 +- 0.1" in verdict.rule
+
+
+@pytest.mark.parametrize("claim", ["C2", "C6", "C9"])
+@pytest.mark.parametrize(("slope", "jitter", "holds"), [(-1.0, 1.0, True), (1.0, 1.0, False),
+                                                        (-0.05, 30.0, None)])  # fmt: skip
+def test_c2_c6_c9_the_fall_with_n_is_an_ordering_over_the_runs_with_its_p(
+    claim, slope, jitter, holds
+):
+    metric = {"C2": "scout_scan_area", "C6": "scout_drive", "C9": "completion_time"}[claim]
+    verdict = TESTS[claim](_runs(metric, lambda n: 100 + slope * n, jitter), None)
+    assert verdict.holds is holds and "Spearman" in verdict.rule
+
+
+@pytest.mark.parametrize(("scatter", "holds"), [(1.0, True), (0.1, None), (0.005, False)])
+def test_c4_the_workers_more_sporadic_curve_needs_a_spread_test(scatter, holds):
+    # the means fall with N and wander about their trend: workers by scatter, scouts by 0.1
+    runs = _runs("worker_scan_area", lambda n: 50.0 / n * np.exp(scatter * np.sin(1.3 * n)), 0.0)
+    runs["scout_scan_area"] = 100.0 / runs["N"] * np.exp(0.1 * np.sin(runs["N"]))
+    verdict = TESTS["C4"](runs, None)
+    assert verdict.holds is holds and "Brown-Forsythe" in verdict.rule
+    runs["worker_scan_area"] = 50.0 * runs["N"] * np.exp(np.sin(1.3 * runs["N"]))  # rises
+    assert TESTS["C4"](runs, None).holds is False
+
+
+@pytest.mark.parametrize(("power", "jitter", "holds"), [(0.1, 0.2, True), (1.5, 0.2, False),
+                                                        (0.9, 40.0, None)])  # fmt: skip
+def test_c7_the_slighter_fall_of_level_1_is_a_difference_of_slopes(power, jitter, holds):
+    runs = _runs("worker_drive", lambda n: 100.0 / n**power, 0.0)
+    runs["worker_drive"] *= np.exp(jitter / 100 * np.tile(OFFSETS, len(GRID)))
+    runs["scout_drive"] = (
+        100.0 / runs["N"] * np.exp(jitter / 100 * np.tile(OFFSETS[::-1], len(GRID)))
+    )
+    verdict = TESTS["C7"](runs, None)
+    assert verdict.holds is holds and verdict.low is not None
+
+
+@pytest.mark.parametrize(("flat", "jitter", "holds"), [(500.0, 10.0, True), (50.0, 10.0, False),
+                                                       (105.0, 50.0, None)])  # fmt: skip
+def test_c14_hst_sends_fewer_by_the_welch_interval_at_every_size(flat, jitter, holds):
+    rows = []
+    for w, s in ((2, 2), (2, 4), (4, 4)):
+        for topology, level in (("hst", 100.0), ("fc", flat), ("ring", flat)):
+            for offset in OFFSETS:
+                rows.append(
+                    {
+                        "W": w,
+                        "S": s,
+                        "N": 1 + w + w * s,
+                        "topology": topology,
+                        "scout_scan_area": 1.0,
+                        "messages_task": level + jitter * offset,
+                    }
+                )
+    verdict = TESTS["C14"](pd.DataFrame(rows), None)
+    assert verdict.holds is holds and "Welch 95 % interval" in verdict.rule

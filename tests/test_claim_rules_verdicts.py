@@ -1,0 +1,52 @@
+"""The rules abm.verdicts adds for claims of several parts: a linear contrast of group means
+(a difference of differences), a larger spread by the Brown-Forsythe test, and one verdict
+for a claim whose every part must hold."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from abm import verdicts
+from abm.published import Verdict
+
+samples = st.lists(st.integers(-5000, 5000).map(lambda v: v / 100), min_size=2, max_size=12)
+
+
+@given(samples, samples, st.sampled_from([-1, 1]))
+def test_a_contrast_of_two_groups_is_the_welch_difference(before, after, sign):
+    two = verdicts.contrast([before, after], (-1, 1), sign, "after - before")
+    welch = verdicts.difference(before, after, sign)
+    assert two.holds is welch.holds
+    assert two.low == pytest.approx(welch.low, abs=1e-9)
+    assert two.high == pytest.approx(welch.high, abs=1e-9)
+
+
+def test_a_difference_of_differences_needs_its_interval_to_exclude_zero():
+    spread = np.linspace(-1.0, 1.0, 8)
+    gains = [40 + spread, 60 + spread, 80 + spread, 82 + spread]  # gains 20 then 2
+    assert verdicts.contrast(gains, (-1, 1, 1, -1), +1, "gain").holds is True
+    noisy = [40 + 30 * spread, 43 + 30 * spread, 80 + 30 * spread, 82 + 30 * spread]
+    verdict = verdicts.contrast(noisy, (-1, 1, 1, -1), +1, "gain")
+    assert verdict.holds is None and verdict.low < 0 < verdict.high
+
+
+def test_a_larger_spread_is_judged_by_the_brown_forsythe_p():
+    spread = np.linspace(-1.0, 1.0, 10)
+    assert verdicts.spread(spread, 10 * spread).holds is True
+    assert verdicts.spread(10 * spread, spread).holds is False
+    alike = verdicts.spread(spread, 1.2 * spread[::-1])
+    assert alike.holds is None and "p = " in alike.why
+
+
+@given(st.lists(st.sampled_from([True, False, None]), min_size=1, max_size=5))
+def test_a_claim_of_several_parts_holds_only_when_every_part_holds(parts):
+    judged = verdicts.combine([Verdict("", h, "", f"rule {i}") for i, h in enumerate(parts)],
+                              "ours", 10)  # fmt: skip
+    if False in parts:
+        assert judged.holds is False
+    elif None in parts:
+        assert judged.holds is None
+    else:
+        assert judged.holds is True
+    assert all(f"rule {i}" in judged.rule for i in range(len(parts)))
