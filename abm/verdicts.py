@@ -37,6 +37,7 @@ from abm.published import Published, Verdict
 __all__ = [
     "ALPHA",
     "band",
+    "censored",
     "combine",
     "contrast",
     "correlation",
@@ -228,6 +229,19 @@ def contrast(
     holds = _sided(low, high, sign)
     ours = f"{value:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
     return Verdict(ours, holds, _WHY[holds], rule, mean=value, low=low, high=high, runs=runs)
+
+
+def censored(ours: str, missing: int, runs: int, what: str) -> Verdict:
+    """The undecided verdict of a claim whose metric ``missing`` of ``runs`` runs never reached
+    (right-censored: only a lower bound is known), so it is not judged.
+    """
+    return Verdict(
+        ours,
+        None,
+        f"{what} is censored: not judged from censored values",
+        runs=runs,
+        censored=missing / runs,
+    )
 
 
 def combine(parts: Sequence[Verdict], ours: str, runs: int, why: str = "") -> Verdict:

@@ -17,7 +17,7 @@ import pandas as pd
 from scipy import stats as sps
 
 from abm.published import Verdict
-from abm.verdicts import ALPHA, band, combine, difference, rank_order, spread
+from abm.verdicts import ALPHA, band, censored, combine, difference, rank_order, spread
 
 __all__ = ["TESTS"]
 
@@ -214,13 +214,8 @@ def c9(runs, samples) -> Verdict | None:
         return None
     missing = int(runs["completion_time"].isna().sum())
     if missing:  # a run that did not complete has no completion time, only a lower bound
-        return Verdict(
-            f"{missing} of {len(runs)} runs did not complete",
-            None,
-            "completion time is censored: not judged from censored values",
-            runs=len(runs),
-            censored=missing / len(runs),
-        )
+        ours = f"{missing} of {len(runs)} runs did not complete"
+        return censored(ours, missing, len(runs), "completion time")
     falls = rank_order(runs["N"], runs["completion_time"], -1)
     first, last = cfg.loc[cfg["N"].idxmin()], cfg.loc[cfg["N"].idxmax()]
     ours = (f"completion time: Spearman {falls.ours}; {first.y:,.0f} s at N={first.N:.0f}"

@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from abm.published import Verdict
-from abm.verdicts import combine, contrast, difference, rank_order, spread
+from abm.verdicts import censored, combine, contrast, difference, rank_order, spread
 
 __all__ = ["REFERENCE", "TESTS"]
 
@@ -72,21 +72,21 @@ def c01(runs, samples, walk: str = "lattice") -> Verdict | None:
             continue
         tests.append(difference(b, a, +1))  # SM - RW > 0
         parts.append(f"{t} s: SM {a.mean():.0f} vs RW {b.mean():.0f} %, SM - RW {tests[-1].ours}")
-    censored = []
+    unreached = []
     for level in (50, 80):
         column = f"t{level}"
         if column not in sm or column not in rw:
             continue
         missing = int(sm[column].isna().sum() + rw[column].isna().sum())
         if missing:  # runs that never reached the level: their T is only a lower bound
-            censored.append(f"T{level} censored in {missing} of {len(sm) + len(rw)} runs")
+            unreached.append(f"T{level} censored in {missing} of {len(sm) + len(rw)} runs")
             continue
         a, b = _col(sm, column), _col(rw, column)
         tests.append(difference(b, a, -1))  # SM - RW < 0
         parts.append(f"T{level} {a.mean():.0f} vs {b.mean():.0f} s, SM - RW {tests[-1].ours}")
     why = f"{walk} random walk"
-    if censored:
-        why += f"; {', '.join(censored)}: not judged"
+    if unreached:
+        why += f"; {', '.join(unreached)}: not judged"
     if not alt.empty:
         b = _col(alt, "coverage_1000")
         why += f"; the {other} walk has {b.mean():.0f} % at 1000 s"
@@ -317,21 +317,16 @@ def _t50_censored(sm: pd.DataFrame) -> Verdict | None:
     missing = int(sm["t50"].isna().sum())
     if not missing:
         return None
-    return Verdict(
-        f"T50 missing in {missing} of {len(sm)} runs (the level was not reached)",
-        None,
-        "T50 is censored: not judged from censored values",
-        runs=len(sm),
-        censored=missing / len(sm),
-    )
+    ours = f"T50 missing in {missing} of {len(sm)} runs (the level was not reached)"
+    return censored(ours, missing, len(sm), "T50")
 
 
 def c09(runs, samples) -> Verdict | None:
     sm = _explorers(runs)
     if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
         return None
-    if (censored := _t50_censored(sm)) is not None:
-        return censored
+    if (cut := _t50_censored(sm)) is not None:
+        return cut
     t50 = _t50(sm)
     parts, ok = [], True
     for n in (k for k in t50.index if 1 < k <= 4):
@@ -345,8 +340,8 @@ def c10(runs, samples) -> Verdict | None:
     sm = _explorers(runs)
     if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
         return None
-    if (censored := _t50_censored(sm)) is not None:
-        return censored
+    if (cut := _t50_censored(sm)) is not None:
+        return cut
     t50 = _t50(sm)
     efficiency = {n: t50[1] / (n * t50[n]) for n in t50.index}
     overlap = sm.groupby("n_explorers")["overlap"].mean()
@@ -501,14 +496,11 @@ def c17(runs, samples) -> Verdict | None:
                 ok &= gap <= 0
     missing = int(sm["t80"].isna().sum()) if "t80" in sm else len(sm)
     if missing:  # a mean T80 over the runs that reached 80 % would favour the fast ones
-        return Verdict(
+        ours = (
             f"T80 missing in {missing} of {len(sm)} runs; largest |mean gap| - (SD + SD): "
-            f"{worst:+.1f} points",
-            None,
-            "T80 is censored: not judged from censored values",
-            runs=len(sm),
-            censored=missing / len(sm),
+            f"{worst:+.1f} points"
         )
+        return censored(ours, missing, len(sm), "T80")
     t80 = {a: float(_col(g, "t80").mean()) for a, g in groups.items()}
     spread = max(t80.values()) / min(t80.values()) - 1
     ok &= spread <= 0.25
