@@ -136,7 +136,8 @@ def c3(runs, samples) -> Verdict | None:
         f"left after log N; with log(W S) instead: c = {c_s:+.3f}, {share_s:.1%}. "
         f"Equal-scout groups: {'; '.join(spreads) or 'none in these runs'}"
     )
-    return Verdict(ours, share_n < W_SHARE, f"W explains < {W_SHARE:.0%} after log N (spec §4.5)")
+    rule = f"W explains < {W_SHARE:.0%} after log N (our threshold; the model's README, C3)"
+    return Verdict(ours, share_n < W_SHARE, rule)
 
 
 def _residuals(runs: pd.DataFrame, metric: str) -> np.ndarray:
@@ -250,7 +251,8 @@ def c12(runs, samples) -> Verdict | None:
     if not off.empty:
         text += f"; without waves ({len(off)} runs): {per_run(off)}"
     holds = bool(on["wave_order_violations"].sum() == 0 and on["robot_proximity_events"].sum() == 0)
-    return Verdict(text, holds, "both diagnostics 0 with the wave generator (spec §4.5)")
+    rule = "both diagnostics 0 with the wave generator (the model's README, C12)"
+    return Verdict(text, holds, rule)
 
 
 def c14(runs, samples) -> Verdict | None:
