@@ -12,7 +12,7 @@ from abm.units import Quantity
 __all__ = ["SUMMARY_UNITS"]
 
 SUMMARY_UNITS = {
-    "topology": Quantity("text", "the swarm's topology (hst, flat)"),
+    "topology": Quantity("text", "the swarm's topology: hst (the tree), star, fc or ring"),
     "N": Quantity("count", "robots N = 1 + W + W S (queen, workers, scouts)"),
     "links": Quantity("count", "links of the comm graph"),
     "W": Quantity("count", "workers W"),
