@@ -59,8 +59,9 @@ class SwarmModel(mesa.Model):
     - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
     - ``CENSORED``: the summary metrics a run's end can cut short (:class:`~abm.published.Censored`:
-      a time to a target that a time limit censors); reports show them as censored (share,
-      Kaplan-Meier median) and judge no published number from censored values.
+      a time to a target, or anything a run accumulates, that a time limit censors); reports
+      show them as censored (share, Kaplan-Meier median), judge no published number from
+      censored values and run no statistic on them.
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
