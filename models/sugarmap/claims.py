@@ -470,24 +470,37 @@ def _particles(runs, noise: float = 1.0) -> pd.DataFrame:
     return _varying(kept, "n_particles", n_explorers=2, noise_scale=noise)
 
 
+def _ordering(
+    sm: pd.DataFrame,
+    factor: str,
+    metric: str,
+    sign: int,
+    what: str,
+    shown: Callable[[float, float], str],
+) -> Verdict:
+    """``metric`` ordered over ``factor`` (Spearman over the runs, the sign ``sign``), with
+    the condition means shown as ``shown(value, mean)`` after ``what``.
+    """  # fmt: skip
+    means = sm.groupby(factor)[metric].mean()
+    judged = rank_order(sm[factor], sm[metric], sign)
+    listed = ", ".join(shown(k, v) for k, v in means.items())
+    return replace(judged, ours=f"{what}: {listed}; {judged.ours}")
+
+
 def c14(runs, samples) -> Verdict | None:
     sm = _particles(runs)
     if sm.empty:
         return None
-    means = sm.groupby("n_particles")["coverage_400"].mean()
-    rises = rank_order(sm["n_particles"], sm["coverage_400"], +1)
-    shown = ", ".join(f"{k}: {v:.1f}" for k, v in means.items())
-    return replace(rises, ours=f"coverage at 400 ticks: {shown}; {rises.ours}")
+    return _ordering(sm, "n_particles", "coverage_400", +1, "coverage at 400 ticks",
+                     lambda k, v: f"{k}: {v:.1f}")  # fmt: skip
 
 
 def c15(runs, samples) -> Verdict | None:
     sm = _particles(runs)
     if sm.empty:
         return None
-    means = sm.groupby("n_particles")["overlap_400"].mean()
-    falls = rank_order(sm["n_particles"], sm["overlap_400"], -1)
-    shown = ", ".join(f"{k}: {v:.2f}" for k, v in means.items())
-    return replace(falls, ours=f"overlap at 400 ticks: {shown}; {falls.ours}")
+    return _ordering(sm, "n_particles", "overlap_400", -1, "overlap at 400 ticks",
+                     lambda k, v: f"{k}: {v:.2f}")  # fmt: skip
 
 
 def c16(runs, samples) -> Verdict | None:
@@ -610,10 +623,8 @@ def c24(runs, samples) -> Verdict | None:
     sm = _noise(runs)
     if sm.empty:
         return None
-    overlap = sm.groupby("noise_scale")["overlap_400"].mean()
-    rises = rank_order(sm["noise_scale"], sm["overlap_400"], +1)
-    shown = ", ".join(f"x{k:g}: {v:.2f}" for k, v in overlap.items())
-    return replace(rises, ours=f"overlap at 400 ticks by noise scale: {shown}; {rises.ours}")
+    return _ordering(sm, "noise_scale", "overlap_400", +1, "overlap at 400 ticks by noise scale",
+                     lambda k, v: f"x{k:g}: {v:.2f}")  # fmt: skip
 
 
 def c27(runs, samples) -> Verdict | None:
