@@ -2,10 +2,10 @@
 
 A model's ``Params`` subclasses :class:`SwarmParams` and lists every tunable constant with its
 unit, default and (in the class docstring's ``Attributes:`` section) what it means, with the
-paper's symbol and citation. Fields are declared with :func:`param`, which records the accepted
-range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a
-bad value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule,
-whoever passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
+source's symbol and citation. Fields are declared with :func:`param`, which records the accepted
+range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a bad
+value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule, whoever
+passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
 
 :func:`make_params` is the one place that maps constructor keywords to a validated instance;
 :func:`field_help` gives the docstring text of each field (CLI help, reports, sliders).

@@ -18,13 +18,13 @@ from abm.model import SwarmModel
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
-from abm.worlds import MAPS, WORLD_KINDS, World, builtin_map, make_world
 from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
 from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
 from models.beacon_explorer.repair import link_fault, robot_failed
 from models.beacon_explorer.units import SUMMARY_UNITS
+from models.environments import MAPS, WORLD_KINDS, World, builtin_map, make_world
 
 __all__ = ["BeaconExplorerModel"]
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from abm.errors import ConfigError
 from abm.params import SwarmParams, param
-from abm.worlds import COMPLEXITIES, MAPS, WORLD_KINDS, World
+from models.environments import COMPLEXITIES, MAPS, WORLD_KINDS, World
 
 __all__ = ["BeaconExplorerParams", "DEFAULTS", "MAP_SUFFIXES", "SWARM_SIZE"]
 
@@ -39,10 +39,10 @@ class BeaconExplorerParams(SwarmParams):
 
     Attributes:
         world: "corridor", "open" or "mixed" (generated from the seed, Sect. 3.5 and Fig. 5),
-            a built-in map's name (``abm.worlds.MAPS``, e.g. the floor plans "office",
+            a built-in map's name (``models.environments.MAPS``, e.g. the floor plans "office",
             "office_small", "lhall", "pillar_room", "diagonal_hall"; 1 m per pixel), a bitmap
             map file (PNG/PGM/BMP/NPY; dark pixels are walls) or a ready
-            :class:`abm.worlds.World`.
+            :class:`models.environments.World`.
         complexity: corridor branching, or obstacle density in open rooms: "low", "medium" or
             "high"; None: "medium" for mixed worlds (the only level the paper uses there), else
             "high".

@@ -8,7 +8,7 @@ import numpy as np
 from abm import portable
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
-from abm.worlds import load_map
+from models.environments import load_map
 from models.hierarchy.params import WORLDS, HierarchyParams
 
 __all__ = ["MIN_START_GAP", "build_world", "start_layout"]

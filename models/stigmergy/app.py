@@ -6,7 +6,7 @@ Serve it with ``abm viz stigmergy`` (or ``solara run models.stigmergy.app``).
 
 from abm.viz.controls import slider
 from abm.viz.page import make_page
-from abm.worlds.bitmap import MAPS
+from models.environments.bitmap import MAPS
 from models.stigmergy.model import StigmergyModel
 
 __all__ = ["MODEL_PARAMS", "page"]

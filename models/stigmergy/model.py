@@ -26,7 +26,7 @@ from abm.pheromone import PheromoneField, field_bytes
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import StateStyle
-from abm.worlds.bitmap import MAPS, load_map, map_digest, map_entropy
+from models.environments.bitmap import MAPS, load_map, map_digest, map_entropy
 from models.stigmergy import published
 from models.stigmergy.params import P0, StigmergyParams
 from models.stigmergy.units import SUMMARY_UNITS

@@ -43,8 +43,8 @@ class StigmergyParams(SwarmParams):
     """Everything a stigmergy run can vary (SI units), the paper's values unless marked "ours".
 
     Attributes:
-        map: a built-in map name (``abm.worlds.MAPS``), a bitmap file (PNG/PGM/BMP/NPY, black
-            = not navigable), a boolean array (True = free) or an :class:`Arena`.
+        map: a built-in map name (``models.environments.MAPS``), a bitmap file (PNG/PGM/BMP/NPY,
+            black = not navigable), a boolean array (True = free) or an :class:`Arena`.
         pheromone_radius: C_rb, the beacon footprint radius (m).
         wander_radius: C_rw, the radius a flying robot deposits on (m); None: C_rb / 2.
         wander_intensity: C_dw, pheromone a flying robot deposits per model step.
