@@ -183,8 +183,8 @@ class BeaconExplorerParams(SwarmParams):
 
     world: str | Path | World = "corridor"
     complexity: str | None = param(None, choices=COMPLEXITIES)
-    n_robots: int | None = param(None, low=1, high=10_000, integer=True)
-    launch_period: float = param(6.0, low=0.0, low_open=True)
+    n_robots: int | None = param(None, low=1, high=10_000, integer=True, shown=(2, 40))
+    launch_period: float = param(6.0, low=0.0, low_open=True, shown=(1.0, 30.0))
     hover_beacons: bool = False
     battery_capacity: float | None = param(None, low=0.0, low_open=True)
     repair: bool = True
@@ -225,7 +225,7 @@ class BeaconExplorerParams(SwarmParams):
     power_flight: float = param(110.0 + 10.0, low=0.0)
     power_beacon: float = param(5.0, low=0.0)
     power_hover: float = param(110.0 + 5.0, low=0.0)
-    max_speed: float = param(1.0, low=0.0, high=5.0, low_open=True)
+    max_speed: float = param(1.0, low=0.0, high=5.0, low_open=True, shown=(0.2, 2.0))
     mass: float = param(0.5, low=0.0, low_open=True)
     max_force: float = param(2.0, low=0.0, low_open=True)
     tau: float = param(0.5, low=0.0, low_open=True)

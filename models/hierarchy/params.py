@@ -101,12 +101,12 @@ class HierarchyParams(SwarmParams):
 
     """
 
-    workers: int = param(2, low=1, high=50, integer=True)
+    workers: int = param(2, low=1, high=50, integer=True, shown=(1, 7))
     scouts_per_worker: int = param(4, low=1, high=8, integer=True)
     world: str = "room"
-    world_size: float = param(20.0, low=2.0, high=200.0)
+    world_size: float = param(20.0, low=2.0, high=200.0, shown=(4.0, 20.0))
     world_pixel: float = param(0.2, low=0.16, high=1.0)
-    boxes: int = param(0, low=0, high=200, integer=True)
+    boxes: int = param(0, low=0, high=200, integer=True, shown=(0, 20))
     box_size: float = param(1.0, low=0.2, high=5.0)
     start_layout: str = param("row", choices=("row", "centre"))
     worker_spacing: float = param(2.0, low=0.6, high=10.0)

@@ -122,9 +122,9 @@ class SugarMapParams(SwarmParams):
     algorithm: str = param("sugarmap", choices=ALGORITHMS)
     arena: str | Path = "open"
     entrance: tuple[float, float] | None = None
-    n_explorers: int = param(4, low=1, high=100, integer=True)
-    n_anchors: int | None = param(None, low=1, high=100, integer=True)
-    n_particles: int | None = param(None, low=1, high=10_000, integer=True)
+    n_explorers: int = param(4, low=1, high=100, integer=True, shown=(1, 8))
+    n_anchors: int | None = param(None, low=1, high=100, integer=True, shown=(1, 12))
+    n_particles: int | None = param(None, low=1, high=10_000, integer=True, shown=(1, 100))
     horizon: float = param(3000.0, low=0.0, low_open=True)
     speed: float = param(0.35, low=0.0, high=0.45, low_open=True)
     turn_noise: float = param(0.20, low=0.0, high=1.0)
