@@ -30,7 +30,7 @@ __all__ = ["BeaconExplorerModel"]
 
 
 class BeaconExplorerModel(SwarmModel):
-    """Beacon/explorer swarm search (SPEC A).
+    """Beacon/explorer swarm search (Stirling et al. 2010).
 
     Every field of :class:`BeaconExplorerParams` is a keyword of the constructor, e.g.
     ``BeaconExplorerModel(world="corridor", complexity="high", launch_period=6.0, seed=1)``.

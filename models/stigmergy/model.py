@@ -1,4 +1,4 @@
-"""StigmergyModel: UAV swarm deployment with virtual pheromone (Arnaldo et al. 2018), SPEC B.
+"""StigmergyModel: UAV swarm deployment with virtual pheromone (Arnaldo et al. 2018).
 
 One beacon sits at p0; a new wander robot takes off from p0 every launch period (eta = 0.01
 robots per 0.5 s step = one per 50 s). Three SimPy processes tell the story:
