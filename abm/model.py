@@ -54,9 +54,9 @@ class SwarmModel(mesa.Model):
     - ``STATES``: the robot states, counted by the recorder in this order.
     - ``STATE_STYLES``: optional :class:`~abm.styles.StateStyle` per state.
     - ``MACRO``: optional :class:`~abm.published.MacroSpec`: the two counted states (moving,
-      settled) the macroscopic recurrence describes, for ``abm fit``, and the paper's fits.
+      settled) the macroscopic recurrence describes, for ``abm fit``, and the published fits.
     - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
-    - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
+    - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the published numbers, figure layout and
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
     - ``CENSORED``: the summary metrics a run's end can cut short (:class:`~abm.published.Censored`:
       a time to a target, or anything a run accumulates, that a time limit censors); reports
@@ -404,7 +404,7 @@ class SwarmModel(mesa.Model):
 
     def collision(self, kind: str, a: int, b: int | None = None) -> None:
         """Count and log a new contact: ``kind`` "wall" (robot ``a`` bumped a wall) or "robot"
-        (``a`` and ``b`` touched; counted twice, as Stirling et al. count them).
+        (``a`` and ``b`` touched; counted twice, once for each robot).
         """
         if kind == "robot":
             self.robot_collisions += 2

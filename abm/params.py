@@ -2,10 +2,10 @@
 
 A model's ``Params`` subclasses :class:`SwarmParams` and lists every tunable constant with its
 unit, default and (in the class docstring's ``Attributes:`` section) what it means, with the
-paper's symbol and citation. Fields are declared with :func:`param`, which records the accepted
-range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a
-bad value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule,
-whoever passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
+source's symbol and citation. Fields are declared with :func:`param`, which records the accepted
+range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a bad
+value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule, whoever
+passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
 
 :func:`make_params` is the one place that maps constructor keywords to a validated instance;
 :func:`field_help` gives the docstring text of each field (CLI help, reports, sliders).
@@ -68,6 +68,7 @@ def param(
     choices: Sequence | None = None,
     period: bool = False,
     events: bool = False,
+    shown: tuple[float, float] | None = None,
 ) -> object:
     """A dataclass field with a default and the rule its values must follow.
 
@@ -83,8 +84,13 @@ def param(
         events: the field is the rate (1/s) of a Poisson process of events over the whole run
             (not per robot, where each robot fails once at most); it may be expected to give
             at most :data:`MAX_FAULT_EVENTS` events in ``time_limit``.
+        shown: the part of the accepted range a slider offers, ``(low, high)``, for a field
+            whose accepted range is unbounded or far wider than anyone explores; None: the
+            accepted range itself.
 
     """
+    if shown is not None:
+        _check_shown(shown, low, high, low_open)
     rule = {
         "low": low,
         "high": high,
@@ -93,8 +99,22 @@ def param(
         "choices": None if choices is None else tuple(choices),
         "period": period,
         "events": events,
+        "shown": None if shown is None else (shown[0], shown[1]),
     }
     return dataclasses.field(default=default, metadata={_RULE: rule})
+
+
+def _check_shown(
+    shown: tuple[float, float], low: float | None, high: float | None, low_open: bool
+) -> None:
+    """A slider range must lie inside the accepted range: every value it offers is accepted."""
+    a, b = shown
+    below = low is not None and (a < low or (low_open and a == low))
+    if not a < b or below or (high is not None and b > high):
+        raise ConfigError(
+            f"shown range {shown} must be increasing and inside the accepted range "
+            f"[{low}, {high}]" + (" (low excluded)" if low_open else "")
+        )
 
 
 def field_rule(f: dataclasses.Field) -> dict:

@@ -2,7 +2,7 @@
 
 One SimPy process owns all continuous motion. Each tick of ``dt`` seconds it asks the model's
 controller for every flyer's desired velocity (and which flyers have finished their flight),
-applies the flight dynamics of Stirling et al. (2010, App. B) to all flyers at once, resolves
+applies point-mass flight dynamics with drag (below) to all flyers at once, resolves
 wall and robot-robot contacts, writes the positions into the Mesa space, and turns threshold
 crossings (a flight finished) back into SimPy events. While nothing flies it sleeps, so
 simulated time jumps straight to the next event.
@@ -16,7 +16,7 @@ Walls: a robot's body is an axis-aligned square of half-width ``body_radius``; m
 one axis at a time and each axis move is shorter than a grid pixel, so a body can never pass
 through a wall: it is stopped flush against it. A new contact counts one wall collision.
 Robots whose centres come closer than two body radii collide elastically; each new contact
-counts two collisions (the paper counts a robot-robot collision as 2). The per-flyer work is
+counts two collisions (one for each robot). The per-flyer work is
 compiled (:func:`abm.gridkernels.flight_rows`): with tens of flyers, numpy's per-call overhead,
 not arithmetic, would set the speed.
 """
@@ -77,7 +77,7 @@ class Controller(Protocol):
 @dataclass(frozen=True)
 class FlightParams:
     """Flight-dynamics constants (SI units); the defaults are a generic small multirotor, not
-    any paper's robot (models pass their own).
+    any particular robot (models pass their own).
 
     Attributes:
         mass: m (kg).
@@ -347,7 +347,7 @@ class Physics:
                     self.on_collision("wall", int(rid), None)
 
     def _robot_contacts(self) -> None:
-        """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.).
+        """Elastic robot-robot collisions; each new contact counts 2 (one per robot).
 
         Touching pairs come from :meth:`_touching_pairs`; contacts are compared with the last
         tick's as sorted integer keys.

@@ -24,7 +24,7 @@ class Robot(ContinuousSpaceAgent):
     """A robot of the swarm.
 
     The robot's behaviour is a SimPy generator (``behaviour``) that a model writes to read like
-    the paper's flowchart; the robot only keeps the bookkeeping every model needs: its state
+    the source's flowchart; the robot only keeps the bookkeeping every model needs: its state
     (counted by the recorder), its power mode (integrated by the energy ledger) and its place
     in the Mesa space.
 

@@ -4,12 +4,12 @@ model: the one home that reports, tests and benchmarks read them from.
 Table 1 gives, per map (Id 1-4) and pheromone radius C_rb, the final wanders w and beacons b
 of the simulation, the recurrence's predictions w_hat, b_hat from the fitted lambdas, the time
 t to cover 95 %, ca and cb (%), and the RMSDs of w and b. Table 2 gives the mean (std) RMSD
-over its 10 maps. Our built-in maps reconstruct the Table 1 maps (``abm.worlds.MAPS``, by
+over its 10 maps. Our built-in maps reconstruct the Table 1 maps (``models.environments.MAPS``, by
 ``paper_id``).
 """
 
 from abm.published import Censored, MacroSpec, Published, ReportLayout
-from abm.worlds.bitmap import MAPS
+from models.environments.bitmap import MAPS
 
 __all__ = [
     "CENSORED",
