@@ -21,13 +21,13 @@ our value and its 95 % interval, so the report shows how every verdict was reach
   the other sign and p < 0.05, and is undecided otherwise.
 - a **correlation of condition means** (:func:`correlation`): Pearson's r with its Fisher-z
   95 % interval, judged like a direction.
-- an **agreement** of conditions the paper says give the same value (:func:`agreement`, e.g.
-  "the curves follow each other closely"): the paper's difference is 0 and it gives no margin,
+- an **agreement** of conditions the source says give the same value (:func:`agreement`, e.g.
+  "the curves follow each other closely"): the published difference is 0, with no margin,
   so the rule is the level rule without a spread: the Kruskal-Wallis test over the conditions
   (Holm-adjusted over checkpoints) finds no difference (holds) or finds one (fails, saying by
   how much the extreme means differ). The largest gap is shown with its Welch interval, so the
   reader sees how large a difference these runs could miss.
-- a **coefficient** the paper gives a value for (:func:`coefficient`, e.g. a speed-up
+- a **coefficient** the source gives a value for (:func:`coefficient`, e.g. a speed-up
   "almost linear" in n: the slope of log T on log n is -1; "no effect of W": 0): the level
   rule on the OLS coefficient's 95 % t-interval.
 
@@ -335,7 +335,7 @@ def agreement(checkpoints: Mapping[str, Sequence[Sequence[float]]], what: str) -
     """
     rule = (
         f"agreement: Kruskal-Wallis over {what}, Holm-adjusted over the checkpoints; no "
-        f"adjusted p < {ALPHA:g} holds (no difference found; the paper gives no margin), any "
+        f"adjusted p < {ALPHA:g} holds (no difference found; no published margin), any "
         "fails"
     )
     tests = {}
@@ -378,7 +378,7 @@ def coefficient(
     y: Sequence[float], regressors: Mapping[str, Sequence[float]], name: str, value: float
 ) -> Verdict:
     """The level rule on the coefficient ``name`` of the OLS fit ``y = a + sum_k b_k x_k`` over
-    the runs (``regressors``: name -> values): the paper's ``value`` inside our 95 %
+    the runs (``regressors``: name -> values): the published ``value`` inside our 95 %
     t-interval of the coefficient holds; outside it fails, saying by how much ours differs. A
     design without full rank (collinear regressors) is not judged.
     """
@@ -389,7 +389,7 @@ def coefficient(
     design, target = design[keep], target[keep]
     n, k = design.shape
     terms = " + ".join(f"b_{key} {key}" for key in regressors)
-    rule = f"level: the paper's {value:g} inside our 95 % interval of b_{name} in y = a + {terms}"
+    rule = f"level: the published {value:g} inside our 95 % interval of b_{name} in y = a + {terms}"
     if n <= k:
         return Verdict("", None, f"{n} runs for {k} coefficients", rule, runs=n)
     if np.linalg.matrix_rank(design) < k:

@@ -32,7 +32,7 @@ from abm.verdicts import (
 
 __all__ = ["REFERENCE", "TESTS"]
 
-#: The reference set-up (the README's "Where we had to choose"): open square, 4 explorers,
+#: The reference set-up (the README's "Choices"): open square, 4 explorers,
 #: published noise, literal headings.
 REFERENCE = {"arena": "open", "n_explorers": 4, "noise_scale": 1.0, "heading_model": "literal"}
 #: SugarMap's reference: 6 anchors, 10 particles, eq. 8 weights.
