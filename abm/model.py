@@ -18,6 +18,7 @@ from typing import ClassVar
 import mesa
 import numpy as np
 import pandas as pd
+import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
@@ -151,9 +152,7 @@ class SwarmModel(mesa.Model):
                 "edges instead of wrapping"
             )
         super().__init__(rng=seed)
-        # Mesa replaces ``self.step`` by its own scheduler wrapper; our clock is SimPy, so the
-        # class's step() (which runs SimPy for one slice) must be what batch_run and SolaraViz call.
-        del self.step
+        _hand_time_to_simpy(self)
         self.params = params
         self.seed = seed
         self.env = Clock()
@@ -226,24 +225,39 @@ class SwarmModel(mesa.Model):
     # ------------------------------------------------------------------ time
     @property
     def time(self) -> float:
-        """Simulated time (s): always the SimPy clock's ``env.now``."""
+        """Simulated time (s): Mesa's ``model.time``, which a discrete-event simulator
+        controls (here SimPy: it is always ``env.now``).
+
+        Assigning a later time advances the simulation to it (or to its end), which is how
+        Mesa's own ``run_for`` and ``run_until`` move time; an earlier one is refused.
+        """
         env = self.__dict__.get("env")
         return env.now if env is not None else 0.0
 
     @time.setter
     def time(self, value: float) -> None:
-        # Mesa's constructor sets time = 0.0; the clock is SimPy's, so nothing else may set it.
-        if value != self.time:
-            raise AttributeError("model.time follows env.now; advance it with step() or run()")
+        if "env" not in self.__dict__:
+            return  # Mesa's constructor starts the clock at 0, before SimPy's exists
+        if value < self.env.now:
+            raise ValueError(
+                f"model.time cannot go back: it is {self.env.now:g} s, asked for {value:g} s"
+            )
+        if value > self.env.now and self.running:
+            self._advance(self.env.any_of([self.done, self.env.timeout(value - self.env.now)]))
 
     def step(self) -> None:
-        """Run the simulation for ``step_duration`` simulated seconds (or until it ends)."""
+        """Mesa's step: run the simulation for ``step_duration`` simulated seconds (or until
+        it ends), count the step in ``steps`` and collect the data collector's row.
+        """
         if not self.running:
             return
         self.steps += 1
-        horizon = self.env.timeout(self.step_duration)
-        self.env.run(until=self.env.any_of([horizon, self.done]))
+        self._advance(self.env.any_of([self.env.timeout(self.step_duration), self.done]))
         self.datacollector.collect(self)
+
+    def _advance(self, stop: simpy.events.Event) -> None:
+        """Run SimPy until ``stop``; the model stops running once the run is over."""
+        self.env.run(until=stop)
         if self.done.triggered:
             self.running = False
 
@@ -260,10 +274,8 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
-            self.env.run(until=stop)
+            self._advance(stop)
             self.datacollector.collect(self)
-        if self.done.triggered:
-            self.running = False
         return self
 
     def finish(self, reason: str) -> None:
@@ -420,3 +432,20 @@ def _signature(params_cls: type[SwarmParams]) -> inspect.Signature:
     for f in param_fields(params_cls):
         parameters.append(inspect.Parameter(f.name, kw, default=f.default, annotation=f.type))
     return inspect.Signature(parameters)
+
+
+def _hand_time_to_simpy(model: mesa.Model) -> None:
+    """Make SimPy the model's clock the way Mesa's own discrete-event simulator does
+    (``mesa.experimental.devs.DEVSimulator.setup`` stops the default schedule).
+
+    Mesa 3.x binds ``model.step`` per instance to a wrapper that advances its clock by one
+    time unit and calls the class's ``step()`` from a recurring event. Here a step is
+    ``step_duration`` s of SimPy's clock, so ``model.step()`` is the class's own
+    :meth:`SwarmModel.step` and Mesa's recurring step event is stopped: ``run_for`` and
+    ``run_until`` then advance SimPy through ``model.time`` without running steps of their
+    own. A Mesa that binds neither leaves nothing to undo.
+    """
+    model.__dict__.pop("step", None)
+    schedule = model.__dict__.get("_default_schedule")
+    if schedule is not None:
+        schedule.stop()
