@@ -29,7 +29,7 @@ from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
-from abm.params import SwarmParams, make_params, param_fields
+from abm.params import SwarmParams, make_params, param_fields, with_faults
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
@@ -72,10 +72,11 @@ class SwarmModel(mesa.Model):
       (key or ``fnmatch`` pattern -> :class:`~abm.units.Quantity`); the common keys are
       documented once in :data:`abm.units.COMMON`.
     - ``FAULTS``: the kinds of fault the model handles ("robot", "link", "sensor"; see
-      :mod:`abm.faults`): the fault keywords of other kinds must stay at their defaults. A
-      model declares "robot" once its behaviour copes with :meth:`on_robot_failed`, "link"
-      once its messages travel on ``self.comms``, "sensor" once it reads its sensors through
-      ``self.faults.sensed``.
+      :mod:`abm.faults`): ``Params`` gets the fault keywords of these kinds, and only those,
+      when the class is defined (:func:`abm.params.with_faults`); a keyword of another kind
+      is refused naming the kinds the model handles. A model declares "robot" once its
+      behaviour copes with :meth:`on_robot_failed`, "link" once its messages travel on
+      ``self.comms``, "sensor" once it reads its sensors through ``self.faults.sensed``.
 
     What every model instance offers the tools: ``params``, ``coverage`` (a
     :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
@@ -121,6 +122,12 @@ class SwarmModel(mesa.Model):
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
+        # the fault keywords of the kinds the model declares, and only those, join its params
+        cls.Params = with_faults(cls.Params, cls.FAULTS, cls.__name__)
+        cls.Params.__module__, cls.Params.__qualname__ = (
+            cls.__module__,
+            f"{cls.__qualname__}.Params",
+        )
         cls.__signature__ = _signature(cls.Params)
         declare_units(cls.SUMMARY_UNITS)
 
@@ -443,9 +450,12 @@ def _hand_time_to_simpy(model: mesa.Model) -> None:
     ``step_duration`` s of SimPy's clock, so ``model.step()`` is the class's own
     :meth:`SwarmModel.step` and Mesa's recurring step event is stopped: ``run_for`` and
     ``run_until`` then advance SimPy through ``model.time`` without running steps of their
-    own. A Mesa that binds neither leaves nothing to undo.
+    own. A Mesa that binds neither leaves nothing to undo, and one without Mesa 3's
+    ``steps`` counter (Mesa 4) gets it here, since ``mesa.batch_run`` and the data collector
+    count steps with it.
     """
     model.__dict__.pop("step", None)
+    model.__dict__.setdefault("steps", 0)
     schedule = model.__dict__.get("_default_schedule")
     if schedule is not None:
         schedule.stop()
