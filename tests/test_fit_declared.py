@@ -64,3 +64,13 @@ def test_fit_columns_speak_each_models_states_and_rates():
     ]  # fmt: skip
     named = MacroSpec("walking", "resting", rates={"alpha6": "slowing"})
     assert spoken("rmsd_w_reg_alpha6", named) == "rmsd_walking_reg_slowing"
+
+
+def test_the_contract_refuses_a_rate_the_recurrence_does_not_have():
+    from abm.contract import check_model
+    from abm.errors import ContractError
+
+    cls = registry.model_class("stigmergy")
+    spec = MacroSpec("wander", "beacon", rates={"alpha7": "x"})
+    with pytest.raises(ContractError, match=r"MACRO.rates names \['alpha7'\]"):
+        check_model(type("Odd", (cls,), {"MACRO": spec}))
