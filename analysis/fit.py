@@ -195,10 +195,14 @@ def with_parameters(summaries: pd.DataFrame, model: type, keys: Sequence[str]) -
     if not names or summaries.empty:
         return summaries
     given = [k for k in keys if k in summaries]
-    values = []
+    values, built = [], {}  # runs of one grid point share their params: built once
     for row in summaries[given].to_dict("records"):
-        params = model.make_params(**{k: v for k, v in row.items() if not _unset(v)})
-        values.append([getattr(params, n) for n in names])
+        set_here = {k: v for k, v in row.items() if not _unset(v)}
+        key = repr(sorted(set_here.items()))
+        if key not in built:
+            params = model.make_params(**set_here)
+            built[key] = [getattr(params, n) for n in names]
+        values.append(built[key])
     columns = pd.DataFrame(values, columns=names, index=summaries.index)
     return summaries.drop(columns=names, errors="ignore").join(columns)
 
