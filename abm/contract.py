@@ -72,6 +72,12 @@ def _check(cls: type) -> None:
                 f"{name}.MACRO must count two different states of STATES {states}, "
                 f"got {macro.moving!r} and {macro.settled!r}"
             )
+        unknown = sorted(set(macro.rates) - {"a0", "alpha6", "alpha5"})
+        if unknown:
+            raise ContractError(
+                f"{name}.MACRO.rates names {unknown}; the recurrence's rates are a0, alpha6 "
+                "and alpha5"
+            )
     if not all(isinstance(p, Published) for p in cls.PUBLISHED):
         raise ContractError(f"{name}.PUBLISHED must hold abm.published.Published records")
     if not all(isinstance(c, Claim) for c in cls.CLAIMS):

@@ -18,6 +18,7 @@ from typing import ClassVar
 import mesa
 import numpy as np
 import pandas as pd
+import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
@@ -28,7 +29,7 @@ from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
-from abm.params import SwarmParams, make_params, param_fields
+from abm.params import SwarmParams, make_params, param_fields, with_faults
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
@@ -71,10 +72,11 @@ class SwarmModel(mesa.Model):
       (key or ``fnmatch`` pattern -> :class:`~abm.units.Quantity`); the common keys are
       documented once in :data:`abm.units.COMMON`.
     - ``FAULTS``: the kinds of fault the model handles ("robot", "link", "sensor"; see
-      :mod:`abm.faults`): the fault keywords of other kinds must stay at their defaults. A
-      model declares "robot" once its behaviour copes with :meth:`on_robot_failed`, "link"
-      once its messages travel on ``self.comms``, "sensor" once it reads its sensors through
-      ``self.faults.sensed``.
+      :mod:`abm.faults`): ``Params`` gets the fault keywords of these kinds, and only those,
+      when the class is defined (:func:`abm.params.with_faults`); a keyword of another kind
+      is refused naming the kinds the model handles. A model declares "robot" once its
+      behaviour copes with :meth:`on_robot_failed`, "link" once its messages travel on
+      ``self.comms``, "sensor" once it reads its sensors through ``self.faults.sensed``.
 
     What every model instance offers the tools: ``params``, ``coverage`` (a
     :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
@@ -120,6 +122,12 @@ class SwarmModel(mesa.Model):
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
+        # the fault keywords of the kinds the model declares, and only those, join its params
+        cls.Params = with_faults(cls.Params, cls.FAULTS, cls.__name__)
+        cls.Params.__module__, cls.Params.__qualname__ = (
+            cls.__module__,
+            f"{cls.__qualname__}.Params",
+        )
         cls.__signature__ = _signature(cls.Params)
         declare_units(cls.SUMMARY_UNITS)
 
@@ -151,9 +159,7 @@ class SwarmModel(mesa.Model):
                 "edges instead of wrapping"
             )
         super().__init__(rng=seed)
-        # Mesa replaces ``self.step`` by its own scheduler wrapper; our clock is SimPy, so the
-        # class's step() (which runs SimPy for one slice) must be what batch_run and SolaraViz call.
-        del self.step
+        _hand_time_to_simpy(self)
         self.params = params
         self.seed = seed
         self.env = Clock()
@@ -226,24 +232,39 @@ class SwarmModel(mesa.Model):
     # ------------------------------------------------------------------ time
     @property
     def time(self) -> float:
-        """Simulated time (s): always the SimPy clock's ``env.now``."""
+        """Simulated time (s): Mesa's ``model.time``, which a discrete-event simulator
+        controls (here SimPy: it is always ``env.now``).
+
+        Assigning a later time advances the simulation to it (or to its end), which is how
+        Mesa's own ``run_for`` and ``run_until`` move time; an earlier one is refused.
+        """
         env = self.__dict__.get("env")
         return env.now if env is not None else 0.0
 
     @time.setter
     def time(self, value: float) -> None:
-        # Mesa's constructor sets time = 0.0; the clock is SimPy's, so nothing else may set it.
-        if value != self.time:
-            raise AttributeError("model.time follows env.now; advance it with step() or run()")
+        if "env" not in self.__dict__:
+            return  # Mesa's constructor starts the clock at 0, before SimPy's exists
+        if value < self.env.now:
+            raise ValueError(
+                f"model.time cannot go back: it is {self.env.now:g} s, asked for {value:g} s"
+            )
+        if value > self.env.now and self.running:
+            self._advance(self.env.any_of([self.done, self.env.timeout(value - self.env.now)]))
 
     def step(self) -> None:
-        """Run the simulation for ``step_duration`` simulated seconds (or until it ends)."""
+        """Mesa's step: run the simulation for ``step_duration`` simulated seconds (or until
+        it ends), count the step in ``steps`` and collect the data collector's row.
+        """
         if not self.running:
             return
         self.steps += 1
-        horizon = self.env.timeout(self.step_duration)
-        self.env.run(until=self.env.any_of([horizon, self.done]))
+        self._advance(self.env.any_of([self.env.timeout(self.step_duration), self.done]))
         self.datacollector.collect(self)
+
+    def _advance(self, stop: simpy.events.Event) -> None:
+        """Run SimPy until ``stop``; the model stops running once the run is over."""
+        self.env.run(until=stop)
         if self.done.triggered:
             self.running = False
 
@@ -260,10 +281,8 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
-            self.env.run(until=stop)
+            self._advance(stop)
             self.datacollector.collect(self)
-        if self.done.triggered:
-            self.running = False
         return self
 
     def finish(self, reason: str) -> None:
@@ -420,3 +439,23 @@ def _signature(params_cls: type[SwarmParams]) -> inspect.Signature:
     for f in param_fields(params_cls):
         parameters.append(inspect.Parameter(f.name, kw, default=f.default, annotation=f.type))
     return inspect.Signature(parameters)
+
+
+def _hand_time_to_simpy(model: mesa.Model) -> None:
+    """Make SimPy the model's clock the way Mesa's own discrete-event simulator does
+    (``mesa.experimental.devs.DEVSimulator.setup`` stops the default schedule).
+
+    Mesa 3.x binds ``model.step`` per instance to a wrapper that advances its clock by one
+    time unit and calls the class's ``step()`` from a recurring event. Here a step is
+    ``step_duration`` s of SimPy's clock, so ``model.step()`` is the class's own
+    :meth:`SwarmModel.step` and Mesa's recurring step event is stopped: ``run_for`` and
+    ``run_until`` then advance SimPy through ``model.time`` without running steps of their
+    own. A Mesa that binds neither leaves nothing to undo, and one without Mesa 3's
+    ``steps`` counter (Mesa 4) gets it here, since ``mesa.batch_run`` and the data collector
+    count steps with it.
+    """
+    model.__dict__.pop("step", None)
+    model.__dict__.setdefault("steps", 0)
+    schedule = model.__dict__.get("_default_schedule")
+    if schedule is not None:
+        schedule.stop()

@@ -223,14 +223,17 @@ class MacroSpec:
         moving: the state counted as w.
         settled: the state counted as b.
         step: the recurrence's step (s).
-        arrival_period: summary column holding the time between two arrivals (s), so that
+        arrival_period: the parameter holding the time between two arrivals (s), so that
             alpha5 = step / period; None: alpha5 is estimated from the growth of w + b.
-        supply: summary column holding how many robots there are in all (w + b never exceeds
-            it: arrivals stop, our extension for swarms of fixed size); None: no limit, as in
-            the source.
-        regression: covariate -> summary column for the published lambda regressions
+        supply: how many robots there are in all (w + b never exceeds it: arrivals stop, our
+            extension for swarms of fixed size); None: no limit, as in the source.
+        regression: covariate -> where its value is, for the published lambda regressions
             (``alpha6 = l0 + l1 r + l2 r^2``, ``a0 = l3 - l4 entropy + l5 envsize``): keys
             "radius", "entropy", "envsize"; None: no regression.
+        rates: the model's own names of the recurrence's rates, by symbol: "a0" (the share of
+            the moving robots that settle in the first step), "alpha6" (the factor that share
+            changes by at each step) and "alpha5" (robots arriving per step); a rate not named
+            here is named after the states (see :meth:`names`).
         published: condition (the values of ``condition_keys``, in order) -> the published
             numbers for it (e.g. w, b, w_hat, b_hat, t, rmsd_w, rmsd_b).
         condition_keys: the parameters a published condition names.
@@ -239,6 +242,11 @@ class MacroSpec:
         summary_label: where the overall figures are published (e.g. "Table 2, 10 maps").
         lambdas: the published fitted l0..l5, if any.
         source: the source's citation.
+
+    ``arrival_period``, ``supply`` and the values of ``regression`` each name a parameter of
+    the model (a field or property of its ``Params``: ``abm fit`` reads each run's own value,
+    the default where a sweep did not set it) or, for a figure only the run determines (a
+    generated map's entropy), a key of its summary.
 
     """
 
@@ -255,6 +263,26 @@ class MacroSpec:
     summary_label: str = ""
     lambdas: Mapping[str, float] | None = None
     source: str = ""
+    rates: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The parameters and summary keys the spec reads (arrival period, supply, covariates)."""
+        names = (self.arrival_period, self.supply, *(self.regression or {}).values())
+        return tuple(dict.fromkeys(n for n in names if n is not None))
+
+    def names(self) -> dict[str, str]:
+        """What ``abm fit`` calls the recurrence's symbols in what it prints: w and b by the
+        two counted states, a0, alpha6 and alpha5 by ``rates``, else after the states
+        (``<settled>_share_0``, ``<settled>_share_decay``, ``arrivals``).
+        """
+        named = {
+            "a0": f"{self.settled}_share_0",
+            "alpha6": f"{self.settled}_share_decay",
+            "alpha5": "arrivals",
+            **self.rates,
+        }
+        return {"w": self.moving, "b": self.settled, **named}
 
 
 @dataclass(frozen=True)

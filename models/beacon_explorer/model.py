@@ -317,7 +317,6 @@ class BeaconExplorerModel(SwarmModel):
             "complexity": self.complexity,
             "n_robots": self.n_robots,
             "robots": self.n_robots + 1,
-            "launch_period": self.launch_period,
             "hover_beacons": self.params.hover_beacons,
             "seed": self.seed,
             "coverage_time": float(self.env.now),

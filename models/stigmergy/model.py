@@ -223,7 +223,6 @@ class StigmergyModel(SwarmModel):
         counts = self.recorder.counts
         return {
             "map": self.map_name,
-            "pheromone_radius": self.params.pheromone_radius,
             "seed": self.seed,
             "wander": counts["wander"],
             "beacon": counts["beacon"],
@@ -232,7 +231,6 @@ class StigmergyModel(SwarmModel):
             "cb": 100.0 * self.cb(),
             "entropy": self.entropy,
             "envsize": self.envsize,
-            "launch_period": self.launch_period,
             "map_digest": map_digest(self.arena),
         }
 

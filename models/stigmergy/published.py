@@ -170,4 +170,5 @@ MACRO = MacroSpec(
     summary_label="Table 2, its 10 maps",
     lambdas=LAMBDAS,
     source="Arnaldo et al. (2018), Tables 1 and 2",
+    rates={"a0": "a0", "alpha6": "alpha6", "alpha5": "alpha5"},  # the paper's own symbols
 )
