@@ -191,8 +191,8 @@ def global_map(node_maps: np.ndarray) -> np.ndarray:
     each cell, taking the explorers as independent.
 
     Args:
-        node_maps: ``(n_e, H, W)`` NodeMaps in [0, 1] (explorers only, README "Choices": eq. 10's
-        n).
+        node_maps: ``(n_e, H, W)`` NodeMaps in [0, 1] (explorers only, README "Choices":
+            eq. 10's n).
 
     Returns:
         ``(H, W)`` GlobalMap.

@@ -80,7 +80,7 @@ class CoveragePlanner:
         cover_th: COVER_TH in (0, 1]: a cell with ``G >= cover_th`` counts as covered; 0.95
             (Sect. 4.3.6).
         backtrack: ``"soft"`` or ``"hard"`` (see the module docstring; README "Choices":
-        backtracking).
+            backtracking).
         beta: the tree parent's weight bonus under soft backtracking (>= 0; ours: 1).
         blocked_ttl: seconds a bumped cell stays blocked (> 0; ours: 30, README "Choices": walls).
         pick: a candidate's weight: ``"one_minus"`` ``(1 - G) + eps`` or ``"inverse"``
