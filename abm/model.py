@@ -21,6 +21,7 @@ import pandas as pd
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
+from abm.checks import check_controller, check_metrics, check_reporters
 from abm.clock import Clock, call_later
 from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
@@ -96,7 +97,9 @@ class SwarmModel(mesa.Model):
         physics: False for a model whose robots never fly under the continuous dynamics (they
             move by whole steps, :mod:`abm.kinematics`): ``self.physics`` is then None.
         controller: the vectorised flight controller (may be set later as
-            ``physics.controller``).
+            ``physics.controller``, in the model's ``__init__``): an object with
+            ``control(physics)`` (:class:`~abm.physics.Controller`). A model with ``physics``
+            must have one before :meth:`run` or :meth:`step` starts (else HookError).
         torus: True for a periodic world: the Mesa space wraps at the arena's edges (for a
             wall-free arena and robots that move by whole steps, ``physics=False``).
         failures: the model's robots can fail although no fault keyword asks for it (e.g.
@@ -121,7 +124,8 @@ class SwarmModel(mesa.Model):
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         cls.__signature__ = _signature(cls.Params)
-        declare_units(cls.SUMMARY_UNITS)
+        if isinstance(cls.SUMMARY_UNITS, Mapping):  # else the contract refuses the class
+            declare_units(cls.SUMMARY_UNITS)
 
     def __init__(
         self,
@@ -190,6 +194,7 @@ class SwarmModel(mesa.Model):
                 params=flight,
                 dt=params.dt,
                 on_collision=self.collision,
+                owner=type(self).__qualname__,
             )
         self.done = self.env.event()
         self.end_reason: str | None = None
@@ -215,7 +220,8 @@ class SwarmModel(mesa.Model):
         built.
         """
         if self._datacollector is None:
-            self._datacollector = StepCollector(self.reporters())
+            reporters = check_reporters(self.reporters(), f"{type(self).__qualname__}.reporters()")
+            self._datacollector = StepCollector(reporters)
         return self._datacollector
 
     @property
@@ -240,6 +246,7 @@ class SwarmModel(mesa.Model):
         """Run the simulation for ``step_duration`` simulated seconds (or until it ends)."""
         if not self.running:
             return
+        self._check_start()
         self.steps += 1
         horizon = self.env.timeout(self.step_duration)
         self.env.run(until=self.env.any_of([horizon, self.done]))
@@ -260,11 +267,20 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
+            self._check_start()
             self.env.run(until=stop)
             self.datacollector.collect(self)
         if self.done.triggered:
             self.running = False
         return self
+
+    def _check_start(self) -> None:
+        """Before simulated time moves: a model that flies robots has a flight controller
+        (else HookError naming the model and what to provide, not an AttributeError from
+        inside SimPy at the first take-off).
+        """
+        if self.physics is not None:
+            check_controller(self.physics.controller, type(self).__qualname__)
 
     def finish(self, reason: str) -> None:
         """Mark the run as over (the first reason wins)."""
@@ -275,7 +291,9 @@ class SwarmModel(mesa.Model):
 
     # ------------------------------------------------------------------ hooks
     def metrics(self) -> dict:
-        """The model's own results, added to the common summary keys (override)."""
+        """The model's own results, added to the common summary keys (override): a dict of
+        str keys to one number, true/false, text or None each (:meth:`summary` checks it).
+        """
         return {}
 
     def on_robot_failed(self, robot: Robot) -> None:
@@ -294,11 +312,15 @@ class SwarmModel(mesa.Model):
         """
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
+        """Arrows to draw: ``(points, vectors)``, both ``(k, 2)`` in m, or None (models with
+        ``ARROWS_LABEL``; checked where drawn, :func:`abm.checks.arrows_of`).
+        """
         return None
 
     def layers(self) -> list[Layer]:
-        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds)."""
+        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds):
+        a list of :class:`~abm.styles.Layer` (checked where drawn, :func:`abm.checks.layers_of`).
+        """
         return []
 
     def reporters(self) -> dict:
@@ -342,8 +364,11 @@ class SwarmModel(mesa.Model):
         return out
 
     def summary(self) -> dict:
-        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`."""
-        return {**self.common_summary(), **self.metrics()}
+        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`
+        (checked: str keys, one number, true/false, text or None each; else HookError).
+        """
+        metrics = check_metrics(self.metrics(), f"{type(self).__qualname__}.metrics()")
+        return {**self.common_summary(), **metrics}
 
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: ``time`` plus one column per state."""
