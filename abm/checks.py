@@ -9,14 +9,17 @@ raises :class:`~abm.errors.HookError`: one line naming the model, the hook, what
 and what is expected, which the CLI prints without a traceback.
 
 The controller's check runs on every physics tick, so it costs a few attribute reads and one
-vectorised ``np.isfinite(...).all()``; the details of a bad value are worked out only once it
-has been found bad.
+pass over the velocities (compiled for float64, :func:`_all_finite`; ``np.isfinite(...).all()``
+for other float dtypes), about 0.6 us per tick; the details of a bad value are worked out only
+once it has been found bad.
 """
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from numbers import Number
 
 import numpy as np
+from numba import njit
 
 from abm.errors import HookError
 from abm.styles import Layer
@@ -90,16 +93,30 @@ def check_control(
         desired, done = result
         if (
             isinstance(desired, np.ndarray)
-            and desired.shape == (n, 2)
-            and desired.dtype.kind == "f"
             and isinstance(done, np.ndarray)
+            and desired.shape == (n, 2)
             and done.shape == (n,)
+            and desired.dtype.kind == "f"
             and done.dtype.kind == "b"
-            and np.isfinite(desired).all()
+            and (_all_finite(desired) if desired.dtype is _FLOAT64 else np.isfinite(desired).all())
         ):
             return desired, done
     hook = hook_name(owner, controller, "control(physics)")
     raise HookError(f"{hook} returned {_what_is_wrong(result, ids)}")
+
+
+_FLOAT64 = np.dtype(np.float64)
+
+
+@njit(cache=True)
+def _all_finite(values: np.ndarray) -> bool:
+    """Whether every entry of an ``(n, 2)`` float64 array is finite: ``np.isfinite(v).all()``
+    without its temporary array and second call (a third of the cost for a few flyers).
+    """
+    for k in range(values.shape[0]):
+        if not (math.isfinite(values[k, 0]) and math.isfinite(values[k, 1])):
+            return False
+    return True
 
 
 def _what_is_wrong(result: object, ids: np.ndarray) -> str:

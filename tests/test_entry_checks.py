@@ -148,7 +148,8 @@ def _bad_outputs(draw, n: int) -> object:
         dtype = draw(st.sampled_from([np.int64, np.int32, np.bool_, np.complex128, object]))
         return np.zeros((n, 2), dtype=dtype), good_done
     if kind == "finite":
-        desired = draw(hnp.arrays(np.float64, (n, 2), elements=st.floats(-1, 1)))
+        dtype = draw(st.sampled_from([np.float64, np.float32, np.float16]))
+        desired = draw(hnp.arrays(dtype, (n, 2), elements=st.floats(-1, 1, width=16)))
         row, col = draw(st.integers(0, n - 1)), draw(st.integers(0, 1))
         desired[row, col] = draw(st.sampled_from([np.nan, np.inf, -np.inf]))
         return desired, good_done
@@ -190,10 +191,13 @@ def test_any_bad_controller_output_is_one_line_naming_the_hook_and_nothing_moves
 @given(
     n=st.integers(0, 6),
     dtype=st.sampled_from([np.float64, np.float32, np.float16]),
+    fortran=st.booleans(),
     data=st.data(),
 )
-def test_any_output_of_the_documented_kind_is_accepted(n, dtype, data):
+def test_any_output_of_the_documented_kind_is_accepted(n, dtype, fortran, data):
     desired = data.draw(hnp.arrays(dtype, (n, 2), elements=st.floats(-2, 2, width=16)))
+    if fortran:  # a column-major view (e.g. a transposed (2, n) array) is fine too
+        desired = np.asfortranarray(desired)
     done = data.draw(hnp.arrays(np.bool_, (n,)))
     checked = check_control((desired, done), np.arange(n), "M", object())
     assert checked[0] is desired and checked[1] is done  # passed on as they are
