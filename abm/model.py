@@ -246,7 +246,7 @@ class SwarmModel(mesa.Model):
         """Run the simulation for ``step_duration`` simulated seconds (or until it ends)."""
         if not self.running:
             return
-        self._check_start()
+        self.check_ready()
         self.steps += 1
         horizon = self.env.timeout(self.step_duration)
         self.env.run(until=self.env.any_of([horizon, self.done]))
@@ -267,17 +267,18 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
-            self._check_start()
+            self.check_ready()
             self.env.run(until=stop)
             self.datacollector.collect(self)
         if self.done.triggered:
             self.running = False
         return self
 
-    def _check_start(self) -> None:
-        """Before simulated time moves: a model that flies robots has a flight controller
-        (else HookError naming the model and what to provide, not an AttributeError from
-        inside SimPy at the first take-off).
+    def check_ready(self) -> None:
+        """Raise HookError unless the built model can start: a model that flies robots has a
+        flight controller (an AttributeError from inside SimPy at the first take-off
+        otherwise). :meth:`run` and :meth:`step` call it before simulated time moves; a tool
+        that builds models without running them (a sweep's dry build) calls it too.
         """
         if self.physics is not None:
             check_controller(self.physics.controller, type(self).__qualname__)

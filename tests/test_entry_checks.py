@@ -278,6 +278,14 @@ def test_a_missing_controller_is_named_before_the_run_starts(capsys, tmp_path):
     assert line.startswith("abm run: error: NoControllerModel has no flight controller")
 
 
+def test_a_sweep_of_a_model_without_controller_stops_before_any_run(tmp_path):
+    from analysis.sweep import run_sweep
+
+    with pytest.raises(HookError, match=r"grid point \(time_limit=30.0\): NoControllerModel has"):
+        run_sweep(NoControllerModel, {"time_limit": [30.0]}, 2, 0, tmp_path / "s", "serial")
+    assert not list(tmp_path.rglob("*.parquet"))  # no run was recorded as a failure
+
+
 def test_a_controller_without_control_is_refused_at_take_off():
     with pytest.raises(HookError, match="has no flight controller: physics.controller is a str"):
         _physics(2, "pilot")
