@@ -64,7 +64,9 @@ def _check(cls: type) -> None:
     try:
         params()
     except ConfigError as exc:
-        raise ContractError(f"the defaults of {params.__qualname__} are refused: {exc}") from exc
+        raise ContractError(
+            f"{name}: the defaults of {params.__qualname__} are refused: {exc}"
+        ) from exc
     helps = field_help(params)
     missing = [f.name for f in dataclasses.fields(params) if f.name not in helps]
     if missing:
