@@ -163,9 +163,10 @@ def _shown(value: object) -> str:
 _SCALARS = (Number, str, np.generic)
 
 
-def check_metrics(metrics: object, hook: str) -> Mapping[str, object]:
-    """A model's ``metrics()``, once checked: a mapping of str keys to single values (numbers,
-    true/false, text or None), each one cell of the run's summary row.
+def check_metrics(metrics: object, hook: str, common: Sequence[str] = ()) -> Mapping[str, object]:
+    """A model's ``metrics()``, once checked: a mapping of str keys, none of them one of the
+    ``common`` summary keys (whose meaning the framework fixes, :data:`abm.units.COMMON`), to
+    single values (numbers, true/false, text or None), each one cell of the run's summary row.
 
     Raises:
         HookError: naming the hook and the first key or value that is not of that kind.
@@ -176,6 +177,11 @@ def check_metrics(metrics: object, hook: str) -> Mapping[str, object]:
     for key, value in metrics.items():
         if not isinstance(key, str):
             raise HookError(f"{hook} returned the key {key!r}; expected str keys")
+        if key in common:
+            raise HookError(
+                f"{hook} returned {key!r}, a key of the common summary ({', '.join(common)}) "
+                "that the framework fills in; give the model's own value another name"
+            )
         if not (value is None or isinstance(value, _SCALARS)):
             raise HookError(
                 f"{hook} returned {key!r} as {_shown(value)}; expected one number, true/false, "

@@ -293,7 +293,8 @@ class SwarmModel(mesa.Model):
     # ------------------------------------------------------------------ hooks
     def metrics(self) -> dict:
         """The model's own results, added to the common summary keys (override): a dict of
-        str keys to one number, true/false, text or None each (:meth:`summary` checks it).
+        str keys (not those of :meth:`common_summary`) to one number, true/false, text or None
+        each (:meth:`summary` checks it).
         """
         return {}
 
@@ -366,10 +367,12 @@ class SwarmModel(mesa.Model):
 
     def summary(self) -> dict:
         """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`
-        (checked: str keys, one number, true/false, text or None each; else HookError).
+        (checked: str keys other than the common ones, one number, true/false, text or None
+        each; else HookError).
         """
-        metrics = check_metrics(self.metrics(), f"{type(self).__qualname__}.metrics()")
-        return {**self.common_summary(), **metrics}
+        common = self.common_summary()
+        hook = f"{type(self).__qualname__}.metrics()"
+        return {**common, **check_metrics(self.metrics(), hook, tuple(common))}
 
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: ``time`` plus one column per state."""

@@ -24,6 +24,7 @@ from abm.contract import check_model
 from abm.errors import ContractError, HookError
 from abm.params import param
 from abm.physics import Physics
+from abm.robot import Robot
 from analysis.cli import main
 
 SHORT = ["--time-limit", "30", "--walkers", "2", "--launch-period", "1", "--no-progress"]
@@ -64,6 +65,22 @@ class ListMetricsModel(TinyModel):
 
     def metrics(self):
         return {**super().metrics(), "positions": [1.0, 2.0]}
+
+
+class ShadowingMetricsModel(TinyModel):
+    """Walkers whose metrics() replaces the common summary key "time" with its own value."""
+
+    def metrics(self):
+        return {**super().metrics(), "time": 1.0}
+
+
+class UncalledBehaviourModel(TinyModel):
+    """Walkers started with their behaviour function instead of its generator."""
+
+    def _launcher(self):
+        yield self.env.timeout(self.params.launch_period)
+        robot = Robot(self, self.centre, "walking", "walk")
+        robot.start(self._walk)
 
 
 class BadLayersModel(TinyModel):
@@ -300,6 +317,23 @@ def test_metrics_that_no_summary_table_can_hold_are_named(capsys, tmp_path):
     assert "ListMetricsModel.metrics() returned 'positions'" in _abm_run(
         capsys, ListMetricsModel, tmp_path
     )
+
+
+def test_metrics_may_not_replace_a_common_summary_key():
+    model = ShadowingMetricsModel(seed=1, **_short()).run()
+    with pytest.raises(HookError, match=r"ShadowingMetricsModel\.metrics\(\) returned 'time', a"):
+        model.summary()
+
+
+def test_a_behaviour_that_is_not_a_generator_is_named(capsys, tmp_path):
+    expected = (
+        r"UncalledBehaviourModel: robot\.start\(\) got the function TinyModel\._walk \(not "
+        r"called\); expected a generator"
+    )
+    with pytest.raises(HookError, match=expected):
+        UncalledBehaviourModel(seed=1, **_short()).run()
+    line = _abm_run(capsys, UncalledBehaviourModel, tmp_path)
+    assert line.startswith("abm run: error: UncalledBehaviourModel: robot.start() got")
 
 
 def test_layers_that_are_not_layers_are_named_and_leave_no_files(capsys, tmp_path):
