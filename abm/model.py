@@ -22,6 +22,7 @@ import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
+from abm.checks import check_controller, check_metrics, check_reporters
 from abm.clock import Clock, call_later
 from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
@@ -98,7 +99,9 @@ class SwarmModel(mesa.Model):
         physics: False for a model whose robots never fly under the continuous dynamics (they
             move by whole steps, :mod:`abm.kinematics`): ``self.physics`` is then None.
         controller: the vectorised flight controller (may be set later as
-            ``physics.controller``).
+            ``physics.controller``, in the model's ``__init__``): an object with
+            ``control(physics)`` (:class:`~abm.physics.Controller`). A model with ``physics``
+            must have one before :meth:`run` or :meth:`step` starts (else HookError).
         torus: True for a periodic world: the Mesa space wraps at the arena's edges (for a
             wall-free arena and robots that move by whole steps, ``physics=False``).
         failures: the model's robots can fail although no fault keyword asks for it (e.g.
@@ -129,7 +132,8 @@ class SwarmModel(mesa.Model):
             f"{cls.__qualname__}.Params",
         )
         cls.__signature__ = _signature(cls.Params)
-        declare_units(cls.SUMMARY_UNITS)
+        if isinstance(cls.SUMMARY_UNITS, Mapping):  # else the contract refuses the class
+            declare_units(cls.SUMMARY_UNITS)
 
     def __init__(
         self,
@@ -196,6 +200,7 @@ class SwarmModel(mesa.Model):
                 params=flight,
                 dt=params.dt,
                 on_collision=self.collision,
+                owner=type(self).__qualname__,
             )
         self.done = self.env.event()
         self.end_reason: str | None = None
@@ -221,7 +226,8 @@ class SwarmModel(mesa.Model):
         built.
         """
         if self._datacollector is None:
-            self._datacollector = StepCollector(self.reporters())
+            reporters = check_reporters(self.reporters(), f"{type(self).__qualname__}.reporters()")
+            self._datacollector = StepCollector(reporters)
         return self._datacollector
 
     @property
@@ -250,6 +256,7 @@ class SwarmModel(mesa.Model):
                 f"model.time cannot go back: it is {self.env.now:g} s, asked for {value:g} s"
             )
         if value > self.env.now and self.running:
+            self.check_ready()
             self._advance(self.env.any_of([self.done, self.env.timeout(value - self.env.now)]))
 
     def step(self) -> None:
@@ -258,6 +265,7 @@ class SwarmModel(mesa.Model):
         """
         if not self.running:
             return
+        self.check_ready()
         self.steps += 1
         self._advance(self.env.any_of([self.env.timeout(self.step_duration), self.done]))
         self.datacollector.collect(self)
@@ -281,9 +289,19 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
+            self.check_ready()
             self._advance(stop)
             self.datacollector.collect(self)
         return self
+
+    def check_ready(self) -> None:
+        """Raise HookError unless the built model can start: a model that flies robots has a
+        flight controller (an AttributeError from inside SimPy at the first take-off
+        otherwise). :meth:`run` and :meth:`step` call it before simulated time moves; a tool
+        that builds models without running them (a sweep's dry build) calls it too.
+        """
+        if self.physics is not None:
+            check_controller(self.physics.controller, type(self).__qualname__)
 
     def finish(self, reason: str) -> None:
         """Mark the run as over (the first reason wins)."""
@@ -294,7 +312,10 @@ class SwarmModel(mesa.Model):
 
     # ------------------------------------------------------------------ hooks
     def metrics(self) -> dict:
-        """The model's own results, added to the common summary keys (override)."""
+        """The model's own results, added to the common summary keys (override): a dict of
+        str keys (not those of :meth:`common_summary`) to one number, true/false, text or None
+        each (:meth:`summary` checks it).
+        """
         return {}
 
     def on_robot_failed(self, robot: Robot) -> None:
@@ -313,11 +334,15 @@ class SwarmModel(mesa.Model):
         """
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
+        """Arrows to draw: ``(points, vectors)``, both ``(k, 2)`` in m, or None (models with
+        ``ARROWS_LABEL``; checked where drawn, :func:`abm.checks.arrows_of`).
+        """
         return None
 
     def layers(self) -> list[Layer]:
-        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds)."""
+        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds):
+        a list of :class:`~abm.styles.Layer` (checked where drawn, :func:`abm.checks.layers_of`).
+        """
         return []
 
     def reporters(self) -> dict:
@@ -361,8 +386,13 @@ class SwarmModel(mesa.Model):
         return out
 
     def summary(self) -> dict:
-        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`."""
-        return {**self.common_summary(), **self.metrics()}
+        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`
+        (checked: str keys other than the common ones, one number, true/false, text or None
+        each; else HookError).
+        """
+        common = self.common_summary()
+        hook = f"{type(self).__qualname__}.metrics()"
+        return {**common, **check_metrics(self.metrics(), hook, tuple(common))}
 
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: ``time`` plus one column per state."""
