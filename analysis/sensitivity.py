@@ -107,7 +107,8 @@ def design_data(manifest: dict, runs: pd.DataFrame, censored: Sequence = ()) -> 
         )
         return data
     ok = runs[runs["status"] == "ok"] if "status" in runs else runs
-    keys = ok[design.names].apply(lambda r: _key(r.to_dict(), design.names), axis=1)
+    columns = zip(*(ok[name].tolist() for name in design.names), strict=True)  # dtypes kept
+    keys = pd.Series([json.dumps(list(values)) for values in columns], index=ok.index, dtype=object)
     wanted = [_key(r, design.names) for r in rows]
     missing = len(set(wanted) - set(keys))
     if missing:
@@ -306,7 +307,7 @@ def save_figures(frame: pd.DataFrame, kind: str, folder: Path) -> dict[str, Path
     heat.set_title("per metric")
     fig.colorbar(image, ax=heat, label=what, fraction=0.08)
     fig.suptitle(f"{kind.capitalize()} sensitivity: {what}, most influential first")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / fig.get_figheight()))
     paths = {"ranking": folder / "sensitivity_ranking.png"}
     fig.savefig(paths["ranking"], dpi=110)
     plt.close(fig)
@@ -344,7 +345,7 @@ def _convergence(frame, kind, table, folder, plt) -> Path:
         ax.set_title(metric)
         ax.legend(fontsize=7)
     fig.suptitle("Convergence: indices on leading subsets of the sample (95 % intervals)")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.92))
     path = folder / "sensitivity_convergence.png"
     fig.savefig(path, dpi=110)
     plt.close(fig)
