@@ -212,8 +212,7 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     """One sweep's figures, curves, statistics and failures (a design sweep: its sensitivity)."""
     if sweep.manifest.get("design"):
         title = f"{sweep.name}: {sweep.manifest.get('description', '')}" if titled else ""
-        censored = () if cls is None else cls.CENSORED
-        return design_block(sweep.name, sweep.manifest, sweep.runs, censored,
+        return design_block(sweep.name, sweep.manifest, sweep.runs, cls,
                             sweep.folder / "figures", title)  # fmt: skip
     runs = stats.ok_runs(sweep.runs)
     failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]

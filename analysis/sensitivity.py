@@ -264,10 +264,13 @@ def ranking(frame: pd.DataFrame, kind: str) -> pd.DataFrame:
     return table.loc[table.mean(axis=1).sort_values(ascending=False).index]
 
 
-def save_figures(frame: pd.DataFrame, kind: str, folder: Path) -> dict[str, Path]:
+def save_figures(
+    frame: pd.DataFrame, kind: str, folder: Path, first: Sequence[str] = ()
+) -> dict[str, Path]:
     """The ranking (a bar of each parameter's mean and a heat map per metric) and the
-    convergence figure (headline index against n, top parameters of each of the first
-    metrics); PNGs in ``folder``.
+    convergence figure (headline index against n, top parameters of up to four metrics:
+    those of ``first`` that have indices, e.g. the model's report layout, then the others);
+    PNGs in ``folder``.
     """
     import matplotlib
 
@@ -312,16 +315,18 @@ def save_figures(frame: pd.DataFrame, kind: str, folder: Path) -> dict[str, Path
     fig.savefig(paths["ranking"], dpi=110)
     plt.close(fig)
     if frame["n"].nunique() > 1:
-        paths["convergence"] = _convergence(frame, kind, table, folder, plt)
+        shown = [m for m in first if m in table.columns]
+        shown += [m for m in table.columns if m not in shown]
+        paths["convergence"] = _convergence(frame, kind, table[shown[:4]], folder, plt)
     return paths
 
 
 def _convergence(frame, kind, table, folder, plt) -> Path:
-    """Headline index (with its interval) against n for the top parameters of up to four
-    metrics.
+    """Headline index (with its interval) against n for the top parameters of each metric of
+    ``table``.
     """
     index = HEADLINE[kind]
-    metrics = list(table.columns[:4])
+    metrics = list(table.columns)
     fig, axes = plt.subplots(1, len(metrics), figsize=(4.2 * len(metrics), 3.4), squeeze=False)
     for ax, metric in zip(axes[0], metrics, strict=False):
         top = table[metric].sort_values(ascending=False).index[:5]

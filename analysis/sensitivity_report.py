@@ -39,7 +39,7 @@ _METHOD = {
 
 
 def design_block(
-    name: str, manifest: dict, runs: pd.DataFrame, censored, folder: Path, title: str
+    name: str, manifest: dict, runs: pd.DataFrame, cls: type | None, folder: Path, title: str
 ) -> dict:
     """The report block of one design sweep (the keys the page template reads).
 
@@ -47,11 +47,14 @@ def design_block(
         name: the sweep's name.
         manifest: its ``sweep.json``.
         runs: every row (finished and failed).
-        censored: the model's censored metrics.
+        cls: the model class (its censored metrics, and the metrics its report layout draws
+            first); None when it cannot be imported.
         folder: where its figures go.
         title: the block's heading ("" for a single sweep).
 
     """
+    censored = () if cls is None else cls.CENSORED
+    first = () if cls is None or cls.REPORT is None else cls.REPORT.metrics
     design = manifest["design"]
     kind = design["kind"]
     data = design_data(manifest, runs, censored)
@@ -59,7 +62,7 @@ def design_block(
     failed = runs[runs["status"] == "failed"] if "status" in runs else runs[:0]
     figures = []
     if len(frame):
-        paths = save_sensitivity_figures(frame, kind, folder)
+        paths = save_sensitivity_figures(frame, kind, folder, first=first)
         for key, path in paths.items():
             figures.append(
                 {

@@ -248,3 +248,40 @@ def test_the_seed_of_a_design_defaults_to_the_sweeps():
     b = Sweep(ISHIGAMI, {}, seed=5, design=_design("lhs", 30, 5))
     assert a.design.seed == 5 and a.points == b.points
     assert np.isfinite([p["x1"] for p in a.points]).all()
+
+
+NUMERIC = ["launch_period", "n_robots", "interspace", "sensor_range", "message_loss", "max_speed",
+           "forwards_start", "complete_fraction"]  # fmt: skip
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    kind=st.sampled_from(["sobol", "morris", "lhs"]),
+    n=st.integers(0, 40),
+    ranges=st.dictionaries(
+        st.sampled_from(NUMERIC),
+        st.tuples(st.floats(-2, 200, allow_nan=False), st.floats(-2, 200, allow_nan=False)),
+        min_size=1,
+        max_size=3,
+    ),
+)
+def test_fuzzed_designs_load_with_every_point_accepted_or_are_refused_in_one_line(
+    tmp_path_factory, kind, n, ranges
+):
+    body = "\n".join(f"{k} = [{a!r}, {b!r}]" for k, (a, b) in ranges.items())
+    path = tmp_path_factory.mktemp("d") / "fuzz.toml"
+    path.write_text(
+        'model = "beacon-explorer"\n[grid]\nworld = ["corridor"]\n'
+        f'[design]\nkind = "{kind}"\nn = {n}\n[design.parameters]\n{body}\n'
+    )
+    try:
+        sweep = load_sweep(path)
+    except ConfigError as exc:
+        assert "\n" not in str(exc) and str(path) in str(exc)
+        return
+    model = sweep.model_cls.Params
+    for point in sweep.points:  # every point a value each parameter accepts (built: checked)
+        model(**{"world": "corridor", **point})
+    for name, (a, b) in ranges.items():
+        values = [p[name] for p in sweep.points]
+        assert min(a, b) <= min(values) and max(values) <= max(a, b)
