@@ -285,3 +285,12 @@ def test_fuzzed_designs_load_with_every_point_accepted_or_are_refused_in_one_lin
     for name, (a, b) in ranges.items():
         values = [p[name] for p in sweep.points]
         assert min(a, b) <= min(values) and max(values) <= max(a, b)
+
+
+@pytest.mark.slow
+def test_a_design_runs_the_same_on_local_processes_as_serially(tmp_path, tiny_package):
+    # tiny_package puts tests/ on the workers' PYTHONPATH (they import ishigami_model)
+    sweep = Sweep(ISHIGAMI, {}, replications=2, design=_design("morris", 2, 6))
+    serial = execute(sweep, tmp_path / "a", executor="serial", progress=False)
+    pooled = execute(sweep, tmp_path / "b", executor="processes", workers=2, progress=False)
+    pd.testing.assert_frame_equal(_stable(serial), _stable(pooled))
