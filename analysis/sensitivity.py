@@ -84,13 +84,16 @@ class DesignData:
         self.censored: dict[str, float] = {}
 
 
-def design_data(manifest: dict, runs: pd.DataFrame, censored: Sequence = ()) -> DesignData | None:
+def design_data(
+    manifest: dict, runs: pd.DataFrame, censored: Sequence = (), parameters: Sequence[str] = ()
+) -> DesignData | None:
     """The sample and outputs of the sweep ``manifest`` from its ``runs``; None without design.
 
     Args:
         manifest: the sweep's ``sweep.json``.
         runs: its rows (:func:`analysis.sweep.load_results`; failed rows are left out).
         censored: the model's censored metrics (:class:`abm.published.Censored`).
+        parameters: the model's parameters, never output metrics (a summary may echo them).
 
     """
     if not manifest.get("design"):
@@ -118,11 +121,12 @@ def design_data(manifest: dict, runs: pd.DataFrame, censored: Sequence = ()) -> 
         )
         return data
     constant = []
-    for metric in _metrics(ok, manifest):
+    for metric in _metrics(ok, manifest, parameters):
         values = pd.to_numeric(ok[metric], errors="coerce").astype(float)
         if values.isna().any():
             data.notes.append(
-                f"{metric} left out: missing in {int(values.isna().sum())} of {len(values)} runs"
+                f"metric {metric!r} left out: missing in {int(values.isna().sum())} of "
+                f"{len(values)} runs"
             )
             continue
         means = values.groupby(keys.values).mean()
@@ -146,9 +150,10 @@ def _key(params: dict, names: Sequence[str]) -> str:
     return json.dumps(values)
 
 
-def _metrics(runs: pd.DataFrame, manifest: dict) -> list[str]:
+def _metrics(runs: pd.DataFrame, manifest: dict, parameters: Sequence[str]) -> list[str]:
     """Numeric columns that are neither parameters nor bookkeeping."""
     skip = set(BOOKKEEPING) | set(manifest.get("grid", {})) | set(manifest["design"]["parameters"])
+    skip |= set(parameters)
     return [
         c
         for c in runs.columns

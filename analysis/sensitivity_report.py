@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from abm.params import param_fields
 from analysis.html import image_data, table
 from analysis.sensitivity import CONF_LEVEL, HEADLINE, RESAMPLES, design_data, indices, ranking
 from analysis.sensitivity import save_figures as save_sensitivity_figures
@@ -57,7 +58,8 @@ def design_block(
     first = () if cls is None or cls.REPORT is None else cls.REPORT.metrics
     design = manifest["design"]
     kind = design["kind"]
-    data = design_data(manifest, runs, censored)
+    names = () if cls is None else [f.name for f in param_fields(cls.Params)]
+    data = design_data(manifest, runs, censored, names)
     frame = indices(data) if data.outputs else pd.DataFrame()
     failed = runs[runs["status"] == "failed"] if "status" in runs else runs[:0]
     figures = []
