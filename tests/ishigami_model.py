@@ -54,7 +54,8 @@ class IshigamiModel(SwarmModel):
 
     def __init__(self, *, seed: int | None = None, **params: object) -> None:
         p = self.make_params(**params)
-        super().__init__(p, Arena(np.ones((3, 3), dtype=bool), 1.0, name="cell"), seed=seed)
+        arena = Arena(np.ones((3, 3), dtype=bool), 1.0, name="cell")
+        super().__init__(p, arena, seed=seed, physics=False)  # nothing flies
         self.env.process(self._end())
 
     def _end(self):
