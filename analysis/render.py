@@ -1,6 +1,6 @@
 """Pictures of a saved run, rebuilt from its recorded files without re-running the model.
 
-At time t the picture shows what the run folder (see :mod:`analysis.runio`) records, for any
+At time t the picture shows what the run folder (see :mod:`analysis.run_folder`) records, for any
 model:
 
 - walls: the saved arena grid;
@@ -32,7 +32,7 @@ from tqdm import tqdm
 
 from abm.errors import ABMError, ConfigError
 from abm.viz.scene import COVERED_COLOUR, Scene, SceneView
-from analysis.runio import SavedRun
+from analysis.run_folder import SavedRun
 
 __all__ = ["RunReplay", "RunFigure", "render_animation", "render_snapshots", "snapshot_times"]
 
