@@ -6,6 +6,10 @@ GIF) twice in one process, alternating: with the ``analysis/render.py`` of a bas
 module, and with today's. Prints each one's time and frames per second (snapshots and GIF
 frames together, and the GIF's alone), the ratio, the machine and the load average. On a
 loaded machine the ratio is the number to read; absolute figures go with the machine named.
+It also says whether both wrote the same pictures: the GIF byte for byte, and per snapshot the
+pixels that differ (the baseline laid each snapshot out again on the figure of the previous
+one, so after the first its panels could drift by a fraction of a pixel; now each is laid out
+as a new figure is, as the first one always was).
 
 Both draw from the same run folder and share everything but ``analysis/render.py`` (the
 scene view, the run folder reader); the baseline needs nothing the current code removed.
@@ -23,6 +27,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import imageio.v3 as iio
 
 from abm.registry import model_class
 from analysis import render as new_render
@@ -71,6 +77,16 @@ def time_render(module, run, frames: int, snapshots: int, out: Path) -> tuple[fl
     return middle - start, time.perf_counter() - middle
 
 
+def same_pictures(old: Path, new: Path) -> str:
+    """Whether both wrote the same GIF (bytes) and snapshots (pixels differing, per PNG)."""
+    gif = (old / "run.gif").read_bytes() == (new / "run.gif").read_bytes()
+    differing = [
+        int((iio.imread(a) != iio.imread(new / a.name)).any(axis=-1).sum())
+        for a in sorted(old.glob("snapshot_*.png"))
+    ]
+    return f"same GIF bytes: {gif}; snapshot pixels differing: {differing}"
+
+
 def make_run(model: str, seed: int, folder: Path) -> Path:
     """A run of ``model`` with its default parameters, saved as ``abm run`` saves it."""
     save_run(model_class(model)(seed=seed).run(), folder)
@@ -107,6 +123,7 @@ def main() -> None:
                 f"{gif:.2f} s -> {pictures / (snaps + gif):.2f} pictures/s, GIF "
                 f"{args.frames / gif:.2f} frames/s (load average {load:.2f})"
             )
+    print(same_pictures(scratch / "old-0", scratch / "new-0"))
     best = {name: min(r, key=sum) for name, r in results.items()}
     total = {name: sum(r) for name, r in best.items()}
     print(
