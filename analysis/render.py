@@ -35,6 +35,7 @@ from tqdm import tqdm
 from abm.errors import ABMError, ConfigError
 from abm.viz.scene import COVERED_COLOUR, Scene, SceneView
 from analysis.blit import FrameBlitter
+from analysis.gif import write_gif
 from analysis.runio import SavedRun
 
 __all__ = [
@@ -388,9 +389,7 @@ def render_animation(
         disable=not progress,
     )
     if kind == ".gif":
-        import imageio.v3 as iio
-
-        iio.imwrite(path, np.stack(list(images)), duration=1000.0 / fps, loop=0)
+        write_gif(images, path, fps)
     else:
         _write_mp4(ffmpeg, list(images), path, fps)
     return path
