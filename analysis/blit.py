@@ -4,8 +4,10 @@ A frame of a run's picture changes only in a few artists (robots, links, covered
 legend, title); the axes, ticks, labels, walls and curves stay. :class:`FrameBlitter` draws the
 rest once into a background and, for each frame, puts the background back and draws, in
 matplotlib's own order, the changing artists *and every artist matplotlib draws after them in
-the same axes* (an axis or a frame drawn over the covered area, a legend over a cursor). Since a
-draw only paints over what is already there, the result is the pixels a full draw gives.
+the same axes* (an axis or a frame drawn over the covered area, a legend over a cursor), except
+those found, by drawing each alone once per layout, to paint no pixel that what is redrawn before
+them may paint: they join the background. Since a draw only paints over what is already there,
+the result is the pixels a full draw gives.
 
 Assumes what a figure of side-by-side panels satisfies: no two axes overlap (each axes' changing
 part is drawn at that axes' turn, over the background of the axes after it), and no artist
@@ -60,7 +62,7 @@ class FrameBlitter:
         key = (canvas.get_width_height(physical=True), figure.dpi, head)
         lays_out = not isinstance(figure.get_layout_engine(), PlaceHolderLayoutEngine | None)
         if lays_out or key != self._key:
-            self._moved = set() if lays_out else self._apart(head, tail, changing)
+            self._moved = set() if lays_out else self._apart(tail, changing)
             self._draw_background([a for a in tail if a not in self._moved])
             self._key = None if lays_out else key
         else:
@@ -71,7 +73,7 @@ class FrameBlitter:
                 artist.draw(renderer)
         return np.asarray(renderer.buffer_rgba())
 
-    def _apart(self, head: tuple, tail: list[Artist], changing: set[Artist]) -> set[Artist]:
+    def _apart(self, tail: list[Artist], changing: set[Artist]) -> set[Artist]:
         """Unchanging artists of the tail that may join the background: those that paint no
         pixel that a changing artist before them may paint (inside its clip box) nor any
         pixel of an artist before them that stays in the tail. Drawing them earlier then
