@@ -40,7 +40,6 @@ def _chain(rates: dict, robots: int, launches: str = "observed", at: float = 0.0
         covariate_times=np.zeros(1),
         covariate_paths={},
         bin_width=1.0,
-        max_rate=max(rates.values()),
     )
 
 

@@ -8,6 +8,9 @@ offset ``log(exposure)``. The families:
 - ``constant``: ``log lambda = b0``.
 - ``counts:<k>`` (mass action / encounters): ``lambda = exp(b0) * n_k ** b1`` while state k
   holds robots, 0 when it holds none (no partner, no encounter); ``b1 = 1`` is mass action.
+  The mean-field ODE also meets counts between 0 and 1, where the rate is interpolated
+  linearly between its values at 0 and 1 robots (``exp(b0) * n_k``), so that a negative
+  exponent (inhibition) cannot make the rate blow up as an expected count empties.
 - ``time``: ``log lambda = b0 + b1 * t / T`` (T: the longest run).
 - ``covariate:<c>``: ``log lambda = b0 + b1 * z`` with z the standardised value of a sample
   column the model records (coverage, pheromone level, ...).
@@ -77,8 +80,8 @@ class Hazard:
             return np.exp(b[0]) + 0.0 * t
         if kind == "counts":
             n = np.asarray(counts[self.variable], dtype=float)
-            with np.errstate(divide="ignore"):
-                return np.where(n > 0, np.exp(b[0] + b[1] * np.log(np.maximum(n, 1e-300))), 0.0)
+            whole = np.exp(b[0] + b[1] * np.log(np.maximum(n, 1.0)))
+            return np.where(n >= 1, whole, np.exp(b[0]) * np.clip(n, 0.0, 1.0))
         if kind == "time":
             return np.exp(b[0] + b[1] * t / self.scale[0])
         if kind == "covariate":

@@ -12,8 +12,9 @@ mean number of robots at its time (the fitted runs' launch times, each weighted 
 Stochastic twin (:func:`simulate_counts`): the same hazards as a population Markov chain,
 advanced by binomial tau-leaping: in a step dt each of the n_i robots in state i leaves it
 with probability ``1 - exp(-Lambda_i dt)`` (Lambda_i: the sum of its hazards, frozen over the
-step), to j with odds lambda_ij / Lambda_i. Counts never go negative; dt is small enough
-(``STEP_FRACTION / max_rate``) that a robot rarely could have moved twice. Each replicate
+step), to j with odds lambda_ij / Lambda_i. Counts never go negative; each step is short
+enough (``STEP_FRACTION`` over the highest per-robot hazard at its start, across
+replicates) that a robot rarely could have moved twice. Each replicate
 takes the launch times of one fitted run drawn at random (or Poisson launches at the fitted
 rate). The 5 % and 95 % quantiles across replicates give the 90 % band.
 """
@@ -179,7 +180,7 @@ def simulate_counts(
     """
     times = np.asarray(times, dtype=float)
     index = {s: k for k, s in enumerate(model.states)}
-    step = STEP_FRACTION / model.max_rate if model.max_rate > 0 else times[-1]
+    step = times[-1] - times[0] or 1.0
     jumps = _replicate_jumps(model, replicates, times[-1], rng).sort_values("time")
     jump_t = jumps["time"].to_numpy(dtype=float)
     jump_r = jumps["replicate"].to_numpy(dtype=int)
@@ -203,27 +204,31 @@ def simulate_counts(
             done = upto
             if t >= t_out:
                 break
-            dt = min(step, t_out - t)
-            _leap(model, by_source, index, n, t, dt, rng)
+            dt = _leap(model, by_source, index, n, t, min(step, t_out - t), rng)
             t = t_out if dt == t_out - t else t + dt
         out[:, k] = n
     return _band(model, times, out)
 
 
-def _leap(model, by_source, index, n, t, dt, rng) -> None:
-    """One binomial tau-leap of every replicate, in place on ``n`` (replicate, state)."""
+def _leap(model, by_source, index, n, t, longest, rng) -> float:
+    """One binomial tau-leap of every replicate, in place on ``n`` (replicate, state); the
+    step is ``longest`` or shorter, so that the highest per-robot hazard now gives at most
+    ``STEP_FRACTION`` expected transitions. Returns the step taken (s).
+    """
     counts = {s: n[:, k].astype(float) for s, k in index.items()}
     covariates = model.covariates_at(t)
+    rates = {
+        i: np.stack([np.broadcast_to(h.rate(t, counts, covariates), n.shape[:1]) for h in hs])
+        for i, hs in by_source.items()
+    }
+    highest = max((float(r.sum(axis=0).max()) for r in rates.values()), default=0.0)
+    dt = min(longest, STEP_FRACTION / highest) if highest > 0 else longest
     change = np.zeros_like(n)
     for i, hazards in by_source.items():
-        rates = np.stack(
-            [np.broadcast_to(h.rate(t, counts, covariates), n.shape[:1]) for h in hazards]
-        )
-        total = rates.sum(axis=0)
-        leaving = rng.binomial(n[:, i], -np.expm1(-total * dt))
-        left = leaving.copy()
+        total = rates[i].sum(axis=0)
+        left = rng.binomial(n[:, i], -np.expm1(-total * dt))
         share = total.copy()
-        for h, rate in zip(hazards, rates, strict=True):
+        for h, rate in zip(hazards, rates[i], strict=True):
             with np.errstate(invalid="ignore", divide="ignore"):
                 p = np.where(share > 0, np.clip(rate / share, 0.0, 1.0), 0.0)
             moved = rng.binomial(left, p)
@@ -233,6 +238,7 @@ def _leap(model, by_source, index, n, t, dt, rng) -> None:
             if h.target in index:
                 change[:, index[h.target]] += moved
     n += change
+    return dt
 
 
 def _band(model: RateModel, times: np.ndarray, out: np.ndarray) -> Band:

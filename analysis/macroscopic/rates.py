@@ -44,8 +44,6 @@ class RateModel:
         covariate_times: grid (s) of ``covariate_paths``.
         covariate_paths: each covariate's mean over the fitted runs on that grid.
         bin_width: the exposure tables' grid (s).
-        max_rate: the highest per-robot hazard the fitted model gives in any bin of the
-            fitted runs (1/s; sets the stochastic simulation's step).
 
     """
 
@@ -59,7 +57,6 @@ class RateModel:
     covariate_times: np.ndarray
     covariate_paths: dict
     bin_width: float
-    max_rate: float
 
     def covariates_at(self, t: float | np.ndarray) -> dict:
         """The covariates' mean values at time(s) ``t`` (the last grid value at or before)."""
@@ -174,7 +171,6 @@ def fit_rates(
     moves = pd.concat([transitions(log) for log in logs])
     hazard_moves = moves[(moves["source"] != LAUNCH) & ~moves["launch"].astype(bool)]
     hazards = []
-    max_rate = 0.0
     for (source, target), _ in hazard_moves.groupby(["source", "target"], sort=True):
         families = candidate_families(states, source, names)
         family, score = _select(tables, source, target, families, horizon)
@@ -185,12 +181,6 @@ def fit_rates(
         hazards.append(
             Hazard(**{**fitted.__dict__, "score": score})  # frozen: copy with the score
         )
-        seen = fitted.rate(
-            rows["time"].to_numpy(),
-            {k: rows[f"n:{k}"].to_numpy() for k in states},
-            {c: rows[c].to_numpy() for c in names},
-        )
-        max_rate = max(max_rate, float(np.max(seen, initial=0.0)))
     schedules = tuple(_schedule(log) for log in logs)
     grid = np.arange(0.0, horizon + bin_width, bin_width)
     return RateModel(
@@ -204,5 +194,4 @@ def fit_rates(
         covariate_times=grid,
         covariate_paths=_covariate_paths(logs, names, grid),
         bin_width=float(bin_width),
-        max_rate=max_rate,
     )
