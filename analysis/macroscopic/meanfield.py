@@ -98,11 +98,16 @@ def expected_counts(model: RateModel, times: np.ndarray) -> pd.DataFrame:
     n = np.zeros(len(model.states))
     out = np.zeros((len(times), len(model.states)))
 
+    moves = np.zeros((len(jumps), len(model.states)))
+    moves[np.arange(len(jumps)), jumps["target"].map(index).to_numpy(dtype=int)] = 1.0
+    sources = jumps["source"].map(index)
+    moves[np.flatnonzero(sources.notna()), sources.dropna().to_numpy(dtype=int)] -= 1.0
+    moves *= jumps["amount"].to_numpy(dtype=float)[:, None]
+    at_time = pd.Series(np.arange(len(jumps))).groupby(jumps["time"].to_numpy()).agg(list)
+    launched = {float(t): moves[rows].sum(axis=0) for t, rows in at_time.items()}
+
     def launch(at: float) -> None:
-        for row in jumps[jumps["time"] == at].itertuples():
-            n[index[row.target]] += row.amount
-            if row.source != LAUNCH:
-                n[index[row.source]] -= row.amount
+        n[:] += launched.get(float(at), 0.0)
 
     launch(0.0)
     t0 = 0.0
