@@ -8,9 +8,10 @@
 - Speed ratio: the held-out agent runs' wall time over the macroscopic prediction's (the
   mean-field solve; the stochastic band's ratio apart), both measured in this process.
 
-The grid runs to the longest held-out run's end; a run that ended earlier (its model's own
-stopping rule: all robots deployed, a stall, ...) has no trajectory after its end, so each
-time's mean is over the runs still going and only their points count for the band.
+A held-out run that ended before the grid's last time keeps its final counts (the run is
+over; its robots stay where they are), as the sweeps' count tables do. That is exact for a
+run that ended because nothing could change any more, and an assumption for one its model
+stopped by a rule of its own.
 """
 
 import time
@@ -97,23 +98,22 @@ def check_heldout(
     band_seconds = time.perf_counter() - start
     size = max(log.swarm_size for log in logs)
     states = list(model.states)
-    going = grid[None, :] <= np.array([log.end for log in logs])[:, None]  # (run, time)
-    mean = (observed * going[:, :, None]).sum(axis=0) / going.sum(axis=0)[:, None]
-    error = mean - expected[states].to_numpy()
+    error = observed.mean(axis=0) - expected[states].to_numpy()
     rmsd = np.sqrt((error**2).mean(axis=0))
-    spread = (((observed - mean) ** 2) * going[:, :, None]).sum(axis=0)
-    runs = going.sum(axis=0)[:, None]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        noise = np.sqrt(np.nanmean(np.where(runs > 1, spread / (runs - 1) / runs, np.nan), axis=0))
+    noise = (
+        np.sqrt((observed.var(axis=0, ddof=1) / len(logs)).mean(axis=0))
+        if len(logs) > 1
+        else np.full(len(states), np.nan)
+    )
     low, high = band.low[states].to_numpy(), band.high[states].to_numpy()
-    inside = ((observed >= low - 1e-9) & (observed <= high + 1e-9))[going]  # (point, state)
+    inside = (observed >= low - 1e-9) & (observed <= high + 1e-9)
     table = pd.DataFrame(
         {
             "state": states,
             "rmsd": rmsd / size,
             "rmsd_robots": rmsd,
             "noise": noise / size,
-            "band_coverage": inside.mean(axis=0),
+            "band_coverage": inside.mean(axis=(0, 1)),
         }
     )
     return Checks(
