@@ -8,6 +8,7 @@ and the other way round (split by runs, never by bins of one run), keeps the fam
 highest held-out Poisson log-likelihood and refits it on all the runs given.
 """
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -178,9 +179,7 @@ def fit_rates(
         fitted = fit_hazard(rows, source, target, family, horizon)
         if fitted is None:  # the chosen family cannot be fitted to all runs together
             fitted = fit_hazard(rows, source, target, "constant", horizon)
-        hazards.append(
-            Hazard(**{**fitted.__dict__, "score": score})  # frozen: copy with the score
-        )
+        hazards.append(dataclasses.replace(fitted, score=score))
     schedules = tuple(_schedule(log) for log in logs)
     grid = np.arange(0.0, horizon + bin_width, bin_width)
     return RateModel(
