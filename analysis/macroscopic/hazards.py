@@ -7,10 +7,12 @@ offset ``log(exposure)``. The families:
 
 - ``constant``: ``log lambda = b0``.
 - ``counts:<k>`` (mass action / encounters): ``lambda = exp(b0) * n_k ** b1`` while state k
-  holds robots, 0 when it holds none (no partner, no encounter); ``b1 = 1`` is mass action.
-  The mean-field ODE also meets counts between 0 and 1, where the rate is interpolated
-  linearly between its values at 0 and 1 robots (``exp(b0) * n_k``), so that a negative
-  exponent (inhibition) cannot make the rate blow up as an expected count empties.
+  holds robots (``b1 = 1`` is mass action). With no robot in k the rate is 0 for a positive
+  exponent (no partner, no encounter) and its one-robot value ``exp(b0)`` for a non-positive
+  one (inhibition: fewest partners, highest rate); the fit first uses the bins where k holds
+  robots and, when the exponent comes out non-positive, refits with the empty bins as n = 1.
+  The mean-field ODE also meets counts between 0 and 1: the rate is interpolated linearly
+  between its values at 0 and 1 robot, so it never blows up as an expected count empties.
 - ``time``: ``log lambda = b0 + b1 * t / T`` (T: the longest run).
 - ``covariate:<c>``: ``log lambda = b0 + b1 * z`` with z the standardised value of a sample
   column the model records (coverage, pheromone level, ...).
@@ -81,7 +83,9 @@ class Hazard:
         if kind == "counts":
             n = np.asarray(counts[self.variable], dtype=float)
             whole = np.exp(b[0] + b[1] * np.log(np.maximum(n, 1.0)))
-            return np.where(n >= 1, whole, np.exp(b[0]) * np.clip(n, 0.0, 1.0))
+            empty = 0.0 if b[1] > 0 else np.exp(b[0])
+            share = np.clip(n, 0.0, 1.0)
+            return np.where(n >= 1, whole, empty + (np.exp(b[0]) - empty) * share)
         if kind == "time":
             return np.exp(b[0] + b[1] * t / self.scale[0])
         if kind == "covariate":
@@ -127,8 +131,7 @@ def _design(
         return ones[:, None], ones > 0
     if kind == "counts":
         n = rows[f"n:{variable}"].to_numpy(dtype=float)
-        with np.errstate(divide="ignore"):
-            return np.column_stack([ones, np.log(np.maximum(n, 1e-300))]), n > 0
+        return np.column_stack([ones, np.log(np.maximum(n, 1.0))]), n > 0
     if kind == "time":
         return np.column_stack([ones, rows["time"].to_numpy() / scale[0]]), ones > 0
     if kind == "covariate":
@@ -171,8 +174,6 @@ def fit_hazard(
             return None
         scale = (mean, sd)
     x, live = _design(rows, family, scale)
-    if y_all[~live].sum() > 0:
-        return None  # the family forbids a transition that happened
     x, y = x[live], y_all[live]
     offset = np.log(rows["exposure"].to_numpy()[live])
     params = np.full(x.shape[1], -np.inf)
@@ -182,18 +183,18 @@ def fit_hazard(
         used = (x * y[:, None]).sum(axis=0) > 0  # a piece with no event: rate 0 (its MLE)
         keep = (x[:, ~used].sum(axis=1) == 0) if (~used).any() else np.ones(len(y), bool)
         x, y, offset = x[keep][:, used], y[keep], offset[keep]
-    if y.sum() == 0 or np.linalg.matrix_rank(x) < x.shape[1]:
-        return None  # nothing to fit, or a covariate that does not vary where it counts
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            result = sm.GLM(y, x, family=sm.families.Poisson(), offset=offset).fit()
-        except (ValueError, np.linalg.LinAlgError):
-            return None
-    if not (np.all(np.isfinite(result.params)) and result.converged):
+    fitted = _glm(x, y, offset)
+    if fitted is not None and fitted[0][-1] > 0 and y_all[~live].sum() > 0:
+        return None  # a rate 0 with no robot in k, yet a transition happened then
+    if fitted is not None and kind == "counts" and fitted[0][1] <= 0 and (~live).any():
+        x_all, _ = _design(rows, family, scale)  # inhibition: empty bins count as n = 1
+        offset_all = np.log(rows["exposure"].to_numpy())
+        fitted = _glm(x_all, y_all, offset_all)
+        if fitted is not None and fitted[0][1] > 0:
+            return None  # the two readings of an empty k disagree: no consistent fit
+    if fitted is None:
         return None
-    params[used] = result.params
-    bse[used] = result.bse
+    params[used], bse[used] = fitted
     return Hazard(
         source,
         target,
@@ -207,12 +208,31 @@ def fit_hazard(
     )
 
 
+def _glm(x: np.ndarray, y: np.ndarray, offset: np.ndarray) -> tuple | None:
+    """(params, bse) of the Poisson GLM, or None (nothing to fit, a covariate that does not
+    vary where it counts, no convergence).
+    """
+    if y.sum() == 0 or np.linalg.matrix_rank(x) < x.shape[1]:
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            result = sm.GLM(y, x, family=sm.families.Poisson(), offset=offset).fit()
+        except (ValueError, np.linalg.LinAlgError):
+            return None
+    if not (np.all(np.isfinite(result.params)) and result.converged):
+        return None
+    return np.asarray(result.params), np.asarray(result.bse)
+
+
 def heldout_loglik(hazard: Hazard, rows: pd.DataFrame) -> float:
     """Poisson log-likelihood of held-out exposure rows under ``hazard`` (-inf when it gives
     rate 0 where a transition happened).
     """
     y = rows[f"to:{hazard.target}"].to_numpy(dtype=float)
     x, live = _design(rows, hazard.family, hazard.scale)
+    if hazard.family.startswith("counts:") and hazard.params[1] <= 0:
+        live = np.ones(len(rows), dtype=bool)  # inhibition: an empty k reads as n = 1
     if hazard.family == "piecewise":
         linear = hazard.params[x.argmax(axis=1)]  # a piece with rate 0 has b_p = -inf
     else:
