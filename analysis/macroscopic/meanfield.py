@@ -28,10 +28,13 @@ from scipy.integrate import solve_ivp
 from analysis.macroscopic.logs import LAUNCH
 from analysis.macroscopic.rates import RateModel
 
-__all__ = ["STEP_FRACTION", "Band", "expected_counts", "simulate_counts"]
+__all__ = ["MIN_STEP", "STEP_FRACTION", "Band", "expected_counts", "simulate_counts"]
 
-#: Expected transitions per robot per tau-leaping step at the highest fitted hazard (ours).
+#: Expected transitions per robot per tau-leaping step at the highest hazard (ours).
 STEP_FRACTION = 0.05
+#: Shortest step, as a share of the mean time between two output times (ours): bounds the work
+#: of a hazard that grows without bound (a steep time trend) while its state holds robots.
+MIN_STEP = 1e-4
 
 
 def _flows(model: RateModel, t: float, n: np.ndarray) -> np.ndarray:
@@ -186,6 +189,7 @@ def simulate_counts(
     times = np.asarray(times, dtype=float)
     index = {s: k for k, s in enumerate(model.states)}
     step = times[-1] - times[0] or 1.0
+    shortest = MIN_STEP * step / max(len(times) - 1, 1)
     jumps = _replicate_jumps(model, replicates, times[-1], rng).sort_values("time")
     jump_t = jumps["time"].to_numpy(dtype=float)
     jump_r = jumps["replicate"].to_numpy(dtype=int)
@@ -209,16 +213,17 @@ def simulate_counts(
             done = upto
             if t >= t_out:
                 break
-            dt = _leap(model, by_source, index, n, t, min(step, t_out - t), rng)
+            dt = _leap(model, by_source, index, n, t, min(step, t_out - t), shortest, rng)
             t = t_out if dt == t_out - t else t + dt
         out[:, k] = n
     return _band(model, times, out)
 
 
-def _leap(model, by_source, index, n, t, longest, rng) -> float:
+def _leap(model, by_source, index, n, t, longest, shortest, rng) -> float:
     """One binomial tau-leap of every replicate, in place on ``n`` (replicate, state); the
     step is ``longest`` or shorter, so that the highest per-robot hazard now gives at most
-    ``STEP_FRACTION`` expected transitions. Returns the step taken (s).
+    ``STEP_FRACTION`` expected transitions, but not below ``shortest`` (s). Returns the step
+    taken (s).
     """
     counts = {s: n[:, k].astype(float) for s, k in index.items()}
     covariates = model.covariates_at(t)
@@ -226,8 +231,11 @@ def _leap(model, by_source, index, n, t, longest, rng) -> float:
         i: np.stack([np.broadcast_to(h.rate(t, counts, covariates), n.shape[:1]) for h in hs])
         for i, hs in by_source.items()
     }
-    highest = max((float(r.sum(axis=0).max()) for r in rates.values()), default=0.0)
-    dt = min(longest, STEP_FRACTION / highest) if highest > 0 else longest
+    highest = max(
+        (float(r.sum(axis=0)[n[:, i] > 0].max(initial=0.0)) for i, r in rates.items()),
+        default=0.0,
+    )  # only hazards of robots present matter: a huge rate of an empty state costs no step
+    dt = min(longest, max(STEP_FRACTION / highest, shortest)) if highest > 0 else longest
     change = np.zeros_like(n)
     for i, hazards in by_source.items():
         total = rates[i].sum(axis=0)
