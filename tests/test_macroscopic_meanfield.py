@@ -1,5 +1,7 @@
 """The mean-field ODE and its stochastic twin (analysis.macroscopic.meanfield)."""
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -108,3 +110,28 @@ def test_held_out_checks_of_the_test_model():
     assert 0.75 <= checks.band_coverage <= 1.0, checks.table
     assert set(checks.table["state"]) == {"A", "B", "C"}
     assert checks.speed_ratio > 0
+
+
+def test_a_steep_hazard_of_an_empty_state_costs_the_stochastic_twin_no_steps(monkeypatch):
+    """C -> A grows as exp(60 t / T) but C never holds a robot: the tau-leaping steps follow
+    the hazards of robots present (A -> B), so the band takes a few hundred steps, not an
+    endless number."""
+    from analysis.macroscopic import meanfield
+
+    model = _chain({("A", "B"): 0.1}, 30)
+    steep = Hazard("C", "A", "time", np.array([0.0, 60.0]), np.zeros(2), scale=(100.0,))
+    model = dataclasses.replace(model, hazards=(*model.hazards, steep))
+    leaps = []
+    leap = meanfield._leap
+
+    def counted(*args):
+        leaps.append(1)
+        if len(leaps) > 10_000:
+            raise RuntimeError("the stochastic twin took more than 10,000 steps")
+        return leap(*args)
+
+    monkeypatch.setattr(meanfield, "_leap", counted)
+    band = simulate_counts(model, np.linspace(0.0, 100.0, 11), 50, np.random.default_rng(2))
+    assert len(leaps) < 1_000
+    assert band.mean["C"].max() == 0
+    np.testing.assert_allclose(band.mean["A"].iloc[-1], 30 * np.exp(-10.0), atol=0.2)
