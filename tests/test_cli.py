@@ -198,3 +198,18 @@ def test_fit_assignments_read_each_parameter_type():
     ]:
         with pytest.raises(ConfigError, match=match):
             parse_assignment(P, text)
+
+
+@pytest.mark.parametrize(
+    ("extra", "said"),
+    [(["--grid", "n_anchors=4,6"], "--grid: rate equations are fitted to one condition"),
+     (["--read", "somewhere"], "--read: rate equations need the event logs"),
+     (["--runs", "1"], "--runs must be at least 2 to fit rates"),
+     (["--held", "0"], "--held must be at least 1"),
+     (["--set", "n_anchors=-3"], "n_anchors")],
+)  # fmt: skip
+def test_rate_equations_refuse_what_they_cannot_do_before_any_run(extra, said, tmp_path, capsys):
+    out = tmp_path / "fit"
+    assert main(["fit", "sugarmap", *extra, "--out", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert said in err and len(err.strip().splitlines()) == 1 and not out.exists()

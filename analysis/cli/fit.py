@@ -1,5 +1,9 @@
-"""``abm fit MODEL``: agent runs -> the wander/beacon recurrence fitted to the model's two
-counted states -> one HTML report (any model that declares ``MACRO``).
+"""``abm fit MODEL``: agent runs -> a macroscopic model -> its report.
+
+A model that declares ``MACRO`` gets the wander/beacon recurrence fitted to its two counted
+states (one HTML report); any other model with two or more states, or any model with
+``--rates``, gets rate equations derived from its own event log, fitted on some seeds and
+checked on others (:mod:`analysis.rate_fit`).
 """
 
 import argparse
@@ -9,7 +13,7 @@ import time
 from pathlib import Path
 
 VERB = "fit"
-HELP = "fit the wander/beacon recurrence to a model's two counted states; HTML report"
+HELP = "fit a macroscopic model: the recurrence a model declares, or rate equations from its log"
 EXAMPLE = "abm fit stigmergy --grid map=hall100,divided --grid pheromone_radius=20,30,40 --runs 4"
 
 
@@ -32,7 +36,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME=VALUE",
         help="a parameter held at one value in every run (repeatable)",
     )
-    parser.add_argument("--runs", type=int, default=5, help="runs per grid point [5]")
+    parser.add_argument("--runs", type=int, default=5, help="runs per grid point (fitted) [5]")
+    parser.add_argument(
+        "--rates",
+        action="store_true",
+        help="fit rate equations from the event log even where the model declares MACRO",
+    )
+    parser.add_argument(
+        "--held", type=int, default=3, help="rate equations: held-out runs that check them [3]"
+    )
     parser.add_argument("--seed", type=int, default=0, help="the sweep seed [0]")
     parser.add_argument(
         "--workers", type=int, default=min(2, os.cpu_count() or 1), help="local processes"
@@ -66,6 +78,8 @@ def main(args: argparse.Namespace) -> int:
 
     cls = model_class(args.model)
     name = name_of(cls) or args.model
+    if args.rates or cls.MACRO is None:
+        return _rates(args, cls, name)
     spec = macro_spec(cls)
     if args.runs < 1:
         raise ConfigError(f"--runs must be at least 1, got {args.runs}")
@@ -113,6 +127,31 @@ def main(args: argparse.Namespace) -> int:
         json.dumps({"model": name, "conditions": conditions, "runs": len(summaries)}, indent=2)
     )
     print(f"\nwrote {report}\nwrote {out / 'runs.csv'}\nwrote {out / 'fit.json'}")
+    return 0
+
+
+def _rates(args: argparse.Namespace, cls: type, name: str) -> int:
+    """The rate equations of one condition (``--set``), fitted and checked on held-out seeds."""
+    from abm.errors import ConfigError
+    from analysis.cli.flags import parse_assignment
+    from analysis.rate_fit import fit_rate_equations, summary_lines, write_rate_fit
+
+    if args.grid:
+        raise ConfigError(
+            "--grid: rate equations are fitted to one condition (rates regressed across "
+            "parameters are not built yet); set it with --set NAME=VALUE"
+        )
+    if args.read is not None:
+        raise ConfigError("--read: rate equations need the event logs, which sweeps do not keep")
+    params = {k: v[0] for k, v in (parse_assignment(cls.Params, text) for text in args.set)}
+    out = args.out or Path("out/fit") / name
+    start = time.perf_counter()
+    result = fit_rate_equations(cls, params, args.seed, args.runs, args.held, args.workers)
+    title = f"{name}: {args.runs} runs fitted, {args.held} held out (seeds from {args.seed})"
+    paths = write_rate_fit(result, out, title)
+    print(*summary_lines(result), sep="\n")
+    print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
+    print("", *(f"wrote {p}" for p in paths), sep="\n")
     return 0
 
 
