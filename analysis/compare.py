@@ -403,7 +403,7 @@ def judge_claims(
             why = differs
         elif verdict is None:
             shown, why = NOT_IN_SWEEP, claim.setup
-        elif verdict.censored:
+        elif verdict.censored and verdict.holds is None:  # decided parts keep their verdict
             shown, why = CENSORED, verdict.why
         else:
             shown, why = VERDICTS[verdict.holds], verdict.why

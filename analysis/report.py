@@ -103,6 +103,31 @@ def layout_for(declared: ReportLayout | None, manifest: dict, runs: pd.DataFrame
     return replace(layout, x=x, hue=hue, compare=compare)
 
 
+def _check_units(sweeps: list) -> None:
+    """Refuse to pool sweeps whose runs are in different units: a sweep records the unit of
+    each summary key in its ``sweep.json``; one made before units were recorded cannot be
+    checked, so it is reported only alone.
+    """
+    if len(sweeps) < 2:
+        return
+    unrecorded = [s.name for s in sweeps if "units" not in s.manifest]
+    if unrecorded:
+        raise ABMError(
+            f"{', '.join(unrecorded)}: made by code that recorded no units, so its numbers "
+            "cannot be checked against the other sweeps'; report it alone or run it again"
+        )
+    first = sweeps[0]
+    for other in sweeps[1:]:
+        a, b = first.manifest["units"], other.manifest["units"]
+        differ = sorted(k for k in set(a) & set(b) if a[k] != b[k])
+        if differ:
+            shown = ", ".join(f"{k} ({a[k]} vs {b[k]})" for k in differ)
+            raise ABMError(
+                f"{first.name} and {other.name} record different units for {shown}: "
+                "their runs cannot be pooled; run the older sweep again"
+            )
+
+
 @dataclass
 class _Sweep:
     """One sweep folder, loaded."""
@@ -152,6 +177,7 @@ def write_report(
     targets = {s.manifest.get("target") or s.manifest.get("model") for s in sweeps}
     if len(targets) > 1:
         raise ABMError(f"the sweeps are of different models ({', '.join(sorted(targets))})")
+    _check_units(sweeps)
     out = Path(out) if out is not None else sweeps[0].folder / "report.html"
     cls, problem = _model(sweeps[0].manifest)
     every = pd.concat([s.runs for s in sweeps], ignore_index=True)

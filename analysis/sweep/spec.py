@@ -170,7 +170,21 @@ class Sweep:
             "grid": {k: list(v) for k, v in self.grid.items()},
             "points": [dict(p) for p in self.points],
             **({"design": self.design.manifest()} if self.design is not None else {}),
+            # the unit of each summary key, so runs made in other units are never mixed
+            "units": summary_units(self.model_cls),
         }
+
+
+def summary_units(cls: type) -> dict[str, str]:
+    """The unit symbol of each summary key a model documents (its ``SUMMARY_UNITS`` and the
+    framework's common keys), as ``sweep.json`` records them.
+    """
+    from abm.units import quantity_of
+
+    declared = getattr(cls, "SUMMARY_UNITS", {}) or {}
+    keys = {*declared, "time", "coverage_area", "energy_total"}
+    units = {k: quantity_of(declared, k) for k in sorted(keys)}
+    return {k: q.unit for k, q in units.items() if q is not None}
 
 
 def check_name(name: object) -> None:

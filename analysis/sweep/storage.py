@@ -201,6 +201,16 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
                 f"{out} holds a sweep with another design (or a sample SALib drew otherwise): "
                 "a design's sample is its plan; choose another output folder"
             )
+        if "units" in old and old["units"] != manifest.get("units"):
+            changed = sorted(
+                k
+                for k in {*old["units"], *manifest.get("units", {})}
+                if old["units"].get(k) != manifest.get("units", {}).get(k)
+            )
+            raise SweepError(
+                f"{out} holds runs whose summary units differ from today's code's "
+                f"({', '.join(changed)}): choose another output folder"
+            )
         if _keys(old) != _keys(manifest):
             raise SweepError(
                 f"{out} holds a sweep over {', '.join(sorted(_keys(old))) or 'no keys'}, this one "
