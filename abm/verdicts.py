@@ -32,6 +32,9 @@ our value and its 95 % interval, so the report shows how every verdict was reach
   rule on the OLS coefficient's 95 % t-interval.
 
 A claim is never decided from fewer than two runs per group: the verdict is then undecided.
+A rule that holds because it found no difference (a level without a spread, an agreement)
+needs at least :data:`MIN_AGREE` runs per group: fewer give intervals so wide that nothing
+could be told apart, and the verdict is undecided.
 """
 
 from collections.abc import Callable, Mapping, Sequence
@@ -46,6 +49,7 @@ from abm.published import Published, Verdict
 
 __all__ = [
     "ALPHA",
+    "MIN_AGREE",
     "agreement",
     "band",
     "censored",
@@ -64,6 +68,8 @@ __all__ = [
 
 #: One minus the confidence of every interval, and the level of every test.
 ALPHA = 0.05
+#: The fewest runs per group from which "no difference found" may count as holding.
+MIN_AGREE = 5
 
 
 def interval(values: Sequence[float], share: bool = False) -> tuple[float, float, float]:
@@ -114,6 +120,8 @@ def level(
     off = f"ours differs from the published {value:g} by {mean - value:+.3g}"
     if spread is None:
         inside = bool(low <= value <= high)
+        if inside and runs < MIN_AGREE:
+            return Verdict(shown, None, f"fewer than {MIN_AGREE} runs: too few to tell", **common)
         return Verdict(shown, inside, "" if inside else off, **common)
     bottom, top = value - spread, value + spread
     if bottom <= low and high <= top:
@@ -360,17 +368,19 @@ def agreement(checkpoints: Mapping[str, Sequence[Sequence[float]]], what: str) -
     means = [x.mean() for x in xs]
     low, high = xs[int(np.argmin(means))], xs[int(np.argmax(means))]
     gap = difference(low, high, +1)
-    holds = bool(adjusted[worst] >= ALPHA)
+    holds: bool | None = bool(adjusted[worst] >= ALPHA)
     runs = sum(len(x) for x in xs)
+    few = min(len(x) for _, group in tests.values() for x in group) < MIN_AGREE
     ours = (
         f"smallest Holm-adjusted p = {adjusted[worst]:.2g} at {worst} ({len(tests)} "
         f"checkpoints); there the largest gap of the means {gap.ours}"
     )
-    why = (
-        "no difference found; a gap within the interval above could go unseen"
-        if holds
-        else f"the {what} differ at {worst} by {gap.mean:+.3g}"
-    )
+    if holds and few:
+        holds, why = None, f"no difference found, but fewer than {MIN_AGREE} runs in a group"
+    elif holds:
+        why = "no difference found; a gap within the interval above could go unseen"
+    else:
+        why = f"the {what} differ at {worst} by {gap.mean:+.3g}"
     return Verdict(ours, holds, why, rule, mean=gap.mean, low=gap.low, high=gap.high, runs=runs)
 
 

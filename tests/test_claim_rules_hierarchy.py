@@ -154,3 +154,10 @@ def test_c12_safe_motion_needs_no_event_with_waves_and_a_control_that_shows_some
                 }
             )
     assert TESTS["C12"](pd.DataFrame(rows), None).holds is holds
+
+
+def test_c8_no_increase_from_three_runs_per_arm_is_undecided():
+    rows = [{"W": w, "S": 4, "N": 1 + w + 4 * w, "topology": "hst", "wave_generator": True,
+             "scout_scan_area": 1.0, "queen_iterations": 11 + (w == 7) * 4 + offset}
+            for w in (2, 7) for offset in (-5.0, 0.0, 5.0)]  # fmt: skip
+    assert TESTS["C8"](pd.DataFrame(rows), None).holds is None

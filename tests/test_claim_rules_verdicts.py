@@ -71,3 +71,14 @@ def test_coefficient_judges_the_papers_value_and_refuses_collinear_regressors():
     assert verdict.holds is False and "differs" in verdict.why
     collinear = verdicts.coefficient(y, {"x": x, "twice x": 2 * x}, "x", 2.0)
     assert collinear.holds is None and "collinear" in collinear.why
+
+
+def test_no_difference_from_too_few_runs_is_undecided_not_holding():
+    rng = np.random.default_rng(3)
+    few = {"1 s": [rng.normal(50, 3, 3), rng.normal(50, 3, 3)]}
+    assert verdicts.agreement(few, "arms").holds is None
+    enough = {"1 s": [rng.normal(50, 3, 5), rng.normal(50, 3, 5)]}
+    assert verdicts.agreement(enough, "arms").holds is True
+    assert verdicts.level(0.3, -5.0, 5.0, 3, 0.0).holds is None  # inside, but 3 runs
+    assert verdicts.level(0.3, -5.0, 5.0, 5, 0.0).holds is True
+    assert verdicts.level(9.0, 8.0, 10.0, 3, 0.0).holds is False  # a difference still fails

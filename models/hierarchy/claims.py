@@ -231,7 +231,9 @@ def c8(runs, samples) -> Verdict | None:
     gap = difference(a, b, +1)
     if gap.low is None:
         return replace(gap, ours=f"queen iterations at S = {both}: too few runs")
-    judged = level(gap.mean, gap.low, gap.high, gap.runs, 0.0)
+    # the level rule counts runs per group: the smaller arm decides whether there are enough
+    judged = level(gap.mean, gap.low, gap.high, min(len(a), len(b)), 0.0)
+    judged = replace(judged, runs=gap.runs)
     ours = (
         f"queen iterations: {a.mean():.1f} with 2 workers, {b.mean():.1f} with 7 (same S = "
         f"{both}; ratio {b.mean() / a.mean():.2f}); W=7 - W=2 {gap.ours}"
