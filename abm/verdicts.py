@@ -21,11 +21,21 @@ our value and its 95 % interval, so the report shows how every verdict was reach
   the other sign and p < 0.05, and is undecided otherwise.
 - a **correlation of condition means** (:func:`correlation`): Pearson's r with its Fisher-z
   95 % interval, judged like a direction.
+- an **agreement** of conditions the paper says give the same value (:func:`agreement`, e.g.
+  "the curves follow each other closely"): the paper's difference is 0 and it gives no margin,
+  so the rule is the level rule without a spread: the Kruskal-Wallis test over the conditions
+  (Holm-adjusted over checkpoints) finds no difference (holds) or finds one (fails, saying by
+  how much the extreme means differ). The largest gap is shown with its Welch interval, so the
+  reader sees how large a difference these runs could miss.
+- a **coefficient** the paper gives a value for (:func:`coefficient`, e.g. a speed-up
+  "almost linear" in n: the slope of log T on log n is -1; "no effect of W": 0): the level
+  rule on the OLS coefficient's 95 % t-interval.
 
 A claim is never decided from fewer than two runs per group: the verdict is then undecided.
 """
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -36,8 +46,10 @@ from abm.published import Published, Verdict
 
 __all__ = [
     "ALPHA",
+    "agreement",
     "band",
     "censored",
+    "coefficient",
     "combine",
     "contrast",
     "correlation",
@@ -315,6 +327,82 @@ def correlation(x: Sequence[float], y: Sequence[float], sign: int, runs: int) ->
     ours = f"{r:.3f} (95 % interval {low:.3f} to {high:.3f}, {n} conditions, p = {p:.2g})"
     why = _WHY[holds]
     return Verdict(ours, holds, why, rule, mean=r, low=low, high=high, runs=runs)
+
+
+def agreement(checkpoints: Mapping[str, Sequence[Sequence[float]]], what: str) -> Verdict:
+    """The agreement rule (see the module) over ``checkpoints``: label -> the groups' values
+    there (e.g. "1000 s" -> coverage of each geometry's runs); ``what`` names the groups.
+    """
+    rule = (
+        f"agreement: Kruskal-Wallis over {what}, Holm-adjusted over the checkpoints; no "
+        f"adjusted p < {ALPHA:g} holds (no difference found; the paper gives no margin), any "
+        "fails"
+    )
+    tests = {}
+    for label, groups in checkpoints.items():
+        xs = [np.asarray(g, dtype=float) for g in groups]
+        xs = [x[~np.isnan(x)] for x in xs]
+        if len(xs) < 2 or any(len(x) < 2 for x in xs):
+            runs = sum(len(x) for x in xs)
+            return Verdict("", None, f"{label}: fewer than two runs in a group", rule, runs=runs)
+        pooled = np.concatenate(xs)
+        p = 1.0 if np.all(pooled == pooled[0]) else float(sps.kruskal(*xs).pvalue)
+        tests[label] = (p, xs)
+    if not tests:
+        return Verdict("", None, "no checkpoint", rule, runs=0)
+    order = sorted(tests, key=lambda k: tests[k][0])
+    adjusted, running = {}, 0.0
+    for rank, label in enumerate(order):  # Holm's step-down, kept monotone
+        running = max(running, min(1.0, (len(order) - rank) * tests[label][0]))
+        adjusted[label] = running
+    worst = order[0]
+    xs = tests[worst][1]
+    means = [x.mean() for x in xs]
+    low, high = xs[int(np.argmin(means))], xs[int(np.argmax(means))]
+    gap = difference(low, high, +1)
+    holds = bool(adjusted[worst] >= ALPHA)
+    runs = sum(len(x) for x in xs)
+    ours = (
+        f"smallest Holm-adjusted p = {adjusted[worst]:.2g} at {worst} ({len(tests)} "
+        f"checkpoints); there the largest gap of the means {gap.ours}"
+    )
+    why = (
+        "no difference found; a gap within the interval above could go unseen"
+        if holds
+        else f"the {what} differ at {worst} by {gap.mean:+.3g}"
+    )
+    return Verdict(ours, holds, why, rule, mean=gap.mean, low=gap.low, high=gap.high, runs=runs)
+
+
+def coefficient(
+    y: Sequence[float], regressors: Mapping[str, Sequence[float]], name: str, value: float
+) -> Verdict:
+    """The level rule on the coefficient ``name`` of the OLS fit ``y = a + sum_k b_k x_k`` over
+    the runs (``regressors``: name -> values): the paper's ``value`` inside our 95 %
+    t-interval of the coefficient holds; outside it fails, saying by how much ours differs. A
+    design without full rank (collinear regressors) is not judged.
+    """
+    target = np.asarray(y, dtype=float)
+    columns = [np.asarray(v, dtype=float) for v in regressors.values()]
+    design = np.column_stack([np.ones_like(target), *columns])
+    keep = ~np.isnan(design).any(axis=1) & ~np.isnan(target)
+    design, target = design[keep], target[keep]
+    n, k = design.shape
+    terms = " + ".join(f"b_{key} {key}" for key in regressors)
+    rule = f"level: the paper's {value:g} inside our 95 % interval of b_{name} in y = a + {terms}"
+    if n <= k:
+        return Verdict("", None, f"{n} runs for {k} coefficients", rule, runs=n)
+    if np.linalg.matrix_rank(design) < k:
+        return Verdict("", None, "the regressors are collinear: not computed", rule, runs=n)
+    beta, *_ = np.linalg.lstsq(design, target, rcond=None)
+    residual = target - design @ beta
+    sigma2 = float(residual @ residual) / (n - k)
+    index = 1 + list(regressors).index(name)
+    se = float(np.sqrt(sigma2 * np.linalg.inv(design.T @ design)[index, index]))
+    half = float(sps.t.ppf(1 - ALPHA / 2, n - k) * se)
+    b = float(beta[index])
+    judged = level(b, b - half, b + half, n, value)
+    return replace(judged, rule=rule, ours=f"b_{name} {judged.ours}")
 
 
 def level_test(record: Published) -> Callable[[pd.DataFrame, pd.DataFrame | None], Verdict | None]:

@@ -5,7 +5,9 @@ without one, from the swept parameters):
 
 * :func:`metric_panels`: mean +- standard error of each metric against the swept parameter
   ``x``, one line per value of ``hue`` (Stirling et al. Figs. 6, 8, 10a; Arnaldo et al.
-  Table 1 as curves);
+  Table 1 as curves); a metric the end of some runs censors (the model's ``CENSORED``) is
+  drawn as its Kaplan-Meier median per condition instead, with the conditions whose median
+  is not reached marked at their bound, since a mean of lower bounds is no estimate;
 * :func:`stacked_bars`: components (e.g. energy per mode) stacked per ``x`` value, one panel per
   ``hue`` value, with the standard error of the total (Stirling et al. Figs. 7, 9, 10b);
 * :func:`compare_bars`: one metric for each value of a compared parameter (hover vs attach);
@@ -13,6 +15,7 @@ without one, from the swept parameters):
   over the runs of each condition (Purohit et al. Figs. 5-9, 11, 15).
 """
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -24,7 +27,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 import seaborn as sns  # noqa: E402
 
-from abm.published import ReportLayout  # noqa: E402
+from abm.published import Censored, ReportLayout  # noqa: E402
+from analysis.censoring import censored_mask, survival  # noqa: E402
 from analysis.stats import ok_runs  # noqa: E402
 
 __all__ = [
@@ -63,28 +67,36 @@ def _hue_levels(df: pd.DataFrame, layout: ReportLayout) -> list:
     return ordered + [h for h in present if h not in ordered]
 
 
-def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
-    """Each of ``layout.metrics`` against ``layout.x`` (mean +- standard error), side by side."""
+def metric_panels(
+    df: pd.DataFrame, layout: ReportLayout, censored: Sequence[Censored] = ()
+) -> plt.Figure:
+    """Each of ``layout.metrics`` against ``layout.x`` (mean +- standard error), side by side;
+    a metric some of these runs censor (``censored``) as its Kaplan-Meier medians.
+    """
     runs, names = _positions(ok_runs(df), layout.x)
     metrics = [m for m in layout.metrics if m in runs]
     hues = _hue_levels(runs, layout)
+    cut = {c.metric: c for c in censored if c.metric in metrics and censored_mask(runs, c).any()}
     fig, axes = plt.subplots(1, len(metrics), figsize=(4.8 * len(metrics), 4.2), squeeze=False)
     for ax, metric in zip(axes[0], metrics, strict=True):
-        data = runs.assign(_y=_values(runs, layout, metric))
-        sns.lineplot(
-            data=data,
-            x=layout.x,
-            y="_y",
-            hue=layout.hue if len(hues) > 1 else None,
-            hue_order=hues if len(hues) > 1 else None,
-            errorbar="se",
-            err_style="bars",
-            marker="o",
-            err_kws={"capsize": 3},
-            ax=ax,
-            color=None if len(hues) > 1 else "#00798c",
-            linestyle="" if names else "-",  # names in alphabetical order: no line between
-        )
+        if metric in cut:
+            _km_medians(ax, runs, layout, cut[metric], hues)
+        else:
+            data = runs.assign(_y=_values(runs, layout, metric))
+            sns.lineplot(
+                data=data,
+                x=layout.x,
+                y="_y",
+                hue=layout.hue if len(hues) > 1 else None,
+                hue_order=hues if len(hues) > 1 else None,
+                errorbar="se",
+                err_style="bars",
+                marker="o",
+                err_kws={"capsize": 3},
+                ax=ax,
+                color=None if len(hues) > 1 else "#00798c",
+                linestyle="" if names else "-",  # names in alphabetical order: no line between
+            )
         xs = sorted(runs[layout.x].unique())
         if len(xs) <= MAX_TICKS:  # a tick per condition; beyond that matplotlib's own ticks
             ticks = [names[int(x)] if names else f"{x:g}" for x in xs]
@@ -106,9 +118,45 @@ def metric_panels(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     groups = [layout.x, *([layout.hue] if len(hues) > 1 else [])]
     n = runs.groupby(groups).size()
     runs_text = f"{n.min()}" if n.min() == n.max() else f"{n.min()}–{n.max()}"
-    fig.suptitle(f"Mean ± standard error over {runs_text} runs per condition", fontsize=11)
+    km = "Kaplan-Meier median (△: fewer than half reached it; the median is at least this)"
+    if len(cut) == len(metrics):
+        title = f"{km}, over {runs_text} runs per condition"
+    else:
+        title = f"Mean ± standard error over {runs_text} runs per condition"
+        title += f"; censored metrics: {km}" if cut else ""
+    fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     return fig
+
+
+def _km_medians(
+    ax: plt.Axes, runs: pd.DataFrame, layout: ReportLayout, spec: Censored, hues: list
+) -> None:
+    """The Kaplan-Meier median of a censored metric per ``x`` value, one line per hue; where
+    fewer than half the runs reached the target the median is unknown, and an open triangle
+    marks the largest censored bound (the median is at least that).
+    """
+    scale = 1 / 1000.0 if "(kJ)" in label(layout, spec.metric) else 1.0
+    palette = sns.color_palette(n_colors=max(1, len(hues)))
+    for i, hue in enumerate(hues if len(hues) > 1 else [None]):
+        part = runs if hue is None else runs[runs[layout.hue] == hue]
+        colour = palette[i] if hue is not None else "#00798c"
+        reached, unknown = [], []
+        for x, group in part.groupby(layout.x):
+            km = survival(group, spec)
+            if km.median is not None:
+                reached.append((x, km.median * scale))
+            elif km.bound is not None:
+                unknown.append((x, km.bound * scale))
+        if reached:
+            xs, ys = zip(*reached, strict=True)
+            ax.plot(xs, ys, marker="o", color=colour, label=None if hue is None else str(hue))
+        if unknown:
+            xs, ys = zip(*unknown, strict=True)
+            ax.scatter(xs, ys, marker="^", facecolors="none", edgecolors=colour, s=60, zorder=3)
+    ax.set_title(f"{label(layout, spec.metric)}: Kaplan-Meier median", fontsize=9)
+    if len(hues) > 1:
+        ax.legend(title=label(layout, layout.hue), frameon=False)
 
 
 def _positions(runs: pd.DataFrame, x: str) -> tuple[pd.DataFrame, list[str]]:
@@ -141,6 +189,15 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
             ax.bar(x, means[name], bottom=bottom, color=colour, label=text, width=0.7)
             bottom += means[name].to_numpy()
         ax.errorbar(x, bottom, yerr=total.to_numpy(), fmt="none", ecolor="black", capsize=3)
+        if "end_reason" in part:  # a run cut by the time limit accumulated only a lower bound
+            reasons = part["end_reason"].fillna("").astype(str)
+            cut = reasons.str.startswith("time limit").groupby(part[layout.x]).agg(["sum", "size"])
+            for i, (_, row) in enumerate(cut.loc[means.index].iterrows()):
+                if row["sum"]:
+                    ax.annotate(f"{row['sum']}/{row['size']} cut", (x[i], bottom[i]),
+                                xytext=(0, 10), textcoords="offset points", ha="center",
+                                fontsize=7, color="#d1495b")  # fmt: skip
+            ax.margins(y=0.12)  # room for the note above the tallest bar
         ax.set_xticks(x)
         ax.set_xticklabels([f"{p:g}" if isinstance(p, int | float) else str(p)
                             for p in means.index])  # fmt: skip
@@ -151,6 +208,9 @@ def stacked_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
     unit = "kJ" if "(kJ)" in label(layout, parts[0]) else ""
     axes[0][0].set_ylabel(f"Mean per run {f'({unit})' if unit else ''}".strip())
     handles, labels = axes[0][0].get_legend_handles_labels()
+    if any(ax.texts for ax in axes[0]):  # before the layout, which leaves room for it
+        fig.suptitle("k/n cut: k of n runs ended by the time limit (sums are lower bounds)",
+                     fontsize=8, color="#d1495b")  # fmt: skip
     _legend_below(fig, handles, labels, "Component (error bar: standard error of the total)")
     return fig
 
@@ -197,16 +257,22 @@ def compare_bars(df: pd.DataFrame, layout: ReportLayout) -> plt.Figure:
 
 
 def save_figures(
-    df: pd.DataFrame, layout: ReportLayout, folder: str | Path, dpi: int = 110
+    df: pd.DataFrame,
+    layout: ReportLayout,
+    folder: str | Path,
+    dpi: int = 110,
+    censored: Sequence[Censored] = (),
 ) -> dict[str, Path]:
-    """Draw every figure the results and the layout support; save them as PNG in ``folder``."""
+    """Draw every figure the results and the layout support; save them as PNG in ``folder``
+    (``censored``: the model's censored metrics, drawn as Kaplan-Meier medians).
+    """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     runs = ok_runs(df)
     figures = {}
     x_varies = layout.x is not None and layout.x in runs and runs[layout.x].nunique() > 1
     if len(runs) and x_varies and any(m in runs for m in layout.metrics):
-        figures["metrics"] = metric_panels(runs, layout)
+        figures["metrics"] = metric_panels(runs, layout, censored)
     if len(runs) and x_varies and any(c in runs for c in layout.stacked):
         figures["stacked"] = stacked_bars(runs, layout)
     compare = layout.compare

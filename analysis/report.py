@@ -50,8 +50,10 @@ __all__ = ["layout_for", "write_report"]
 COMMON_METRICS = ("time", "coverage_area", "energy_total", "collisions")
 
 _CAPTIONS = {
-    "metrics": "Mean ± standard error against {x}.",
-    "stacked": "Mean components per run, stacked; error bars: standard error of the total.",
+    "metrics": "Mean ± standard error against {x}; a metric the time limit censors in some "
+    "runs: its Kaplan-Meier median per condition (△: not reached, at least the bound).",
+    "stacked": "Mean components per run, stacked; error bars: standard error of the total; "
+    "'k/n cut': runs the time limit ended, whose sums are lower bounds.",
     "compare": "Mean {metric} for each value of {compare}.",
 }
 
@@ -211,7 +213,8 @@ def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> di
     layout = _for_this_grid(layout, runs, swept_keys(sweep.manifest, runs), cls)
     folder = sweep.folder / "figures"
     with _noted() as warned:
-        figures = save_figures(runs, layout, folder) if len(runs) else {}
+        censored = () if cls is None else cls.CENSORED
+        figures = save_figures(runs, layout, folder, censored=censored) if len(runs) else {}
     shown = [
         {
             "src": image_data(path),

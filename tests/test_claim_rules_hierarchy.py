@@ -96,3 +96,61 @@ def test_c14_hst_sends_fewer_by_the_welch_interval_at_every_size(flat, jitter, h
                 )
     verdict = TESTS["C14"](pd.DataFrame(rows), None)
     assert verdict.holds is holds and "Welch 95 % interval" in verdict.rule
+
+
+@pytest.mark.parametrize(("per_worker", "jitter", "holds"), [(0.0, 0.05, True),
+                                                             (0.1, 0.05, False)])  # fmt: skip
+def test_c3_no_effect_of_w_is_the_level_rule_on_its_coefficient(per_worker, jitter, holds):
+    runs = _runs("scout_scan_area", lambda n: 100.0 / n, 0.0)
+    runs["scout_scan_area"] *= np.exp(
+        per_worker * runs["W"] + jitter * np.resize(OFFSETS, len(runs))
+    )
+    verdict = TESTS["C3"](runs, None)
+    assert verdict.holds is holds and "0 inside" in verdict.rule
+
+
+@pytest.mark.parametrize(("increase", "jitter", "holds"), [
+    (0.0, 1.0, True), (6.0, 1.0, False), (2.0, 0.1, False), (1.0, 20.0, True)])  # fmt: skip
+def test_c8_almost_no_increase_is_the_level_rule_on_the_difference(increase, jitter, holds):
+    # an increase of 2 of 11 passed the former ratio threshold (1.18 <= 1.25)
+    rows = []
+    for w in (2, 7):
+        for s in (2, 4):
+            for offset in OFFSETS:
+                rows.append(
+                    {
+                        "W": w,
+                        "S": s,
+                        "N": 1 + w + w * s,
+                        "topology": "hst",
+                        "wave_generator": True,
+                        "scout_scan_area": 1.0,
+                        "queen_iterations": 11 + (w == 7) * increase + jitter * offset,
+                    }
+                )
+    verdict = TESTS["C8"](pd.DataFrame(rows), None)
+    assert verdict.holds is holds and "W=7 - W=2" in verdict.rule
+
+
+@pytest.mark.parametrize(("with_waves", "without", "holds"), [(0, 5, True), (2, 5, False),
+                                                              (0, 0, None)])  # fmt: skip
+def test_c12_safe_motion_needs_no_event_with_waves_and_a_control_that_shows_some(
+    with_waves, without, holds
+):
+    rows = []
+    for waves, events in ((True, with_waves), (False, without)):
+        for _ in range(4):
+            rows.append(
+                {
+                    "W": 2,
+                    "S": 4,
+                    "N": 11,
+                    "wave_generator": waves,
+                    "scout_scan_area": 1.0,
+                    "wave_order_violations": events,
+                    "robot_proximity_events": events,
+                    "sibling_proximity_events": 0,
+                    "robot_collisions": 0,
+                }
+            )
+    assert TESTS["C12"](pd.DataFrame(rows), None).holds is holds

@@ -211,3 +211,58 @@ def test_c13_the_map_error_growth_with_few_anchors_needs_its_intervals(few, jitt
     runs["map_error_3000"] += jitter * np.tile(SPREAD, 7)
     verdict = _judge("C13", runs)
     assert verdict.holds is holds and "Welch" in verdict.rule
+
+
+@pytest.mark.parametrize(("power", "jitter", "holds"), [
+    (1.0, 0.02, True), (0.5, 0.02, False), (0.85, 0.02, False), (0.8, 0.5, True)])  # fmt: skip
+def test_c09_almost_linear_is_the_log_log_slope_against_minus_one(power, jitter, holds):
+    # T50 = 1000 / n^power: power 1 is linear, 0.5 far from it; 0.85 passed the former +-30 %
+    # tolerance (3.25x at n = 4) but its interval excludes -1; a wide interval keeps -1 in
+    arms = [_arm({**SM, "n_explorers": n}, 0.0, t50=1000 / n**power, overlap=1.0)
+            for n in (1, 2, 4)]  # fmt: skip
+    for arm in arms:
+        arm["t50"] *= np.exp(jitter * SPREAD)
+    verdict = _judge("C09", *arms)
+    assert verdict.holds is holds and "-1 inside" in verdict.rule
+
+
+@pytest.mark.parametrize(("power", "overlap_step", "jitter", "holds"),
+                         [(0.6, 0.05, 0.02, True), (1.3, 0.05, 0.02, False),
+                          (0.98, 0.0, 0.5, None)])  # fmt: skip
+def test_c10_diminishing_benefit_is_robot_time_rising_with_n(power, overlap_step, jitter, holds):
+    # n T50 = 1000 n^(1 - power): rises for power < 1, falls for power > 1
+    arms = [_arm({**SM, "n_explorers": n}, jitter, t50=1000 / n**power,
+                 overlap=1.0 + overlap_step * n) for n in (1, 2, 4, 6, 8)]  # fmt: skip
+    for arm in arms:
+        arm["t50"] *= np.exp(jitter * SPREAD / 10)
+    verdict = _judge("C10", *arms)
+    assert verdict.holds is holds and "Spearman" in verdict.rule
+
+
+@pytest.mark.parametrize(("extra", "jitter", "holds"), [(10.0, 1.0, True), (-10.0, 1.0, False),
+                                                        (1.0, 20.0, None)])  # fmt: skip
+def test_c16_more_noise_gains_more_from_particles_by_a_contrast(extra, jitter, holds):
+    # noise x1 gains 5 points from 1 to 100 particles; noise x2 gains 5 + extra
+    arms = [_arm({**SM, "n_explorers": 2, "noise_scale": x, "n_particles": k}, jitter,
+                 coverage_400=30 + (k == 100) * (5 + (x == 2.0) * extra))
+            for x in (1.0, 2.0) for k in (1, 10, 100)]  # fmt: skip
+    verdict = _judge("C16", *arms)
+    assert verdict.holds is holds and verdict.low is not None
+
+
+@pytest.mark.parametrize(("gap", "holds"), [(0.0, True), (15.0, False)])
+def test_c17_geometries_agree_unless_a_test_finds_a_difference(gap, holds):
+    arms = [_arm({**SM, "arena": a}, 3.0, **_coverage(60 - (a == "serpentine") * gap),
+                 t80=1500 + (a == "serpentine") * 30 * gap)
+            for a in ("circle", "ushape", "serpentine")]  # fmt: skip
+    verdict = _judge("C17", *arms)
+    assert verdict.holds is holds and "Kruskal-Wallis" in verdict.rule
+
+
+@pytest.mark.parametrize(("effect", "jitter", "holds"), CASES)
+def test_c27_noise_free_overlap_lower_needs_its_interval(effect, jitter, holds):
+    arms = [_arm({**SM, "n_explorers": 2, "noise_scale": x}, jitter, coverage_400=40,
+                 overlap_400=5 + (x > 0) * effect) for x in (0.0, 1.0, 2.0)]  # fmt: skip
+    omstc = _arm({**OM, "n_explorers": 2}, jitter, coverage_400=60, overlap_400=1)
+    verdict = _judge("C27", *arms, omstc)
+    assert verdict.holds is holds and "noise 0 - OMSTC" in verdict.ours

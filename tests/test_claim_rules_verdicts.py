@@ -50,3 +50,24 @@ def test_a_claim_of_several_parts_holds_only_when_every_part_holds(parts):
     else:
         assert judged.holds is True
     assert all(f"rule {i}" in judged.rule for i in range(len(parts)))
+
+
+def test_agreement_holds_on_one_level_fails_on_a_shift_and_corrects_for_many_checkpoints():
+    rng = np.random.default_rng(11)
+    same = {f"{t} s": [rng.normal(50, 3, 10) for _ in range(3)] for t in range(20)}
+    assert verdicts.agreement(same, "arms").holds is True  # 20 checkpoints: Holm keeps it
+    shifted = {"1 s": [rng.normal(50, 3, 10), rng.normal(50, 3, 10), rng.normal(60, 3, 10)]}
+    verdict = verdicts.agreement(shifted, "arms")
+    assert verdict.holds is False and verdict.low > 0
+    assert verdicts.agreement({"1 s": [np.ones(5), np.ones(5)]}, "arms").holds is True
+    assert verdicts.agreement({"1 s": [np.ones(1), np.ones(5)]}, "arms").holds is None
+
+
+def test_coefficient_judges_the_papers_value_and_refuses_collinear_regressors():
+    x = np.repeat(np.arange(1.0, 6.0), 4)
+    y = 2 * x + np.resize([-0.1, 0.1, -0.05, 0.05], len(x))
+    assert verdicts.coefficient(y, {"x": x}, "x", 2.0).holds is True
+    verdict = verdicts.coefficient(y, {"x": x}, "x", 1.0)
+    assert verdict.holds is False and "differs" in verdict.why
+    collinear = verdicts.coefficient(y, {"x": x, "twice x": 2 * x}, "x", 2.0)
+    assert collinear.holds is None and "collinear" in collinear.why

@@ -127,10 +127,11 @@ def test_c17_ignores_runs_of_other_arenas_that_stop_earlier():
     assert alone.holds is False and mixed.ours == alone.ours
 
 
-def test_c17_is_censored_when_a_geometry_never_reaches_80_percent():
+def test_c17_leaves_a_censored_t80_unjudged_and_judges_the_curves():
     geometries = pd.concat(
         [_runs("sugarmap", level, arena=a) for a, level in (("circle", 85), ("ushape", 86),
                                                              ("serpentine", 70))]
     )  # fmt: skip
     verdict = _verdict("C17", geometries)
-    assert verdict.holds is None and verdict.censored == pytest.approx(1 / 3)
+    assert verdict.censored == pytest.approx(1 / 3) and "T80 censored" in verdict.why
+    assert verdict.holds is False  # the serpentine's curve lies 15 points below the others'

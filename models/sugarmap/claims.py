@@ -1,4 +1,5 @@
-"""The tests of SugarMap's checkable claims (spec §8), on a sweep's tidy run rows.
+"""The tests of SugarMap's checkable claims (the claims table of the model's README), on a
+sweep's tidy run rows.
 
 Each function takes the runs (one row per run: parameters and summary) and the model's time
 series (may be None) and returns a :class:`abm.published.Verdict`, or None when the runs lack
@@ -6,7 +7,9 @@ the claim's set-up. Conditions are selected by parameter values, so the same run
 several claims (Fig. 5's SugarMap runs are Fig. 6's 6-anchor runs). A claim is judged by one
 rule of :mod:`abm.verdicts`, stated in its verdict: two arms by the Welch interval of their
 difference, an ordering over a factor by Spearman's rho over the runs with its p, a spread by
-the Brown-Forsythe test; the paper gives no thresholds for these, so none is invented.
+the Brown-Forsythe test, an agreement ("the curves follow each other") by the Kruskal-Wallis
+test, a rate ("almost linear") by the interval of a log-log slope; the paper gives no
+thresholds for these, so none is invented.
 """
 
 from collections.abc import Callable, Sequence
@@ -16,11 +19,21 @@ import numpy as np
 import pandas as pd
 
 from abm.published import Verdict
-from abm.verdicts import censored, combine, contrast, difference, rank_order, spread
+from abm.verdicts import (
+    agreement,
+    censored,
+    coefficient,
+    combine,
+    contrast,
+    difference,
+    rank_order,
+    spread,
+)
 
 __all__ = ["REFERENCE", "TESTS"]
 
-#: The reference set-up (spec §7): open square, 4 explorers, published noise, literal headings.
+#: The reference set-up (the README's "Where we had to choose"): open square, 4 explorers,
+#: published noise, literal headings.
 REFERENCE = {"arena": "open", "n_explorers": 4, "noise_scale": 1.0, "heading_model": "literal"}
 #: SugarMap's reference: 6 anchors, 10 particles, eq. 8 weights.
 SUGARMAP = {**REFERENCE, "algorithm": "sugarmap", "n_anchors": 6, "n_particles": 10}
@@ -306,10 +319,6 @@ def _rises(sm: pd.DataFrame, factor: str, taus: Sequence[int], label: str) -> Ve
     return combine(parts, "; ".join(shown), len(sm), why)
 
 
-def _t50(runs) -> pd.Series:
-    return runs.groupby("n_explorers")["t50"].mean()
-
-
 def _t50_censored(sm: pd.DataFrame) -> Verdict | None:
     """A censored verdict when some runs never reached 50 % (their T50 is a lower bound,
     and a mean over the others would judge from the fast runs only); else None.
@@ -322,37 +331,55 @@ def _t50_censored(sm: pd.DataFrame) -> Verdict | None:
 
 
 def c09(runs, samples) -> Verdict | None:
+    """An "almost linear increase in speed of coverage" for up to 4 explorers (Sect. 4.3.2,
+    Fig. 7): T50 proportional to 1 / n, i.e. the slope of log T50 on log n over the runs is -1.
+    The paper gives no tolerance for "almost", so the rule is the level rule on the slope:
+    -1 inside its 95 % interval holds, outside it fails and says by how much.
+    """
     sm = _explorers(runs)
     if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
         return None
-    if (cut := _t50_censored(sm)) is not None:
+    small = sm[sm["n_explorers"] <= 4]
+    if (cut := _t50_censored(small)) is not None:
         return cut
-    t50 = _t50(sm)
-    parts, ok = [], True
-    for n in (k for k in t50.index if 1 < k <= 4):
-        speedup = t50[1] / t50[n]
-        ok &= abs(speedup - n) <= 0.3 * n
-        parts.append(f"{n}: {speedup:.2f}x")
-    return Verdict("T50(1) / T50(n): " + ", ".join(parts), bool(ok), "within +-30 % of n")
+    n, t50 = small["n_explorers"].astype(float), small["t50"].astype(float)
+    slope = coefficient(np.log(t50), {"log n": np.log(n)}, "log n", -1.0)
+    means = t50.groupby(n).mean()
+    speedup = ", ".join(f"{k:g}: {means.iloc[0] / v:.2f}x" for k, v in means.items())
+    return replace(slope, ours=f"T50(1) / T50(n) {speedup}; log-log {slope.ours}")
 
 
 def c10(runs, samples) -> Verdict | None:
+    """C10, "the benefit of increasing explorer nodes diminishes after a point" (Sect. 4.3.2),
+    read for 4 explorers and more (C09 covers fewer): the explorer-time to 50 % coverage, n T50,
+    rises with n (so the efficiency T50(1) / (n T50(n)) falls), and the overlap the paper
+    blames rises with n; each an ordering by Spearman's rho over the runs.
+    """
     sm = _explorers(runs)
-    if sm.empty or "t50" not in sm or 1 not in set(sm["n_explorers"]):
+    if sm.empty or "t50" not in sm:
         return None
-    if (cut := _t50_censored(sm)) is not None:
+    large = sm[sm["n_explorers"] >= 4]
+    if large["n_explorers"].nunique() < 2:
+        return None
+    if (cut := _t50_censored(large)) is not None:
         return cut
-    t50 = _t50(sm)
-    efficiency = {n: t50[1] / (n * t50[n]) for n in t50.index}
-    overlap = sm.groupby("n_explorers")["overlap"].mean()
-    falls = bool(np.all(np.diff(list(efficiency.values())) <= 0.05))
-    rises = bool(overlap.iloc[-1] > overlap.iloc[0])
-    return Verdict(
-        "efficiency " + ", ".join(f"{n}: {e:.2f}" for n, e in efficiency.items())
-        + "; overlap " + ", ".join(f"{n}: {v:.2f}" for n, v in overlap.items()),
-        falls and rises,
-        "efficiency T50(1)/(n T50(n)) falls (tolerance 0.05) and overlap rises with n",
-    )  # fmt: skip
+    work = large["n_explorers"] * large["t50"].astype(float)
+    costlier = rank_order(large["n_explorers"], work, +1)
+    overlaps = rank_order(large["n_explorers"], large["overlap"], +1)
+    t50 = sm.groupby("n_explorers")["t50"].mean()
+    efficiency = ""
+    if 1 in t50.index and not sm["t50"].isna().any():  # shown only from uncensored means
+        shown = ", ".join(f"{n}: {t50[1] / (n * v):.2f}" for n, v in t50.items())
+        efficiency = f"efficiency T50(1) / (n T50(n)) {shown}; "
+    overlap = large.groupby("n_explorers")["overlap"].mean()
+    return combine(
+        [costlier, overlaps],
+        f"{efficiency}n T50 over n >= 4 {costlier.ours}; overlap "
+        + ", ".join(f"{n}: {v:.2f}" for n, v in overlap.items())
+        + f" ({overlaps.ours})",
+        len(large),
+        "from 4 explorers on, n T50 rises (the efficiency falls) and the overlap rises",
+    )
 
 
 # ---------------------------------------------------------------------- Fig. 8
@@ -459,25 +486,43 @@ def c15(runs, samples) -> Verdict | None:
 
 
 def c16(runs, samples) -> Verdict | None:
-    plateau = {}
-    for noise in (1.0, 2.0):
-        sm = _particles(runs, noise)
-        if sm.empty:
-            return None
-        stats = sm.groupby("n_particles")["coverage_400"].agg(["mean", "std"])
-        best = stats["mean"].idxmax()
-        spread = 0.0 if np.isnan(stats.loc[best, "std"]) else stats.loc[best, "std"]  # 1 run
-        near = stats[stats["mean"] >= stats.loc[best, "mean"] - spread]
-        plateau[noise] = int(near.index.min())
-    return Verdict(
-        f"particles at the plateau: noise x1 {plateau[1.0]}, x2 {plateau[2.0]}",
-        plateau[2.0] > plateau[1.0],
-        "the smallest count within 1 SD of the best",
+    """C16, "larger sensor noise requires higher number of particles" (Sect. 4.3.4, no
+    figure), read as: going from the fewest to the most particles gains more coverage at 400 ticks
+    with noise x2 than with noise x1 (the Welch interval of the difference of the two gains
+    above 0). The paper names no plateau criterion, so none is invented.
+    """
+    arms = {noise: _particles(runs, noise) for noise in (1.0, 2.0)}
+    if any(sm.empty for sm in arms.values()):
+        return None
+    counts = sorted(set(arms[1.0]["n_particles"]) & set(arms[2.0]["n_particles"]))
+    if len(counts) < 2:
+        return None
+    few, many = counts[0], counts[-1]
+    cov = {
+        (noise, k): _col(_select(sm, n_particles=k), "coverage_400")
+        for noise, sm in arms.items()
+        for k in (few, many)
+    }
+    gain = contrast(
+        [cov[2.0, many], cov[2.0, few], cov[1.0, many], cov[1.0, few]],
+        (1, -1, -1, 1),
+        +1,
+        f"(gain {few}->{many} particles at noise x2) - (the same at x1)",
     )
+    shown = "; ".join(
+        f"noise x{noise:g}: {cov[noise, few].mean():.1f} -> {cov[noise, many].mean():.1f} %"
+        for noise in (1.0, 2.0)
+    )
+    return replace(gain, ours=f"coverage at 400 ticks, {few} -> {many} particles: {shown}; "
+                   f"difference of the gains {gain.ours}")  # fmt: skip
 
 
 # ---------------------------------------------------------------------- Fig. 11, 15
 def c17(runs, samples) -> Verdict | None:
+    """C17, "the curves for the 3 spaces follow each other closely" (Sect. 4.3.5, Fig. 11):
+    the agreement rule over the three geometries' coverage at every checkpoint, and over their
+    times to 80 % when no run is censored there.
+    """
     base = {k: v for k, v in SUGARMAP.items() if k != "arena"}
     sm = _select(runs, **base)
     geometries = ("circle", "ushape", "serpentine")
@@ -486,30 +531,22 @@ def c17(runs, samples) -> Verdict | None:
     if len(arenas) < 3:
         return None
     groups = {a: _select(sm, arena=a) for a in arenas}
-    ok, worst = True, 0.0
-    for t in _checkpoints(sm, (250, 500, 1000, 2000, 3000)):
-        for i, g in enumerate(arenas):
-            for h in arenas[i + 1 :]:
-                a, b = _col(groups[g], f"coverage_{t}"), _col(groups[h], f"coverage_{t}")
-                gap = abs(a.mean() - b.mean()) - (a.std(ddof=1) + b.std(ddof=1))
-                worst = max(worst, gap)
-                ok &= gap <= 0
+    checkpoints = {
+        f"{t} s": [_col(groups[a], f"coverage_{t}") for a in arenas]
+        for t in _checkpoints(sm, (250, 500, 1000, 2000, 3000))
+    }
     missing = int(sm["t80"].isna().sum()) if "t80" in sm else len(sm)
+    if not missing:
+        checkpoints["T80"] = [_col(groups[a], "t80") for a in arenas]
+    same = agreement(checkpoints, "geometries")
+    means = {t: ", ".join(f"{a} {v.mean():.0f}" for a, v in zip(arenas, g, strict=True))
+             for t, g in checkpoints.items()}  # fmt: skip
+    shown = "; ".join(f"{t}: {m}" for t, m in means.items())
+    why = same.why
     if missing:  # a mean T80 over the runs that reached 80 % would favour the fast ones
-        ours = (
-            f"T80 missing in {missing} of {len(sm)} runs; largest |mean gap| - (SD + SD): "
-            f"{worst:+.1f} points"
-        )
-        return censored(ours, missing, len(sm), "T80")
-    t80 = {a: float(_col(g, "t80").mean()) for a, g in groups.items()}
-    spread = max(t80.values()) / min(t80.values()) - 1
-    ok &= spread <= 0.25
-    return Verdict(
-        "T80 " + ", ".join(f"{a}: {v:.0f} s" for a, v in t80.items())
-        + f"; largest |mean gap| - (SD + SD): {worst:+.1f} points",
-        bool(ok),
-        "every pair within SD_g + SD_h at every checkpoint, T80 within 25 %",
-    )  # fmt: skip
+        why += f"; T80 censored in {missing} of {len(sm)} runs: not judged"
+    return replace(same, ours=f"{shown}; {same.ours}", why=why,
+                   censored=missing / len(sm))  # fmt: skip
 
 
 def _testbed(runs) -> pd.DataFrame:
@@ -575,17 +612,25 @@ def c24(runs, samples) -> Verdict | None:
 
 
 def c27(runs, samples) -> Verdict | None:
+    """With COVER_TH the planner avoids revisiting "confidently covered" cells (Sect. 4.3.6):
+    with the noise set to 0 (all particles agree) SugarMap's overlap at 400 ticks is lower
+    than with the published noise (the Welch interval of the difference below 0). How near
+    OMSTC's overlap it comes is shown with its interval, not judged: the paper gives no margin.
+    """
     sm = _noise(runs)
     om = _select(runs, **{**REFERENCE, "n_explorers": 2}, algorithm="omstc")
     if sm.empty or om.empty or "overlap_400" not in om:
         return None
-    quiet = _col(_select(sm, noise_scale=0.0), "overlap_400").mean()
-    noisy = _col(_select(sm, noise_scale=1.0), "overlap_400").mean()
-    ideal = _col(om, "overlap_400").mean()
-    return Verdict(
-        f"overlap at 400 ticks: SM noise 0 {quiet:.2f}, SM noise x1 {noisy:.2f}, OMSTC {ideal:.2f}",
-        bool(abs(quiet - ideal) < abs(noisy - ideal)),
-        "noise-free SugarMap nearer OMSTC than noisy SugarMap",
+    quiet = _col(_select(sm, noise_scale=0.0), "overlap_400")
+    noisy = _col(_select(sm, noise_scale=1.0), "overlap_400")
+    ideal = _col(om, "overlap_400")
+    falls = difference(noisy, quiet, -1)
+    above = difference(ideal, quiet, +1)
+    return replace(
+        falls,
+        ours=f"overlap at 400 ticks: SM noise 0 {quiet.mean():.2f}, SM noise x1 "
+        f"{noisy.mean():.2f}, OMSTC {ideal.mean():.2f}; noise 0 - x1 {falls.ours}; noise 0 - "
+        f"OMSTC {above.ours or above.why}",
     )
 
 
