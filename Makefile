@@ -5,8 +5,9 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
 VIZ_STAMP := $(VENV)/.viz-installed
+DOCS_STAMP := $(VENV)/.docs-installed
 
-.PHONY: demo test test-all test-slow lint format bench clean venv viz viz-setup
+.PHONY: demo test test-all test-slow lint format bench clean venv viz viz-setup docs docs-setup
 
 venv: $(STAMP)
 
@@ -29,6 +30,18 @@ $(VIZ_STAMP): $(STAMP) scripts/solara_assets.sh
 viz: $(VIZ_STAMP)
 	$(VENV)/bin/abm viz beacon-explorer
 
+# The documentation site: tools from the `docs` extra, then a strict build into site/.
+docs-setup: $(DOCS_STAMP)
+
+$(DOCS_STAMP): $(STAMP)
+	$(PY) -m pip install --quiet -e ".[dev,docs]"
+	@touch $(DOCS_STAMP)
+
+# NO_MKDOCS_2_WARNING / DISABLE_MKDOCS_2_WARNING silence two plugins' banners about MkDocs 2.
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(VENV)/bin/mkdocs build --strict
+	@echo "wrote site/ (open site/index.html)"
+
 demo: $(STAMP)
 	$(PY) examples/beacon_explorer.py
 
@@ -36,12 +49,13 @@ demo: $(STAMP)
 test: $(VIZ_STAMP)
 	$(PY) -m pytest -m "not slow"
 
-# Everything: the quick tier and the slow one (browser pages, kill -9 recovery, long statistics).
-test-all: $(VIZ_STAMP)
+# Everything: the quick tier and the slow one (browser pages, kill -9 recovery, long statistics,
+# the documentation site's strict build).
+test-all: $(VIZ_STAMP) $(DOCS_STAMP)
 	$(PY) -m pytest
 
 # Only what the quick tier leaves out (CI runs `make test` then this, so nothing runs twice).
-test-slow: $(VIZ_STAMP)
+test-slow: $(VIZ_STAMP) $(DOCS_STAMP)
 	$(PY) -m pytest -m slow
 
 lint: $(STAMP)
@@ -54,4 +68,4 @@ bench: $(STAMP)
 	$(PY) benchmarks/bench_beacon_explorer.py
 
 clean:
-	rm -rf $(VENV) .pytest_cache build *.egg-info
+	rm -rf $(VENV) .pytest_cache build site *.egg-info

@@ -39,7 +39,7 @@ MAX_MAP_PIXELS = 50_000_000
 #: bytes (its coverage raster, pheromone field, ...), for the memory check of the loaders.
 MapParts = Callable[[tuple[int, int]], Mapping[str, float]]
 
-#: Unit vectors of the four compass directions in the order the papers use: N, E, S, W.
+#: Unit vectors of the four compass directions in the order N, E, S, W.
 CARDINALS = np.array([[0.0, 1.0], [1.0, 0.0], [0.0, -1.0], [-1.0, 0.0]])
 
 
@@ -125,7 +125,7 @@ class Arena:
 
         Args:
             path: the file.
-            resolution: metres per pixel (the papers use 1 m).
+            resolution: metres per pixel (default 1 m).
             name: label; defaults to the file's stem.
             parts: what the caller's model allocates for a map of this shape besides the
                 arena (bytes by part), counted in the memory check.

@@ -1,14 +1,13 @@
 """The communication network: a networkx graph of robots in range and line of sight, message
 delivery as SimPy events, and hop-count gradient floods.
 
-By default links exist between nodes closer than the communication range with a clear line of
-sight (reliable within range, nothing beyond). With :class:`Shadowing` a link is up with the
-probability log-normal shadowing gives at its distance (Rappaport's model, the comm range being
-the distance at which the mean received power equals the receiver's sensitivity), through walls
-or not. A message takes ``latency`` seconds. With a loss
-probability ``loss`` each attempt may be lost; because the papers' robots re-send continually,
-a lost message arrives on a later attempt, so loss shows up as extra delay (a geometric number
-of periods), never as a silent gap.
+By default links exist between nodes closer than the communication range with a clear line of sight
+(reliable within range, nothing beyond). With :class:`Shadowing` a link is up with the probability
+log-normal shadowing gives at its distance (the log-distance path-loss model, the comm range being
+the distance at which the mean received power equals the receiver's sensitivity), through walls or
+not. A message takes ``latency`` seconds. With a loss probability ``loss`` each attempt may be lost;
+because robots re-send continually, a lost message arrives on a later attempt, so loss shows up as
+extra delay (a geometric number of periods), never as a silent gap.
 
 Faults (:mod:`abm.faults`) act here too: :meth:`CommNetwork.block` takes a link down until
 :meth:`CommNetwork.unblock` (the pair cannot link meanwhile, whatever the radio reaches), and
@@ -591,8 +590,8 @@ class GradientFlood:
     """A hop-count gradient kept up to date by message floods (a distributed BFS).
 
     Sources hold ``start``; every hop adds ``step`` (+1 forwards from the base, -1 for the
-    reverse gradient from frontier beacons), never going below ``floor``. The sources of the
-    papers re-emit continually; between two changes of topology or sources every re-emission
+    reverse gradient from frontier beacons), never going below ``floor``. Sources re-emit
+    continually; between two changes of topology or sources every re-emission
     carries the same values, so we simulate one flood *wave* per change (an epoch). A node
     takes the best value of the newest wave that reaches it. A node no wave reaches within
     ``ttl`` seconds (cut off from all sources) decays to ``floor``, as a continually refreshed
@@ -601,7 +600,8 @@ class GradientFlood:
     Args:
         network: the comm network the messages travel on.
         name: label (e.g. "forwards").
-        start: value at a source (1 forwards, 127 reverse in Stirling et al.).
+        start: value at a source (e.g. 1 for a gradient rising from the base, a large value for
+            a falling one).
         step: change per hop (+1 or -1).
         floor: lowest value; also the value of an unreached node.
         ttl: soft-state lifetime (s); by default the time a wave needs to cross every node of

@@ -8,28 +8,30 @@ point.
 
 import dataclasses
 import inspect
+from collections.abc import Mapping, Sequence
 from functools import cache
 
-from abm.errors import ContractError
+from abm.errors import ConfigError, ContractError
 from abm.faults import FAULT_KINDS
 from abm.params import SwarmParams, field_help
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.styles import StateStyle
 from abm.units import UNITS, Quantity
 
-__all__ = ["check_model"]
+__all__ = ["check_model", "description"]
 
 
 def check_model(cls: type) -> None:
     """Raise ContractError unless ``cls`` keeps the model contract.
 
     The contract: a :class:`~abm.model.SwarmModel` subclass; ``Params`` a frozen dataclass
-    subclassing :class:`~abm.params.SwarmParams` whose every field is described in the
-    docstring's ``Attributes:`` section; a constructor taking only ``seed`` and the params'
-    fields as keywords; ``STATES`` a non-empty tuple of names; ``STATE_STYLES``,
-    ``MACRO``, ``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``, ``APP``, ``QUICK``,
-    ``FAULTS`` and ``SUMMARY_UNITS`` of the documented types; every setting a published
-    number's or a claim's condition names is a parameter.
+    subclassing :class:`~abm.params.SwarmParams` whose every field has a default and is
+    described in the docstring's ``Attributes:`` section, and whose defaults are valid; a
+    constructor taking only ``seed`` and the params' fields as keywords; ``STATES`` a
+    non-empty tuple of names; ``STATE_STYLES``, ``MACRO``, ``PUBLISHED``, ``CLAIMS``,
+    ``CENSORED``, ``REPORT``, ``APP``, ``QUICK``, ``FAULTS`` and ``SUMMARY_UNITS`` of the
+    documented types; every setting a published number's or a claim's condition names is a
+    parameter; a docstring of the class's own (see :func:`description`).
     """
     _check(cls)
 
@@ -49,6 +51,22 @@ def _check(cls: type) -> None:
         and params.__dataclass_params__.frozen
     ):
         raise ContractError(f"{name}.Params must be a frozen dataclass subclassing SwarmParams")
+    no_default = [
+        f.name
+        for f in dataclasses.fields(params)
+        if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    ]
+    if no_default:
+        raise ContractError(
+            f"{params.__qualname__} gives no default to {', '.join(no_default)}: every field "
+            f"needs one (a run of {name} with no flags uses them all)"
+        )
+    try:
+        params()
+    except ConfigError as exc:
+        raise ContractError(
+            f"{name}: the defaults of {params.__qualname__} are refused: {exc}"
+        ) from exc
     helps = field_help(params)
     missing = [f.name for f in dataclasses.fields(params) if f.name not in helps]
     if missing:
@@ -60,6 +78,7 @@ def _check(cls: type) -> None:
     states = cls.STATES
     if not (isinstance(states, tuple) and states and all(isinstance(s, str) for s in states)):
         raise ContractError(f"{name}.STATES must be a non-empty tuple of state names")
+    _check_kinds(cls, name)
     for state, style in cls.STATE_STYLES.items():
         if not isinstance(style, StateStyle):
             raise ContractError(f"{name}.STATE_STYLES[{state!r}] must be an abm.styles.StateStyle")
@@ -71,6 +90,12 @@ def _check(cls: type) -> None:
             raise ContractError(
                 f"{name}.MACRO must count two different states of STATES {states}, "
                 f"got {macro.moving!r} and {macro.settled!r}"
+            )
+        unknown = sorted(set(macro.rates) - {"a0", "alpha6", "alpha5"})
+        if unknown:
+            raise ContractError(
+                f"{name}.MACRO.rates names {unknown}; the recurrence's rates are a0, alpha6 "
+                "and alpha5"
             )
     if not all(isinstance(p, Published) for p in cls.PUBLISHED):
         raise ContractError(f"{name}.PUBLISHED must hold abm.published.Published records")
@@ -105,6 +130,50 @@ def _check(cls: type) -> None:
     unknown = set(cls.QUICK) - {f.name for f in dataclasses.fields(cls.Params)}
     if unknown:
         raise ContractError(f"{name}.QUICK names no parameter: {', '.join(sorted(unknown))}")
+    description(cls)
+
+
+def description(cls: type) -> str:
+    """The first line of a model class's own docstring: what ``abm run MODEL --help`` says
+    the model is.
+
+    A docstring is required, not inherited: a subclass without one would otherwise be
+    described by its base's text (``SwarmModel``'s "Base class of every swarm model").
+
+    Raises:
+        ContractError: the class has no docstring of its own, or an empty one.
+
+    """
+    name = getattr(cls, "__qualname__", repr(cls))
+    doc = cls.__dict__.get("__doc__")
+    lines = inspect.cleandoc(doc).splitlines() if isinstance(doc, str) else []
+    if not lines or not lines[0].strip():
+        raise ContractError(
+            f"{name} has no docstring: a model class needs one of its own whose first line "
+            "says what the model is (abm run MODEL --help shows it)"
+        )
+    return lines[0].strip()
+
+
+#: Declared class attributes the contract iterates, and the kind of value each must be.
+_KINDS = {
+    "STATE_STYLES": (Mapping, "a dict state -> abm.styles.StateStyle"),
+    "SUMMARY_UNITS": (Mapping, "a dict summary key -> abm.units.Quantity"),
+    "QUICK": (Mapping, "a dict parameter -> value"),
+    "PUBLISHED": (Sequence, "a tuple or list of abm.published.Published"),
+    "CLAIMS": (Sequence, "a tuple or list of abm.published.Claim"),
+    "CENSORED": (Sequence, "a tuple or list of abm.published.Censored"),
+}
+
+
+def _check_kinds(cls: type, name: str) -> None:
+    """Each attribute of :data:`_KINDS` is of its kind, so the checks after can read it."""
+    for attr, (kind, expected) in _KINDS.items():
+        value = getattr(cls, attr)
+        if not isinstance(value, kind) or isinstance(value, str):
+            raise ContractError(
+                f"{name}.{attr} must be {expected}, got a {type(value).__qualname__}"
+            )
 
 
 def _check_constructor(cls: type, name: str) -> None:

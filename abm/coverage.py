@@ -7,7 +7,7 @@ time each pixel was first covered, so the area covered at any earlier time (a re
 coverage curve) follows without re-running the model. Every model that covers uses this one
 implementation; the work over sensors x pixels is a compiled loop.
 
-Two disc conventions, both in use in the papers' metrics:
+Two disc conventions, both in use in the models' metrics:
 
 - ``around="point"``: pixels whose centre lies within ``radius`` of the sensor itself;
 - ``around="cell"``: pixels whose centre lies within ``radius`` of the centre of the sensor's

@@ -14,6 +14,7 @@ __all__ = [
     "ABMError",
     "ConfigError",
     "ContractError",
+    "HookError",
     "LinkError",
     "MapError",
     "OutputError",
@@ -55,6 +56,15 @@ class LinkError(ABMError, ValueError):
 
 class ContractError(ABMError, TypeError):
     """A model class does not keep the model contract (see ``docs/adding-a-model.md``)."""
+
+
+class HookError(ConfigError):
+    """A model's own code handed the framework something it cannot use: a hook the framework
+    calls (the flight controller's ``control``, ``metrics()``, ``layers()``, ``arrows()``, ...)
+    returned the wrong type, shape or dtype, or a non-finite number, or a hook the model needs
+    is missing. The message names the model, the hook, what it returned and what is expected
+    (see :mod:`abm.checks`).
+    """
 
 
 def check_range(

@@ -1,7 +1,8 @@
 """The fault injector: robots, links and sensors that fail, as seeded, recorded SimPy events.
 
-Every model owns one :class:`FaultInjector` (``model.faults``), configured by the keywords of
-:class:`~abm.params.FaultParams` that every model's params inherit. With the defaults it
+Every model owns one :class:`FaultInjector` (``model.faults``), configured by the fault
+keywords of the kinds the model declares (``SwarmModel.FAULTS``; the fields of
+:data:`abm.params.FAULT_PARAMS` its params get). With the defaults it
 injects nothing, draws no random number and schedules no event, so a run without faults is the
 run it always was.
 
@@ -38,6 +39,7 @@ import numpy as np
 
 from abm.clock import call_later
 from abm.errors import ConfigError
+from abm.params import FAULT_PARAMS
 
 if TYPE_CHECKING:
     from abm.model import SwarmModel
@@ -49,7 +51,7 @@ __all__ = ["FAILED", "FAULT_KINDS", "Failure", "FaultInjector"]
 FAILED = "failed"
 
 #: The kinds of fault a model can declare it handles (``SwarmModel.FAULTS``).
-FAULT_KINDS = frozenset({"robot", "link", "sensor"})
+FAULT_KINDS = frozenset(FAULT_PARAMS)
 
 
 @dataclass(frozen=True)
@@ -76,22 +78,22 @@ class FaultInjector:
             fault it handles.
 
     Raises:
-        ConfigError: a fault keyword the model does not handle, or ``fault_states`` naming a
-            state the model does not have.
+        ConfigError: ``fault_states`` naming a state the model does not have.
 
     """
 
     def __init__(self, model: "SwarmModel") -> None:
         self.model = model
         self.env = model.env
-        p = model.params
-        self.kinds = p.fault_kinds
-        _check_supported(model, p)
+        self.kinds = model.params.fault_kinds
+        robot, link, sensor = (_keywords(model.params, kind) for kind in FAULT_PARAMS)
+        _check_states(model, robot)
         self.failures: dict[int, Failure] = {}
         self.rng: np.random.Generator | None = model.rng.spawn(1)[0] if self.kinds else None
-        self.rate = p.fault_rate
-        self.shape = p.fault_shape
-        self.states = frozenset(p.fault_states)
+        self.rate = robot.fault_rate
+        self.shape = robot.fault_shape
+        self.states = frozenset(robot.fault_states)
+        self._sensor = sensor
         self._robots: dict[int, Robot] = {}  # robots that may still fail, by id
         self._exempt: set[int] = set()
         self._life: dict[int, float] = {}  # drawn lifetime (s of exposure)
@@ -100,13 +102,15 @@ class FaultInjector:
         self._generation: dict[int, int] = defaultdict(int)  # voids stale failure events
         self._sensor_broken: dict[int, float] = {}  # robot -> time its sensors broke
         self._stuck: dict[tuple[int, str], np.ndarray] = {}
-        for t in p.fault_times:
+        for t in robot.fault_times:
             call_later(self.env, t, lambda _value: self._scheduled_failure())
-        if p.link_outage_rate > 0:
-            self.env.process(self._link_outages(p.link_outage_rate, p.link_outage_duration))
-        if p.loss_burst_rate > 0:
+        if link.link_outage_rate > 0:
+            self.env.process(self._link_outages(link.link_outage_rate, link.link_outage_duration))
+        if link.loss_burst_rate > 0:
             self.env.process(
-                self._loss_bursts(p.loss_burst_rate, p.loss_burst_duration, p.loss_burst_loss)
+                self._loss_bursts(
+                    link.loss_burst_rate, link.loss_burst_duration, link.loss_burst_loss
+                )
             )
 
     # ------------------------------------------------------------------ robots
@@ -247,15 +251,14 @@ class FaultInjector:
     def _schedule_sensor_fault(self, robot: "Robot") -> None:
         """Draw when this robot's sensors break (exponential, rate ``sensor_fault_rate``)."""
         rid = robot.unique_id
-        life = float(self.rng.exponential(1.0 / self.model.params.sensor_fault_rate))
+        life = float(self.rng.exponential(1.0 / self._sensor.sensor_fault_rate))
         call_later(self.env, life, self._break_sensor, rid)
 
     def _break_sensor(self, rid: int) -> None:
         if rid not in self._robots:
             return  # it failed, left the model or was exempted meanwhile
         self._sensor_broken[rid] = self.env.now
-        kind = self.model.params.sensor_fault_kind
-        self.model.recorder.log("sensor_fault", rid, sensor=kind)
+        self.model.recorder.log("sensor_fault", rid, sensor=self._sensor.sensor_fault_kind)
 
     def sensor_broken(self, robot_id: int) -> bool:
         """True once this robot's sensors are faulty."""
@@ -278,7 +281,7 @@ class FaultInjector:
         if not self._sensor_broken:
             return readings
         out = np.array(readings, dtype=float, copy=True)
-        p = self.model.params
+        p = self._sensor
         for row, rid in enumerate(np.asarray(robot_ids).tolist()):
             if rid not in self._sensor_broken:
                 continue
@@ -296,26 +299,19 @@ def _interrupt(process, cause: str) -> None:
         process.interrupt(cause)
 
 
-def _check_supported(model: "SwarmModel", p) -> None:
-    """Raise ConfigError for fault keywords the model does not handle or states it lacks."""
-    name = type(model).__name__
-    keywords = {
-        "robot": ("fault_rate", "fault_times"),
-        "link": ("link_outage_rate", "loss_burst_rate"),
-        "sensor": ("sensor_fault_rate",),
-    }
-    for kind in sorted(p.fault_kinds - model.FAULTS):
-        given = ", ".join(
-            f"{k}={getattr(p, k)!r}" for k in keywords[kind] if getattr(p, k) not in (0, 0.0, ())
-        )
-        handled = ", ".join(sorted(model.FAULTS)) or "none"
-        raise ConfigError(
-            f"{given}: {name} does not handle {kind} faults (it handles: {handled}); "
-            "leave these keywords at 0"
-        )
-    unknown = sorted(set(p.fault_states) - set(model.STATES))
+def _keywords(params, kind: str):
+    """The params as keywords of ``kind``; the defaults (no fault) for a kind the model does
+    not declare, whose keywords it does not have.
+    """
+    mixin = FAULT_PARAMS[kind]
+    return params if isinstance(params, mixin) else mixin()
+
+
+def _check_states(model: "SwarmModel", robot) -> None:
+    """Raise ConfigError for ``fault_states`` naming a state the model does not have."""
+    unknown = sorted(set(robot.fault_states) - set(model.STATES))
     if unknown:
         raise ConfigError(
-            f"fault_states names {', '.join(map(repr, unknown))}, not states of {name}; its "
-            f"states are {', '.join(map(repr, model.STATES))}"
+            f"fault_states names {', '.join(map(repr, unknown))}, not states of "
+            f"{type(model).__name__}; its states are {', '.join(map(repr, model.STATES))}"
         )

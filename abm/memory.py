@@ -3,7 +3,7 @@
 A model on a bitmap map allocates several arrays per map pixel (the arena's grids, coverage
 rasters, pheromone fields and their visibility tables, precomputed force fields), so a small
 file can ask for gigabytes: a 62 KB PNG of 7000 x 7000 pixels made the stigmergy model grow
-past 5.6 GB without a word. The map loaders (:func:`abm.worlds.load_map`,
+past 5.6 GB without a word. The map loaders (:func:`models.environments.load_map`,
 :meth:`abm.arena.Arena.from_bitmap`) therefore read only a file's header, ask the model what
 it will allocate per pixel, and compare the sum with a budget tied to the machine before
 decoding a single pixel:

@@ -18,9 +18,11 @@ from typing import ClassVar
 import mesa
 import numpy as np
 import pandas as pd
+import simpy
 from mesa.experimental.continuous_space import ContinuousSpace
 
 from abm.arena import Arena
+from abm.checks import check_controller, check_metrics, check_reporters
 from abm.clock import Clock, call_later
 from abm.collector import StepCollector
 from abm.comms import CommNetwork, Shadowing
@@ -28,7 +30,7 @@ from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
-from abm.params import SwarmParams, make_params, param_fields
+from abm.params import SwarmParams, make_params, param_fields, with_faults
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
@@ -54,9 +56,9 @@ class SwarmModel(mesa.Model):
     - ``STATES``: the robot states, counted by the recorder in this order.
     - ``STATE_STYLES``: optional :class:`~abm.styles.StateStyle` per state.
     - ``MACRO``: optional :class:`~abm.published.MacroSpec`: the two counted states (moving,
-      settled) the macroscopic recurrence describes, for ``abm fit``, and the paper's fits.
+      settled) the macroscopic recurrence describes, for ``abm fit``, and the published fits.
     - ``ARROWS_LABEL``: legend text of :meth:`arrows`; None when the model draws no arrows.
-    - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the paper's numbers, figure layout and
+    - ``PUBLISHED`` / ``REPORT`` / ``CLAIMS``: the published numbers, figure layout and
       checkable claims for ``abm report`` (usually imported from the model's ``published.py``).
     - ``CENSORED``: the summary metrics a run's end can cut short (:class:`~abm.published.Censored`:
       a time to a target, or anything a run accumulates, that a time limit censors); reports
@@ -71,10 +73,11 @@ class SwarmModel(mesa.Model):
       (key or ``fnmatch`` pattern -> :class:`~abm.units.Quantity`); the common keys are
       documented once in :data:`abm.units.COMMON`.
     - ``FAULTS``: the kinds of fault the model handles ("robot", "link", "sensor"; see
-      :mod:`abm.faults`): the fault keywords of other kinds must stay at their defaults. A
-      model declares "robot" once its behaviour copes with :meth:`on_robot_failed`, "link"
-      once its messages travel on ``self.comms``, "sensor" once it reads its sensors through
-      ``self.faults.sensed``.
+      :mod:`abm.faults`): ``Params`` gets the fault keywords of these kinds, and only those,
+      when the class is defined (:func:`abm.params.with_faults`); a keyword of another kind
+      is refused naming the kinds the model handles. A model declares "robot" once its
+      behaviour copes with :meth:`on_robot_failed`, "link" once its messages travel on
+      ``self.comms``, "sensor" once it reads its sensors through ``self.faults.sensed``.
 
     What every model instance offers the tools: ``params``, ``coverage`` (a
     :class:`~abm.coverage.CoverageRaster` or None), :meth:`summary` (the common keys of
@@ -96,7 +99,9 @@ class SwarmModel(mesa.Model):
         physics: False for a model whose robots never fly under the continuous dynamics (they
             move by whole steps, :mod:`abm.kinematics`): ``self.physics`` is then None.
         controller: the vectorised flight controller (may be set later as
-            ``physics.controller``).
+            ``physics.controller``, in the model's ``__init__``): an object with
+            ``control(physics)`` (:class:`~abm.physics.Controller`). A model with ``physics``
+            must have one before :meth:`run` or :meth:`step` starts (else HookError).
         torus: True for a periodic world: the Mesa space wraps at the arena's edges (for a
             wall-free arena and robots that move by whole steps, ``physics=False``).
         failures: the model's robots can fail although no fault keyword asks for it (e.g.
@@ -120,8 +125,15 @@ class SwarmModel(mesa.Model):
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
+        # the fault keywords of the kinds the model declares, and only those, join its params
+        cls.Params = with_faults(cls.Params, cls.FAULTS, cls.__name__)
+        cls.Params.__module__, cls.Params.__qualname__ = (
+            cls.__module__,
+            f"{cls.__qualname__}.Params",
+        )
         cls.__signature__ = _signature(cls.Params)
-        declare_units(cls.SUMMARY_UNITS)
+        if isinstance(cls.SUMMARY_UNITS, Mapping):  # else the contract refuses the class
+            declare_units(cls.SUMMARY_UNITS)
 
     def __init__(
         self,
@@ -151,9 +163,7 @@ class SwarmModel(mesa.Model):
                 "edges instead of wrapping"
             )
         super().__init__(rng=seed)
-        # Mesa replaces ``self.step`` by its own scheduler wrapper; our clock is SimPy, so the
-        # class's step() (which runs SimPy for one slice) must be what batch_run and SolaraViz call.
-        del self.step
+        _hand_time_to_simpy(self)
         self.params = params
         self.seed = seed
         self.env = Clock()
@@ -190,6 +200,7 @@ class SwarmModel(mesa.Model):
                 params=flight,
                 dt=params.dt,
                 on_collision=self.collision,
+                owner=type(self).__qualname__,
             )
         self.done = self.env.event()
         self.end_reason: str | None = None
@@ -215,7 +226,8 @@ class SwarmModel(mesa.Model):
         built.
         """
         if self._datacollector is None:
-            self._datacollector = StepCollector(self.reporters())
+            reporters = check_reporters(self.reporters(), f"{type(self).__qualname__}.reporters()")
+            self._datacollector = StepCollector(reporters)
         return self._datacollector
 
     @property
@@ -226,24 +238,41 @@ class SwarmModel(mesa.Model):
     # ------------------------------------------------------------------ time
     @property
     def time(self) -> float:
-        """Simulated time (s): always the SimPy clock's ``env.now``."""
+        """Simulated time (s): Mesa's ``model.time``, which a discrete-event simulator
+        controls (here SimPy: it is always ``env.now``).
+
+        Assigning a later time advances the simulation to it (or to its end), which is how
+        Mesa's own ``run_for`` and ``run_until`` move time; an earlier one is refused.
+        """
         env = self.__dict__.get("env")
         return env.now if env is not None else 0.0
 
     @time.setter
     def time(self, value: float) -> None:
-        # Mesa's constructor sets time = 0.0; the clock is SimPy's, so nothing else may set it.
-        if value != self.time:
-            raise AttributeError("model.time follows env.now; advance it with step() or run()")
+        if "env" not in self.__dict__:
+            return  # Mesa's constructor starts the clock at 0, before SimPy's exists
+        if value < self.env.now:
+            raise ValueError(
+                f"model.time cannot go back: it is {self.env.now:g} s, asked for {value:g} s"
+            )
+        if value > self.env.now and self.running:
+            self.check_ready()
+            self._advance(self.env.any_of([self.done, self.env.timeout(value - self.env.now)]))
 
     def step(self) -> None:
-        """Run the simulation for ``step_duration`` simulated seconds (or until it ends)."""
+        """Mesa's step: run the simulation for ``step_duration`` simulated seconds (or until
+        it ends), count the step in ``steps`` and collect the data collector's row.
+        """
         if not self.running:
             return
+        self.check_ready()
         self.steps += 1
-        horizon = self.env.timeout(self.step_duration)
-        self.env.run(until=self.env.any_of([horizon, self.done]))
+        self._advance(self.env.any_of([self.env.timeout(self.step_duration), self.done]))
         self.datacollector.collect(self)
+
+    def _advance(self, stop: simpy.events.Event) -> None:
+        """Run SimPy until ``stop``; the model stops running once the run is over."""
+        self.env.run(until=stop)
         if self.done.triggered:
             self.running = False
 
@@ -260,11 +289,19 @@ class SwarmModel(mesa.Model):
                 )
             stop = self.env.any_of([self.done, self.env.timeout(until - self.env.now)])
         if self.running:
-            self.env.run(until=stop)
+            self.check_ready()
+            self._advance(stop)
             self.datacollector.collect(self)
-        if self.done.triggered:
-            self.running = False
         return self
+
+    def check_ready(self) -> None:
+        """Raise HookError unless the built model can start: a model that flies robots has a
+        flight controller (an AttributeError from inside SimPy at the first take-off
+        otherwise). :meth:`run` and :meth:`step` call it before simulated time moves; a tool
+        that builds models without running them (a sweep's dry build) calls it too.
+        """
+        if self.physics is not None:
+            check_controller(self.physics.controller, type(self).__qualname__)
 
     def finish(self, reason: str) -> None:
         """Mark the run as over (the first reason wins)."""
@@ -275,7 +312,10 @@ class SwarmModel(mesa.Model):
 
     # ------------------------------------------------------------------ hooks
     def metrics(self) -> dict:
-        """The model's own results, added to the common summary keys (override)."""
+        """The model's own results, added to the common summary keys (override): a dict of
+        str keys (not those of :meth:`common_summary`) to one number, true/false, text or None
+        each (:meth:`summary` checks it).
+        """
         return {}
 
     def on_robot_failed(self, robot: Robot) -> None:
@@ -294,11 +334,15 @@ class SwarmModel(mesa.Model):
         """
 
     def arrows(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Arrows to draw: ``(points, vectors)`` in m, or None (models with ``ARROWS_LABEL``)."""
+        """Arrows to draw: ``(points, vectors)``, both ``(k, 2)`` in m, or None (models with
+        ``ARROWS_LABEL``; checked where drawn, :func:`abm.checks.arrows_of`).
+        """
         return None
 
     def layers(self) -> list[Layer]:
-        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds)."""
+        """Extra point clouds or rasters the live page and PNGs draw (e.g. particle clouds):
+        a list of :class:`~abm.styles.Layer` (checked where drawn, :func:`abm.checks.layers_of`).
+        """
         return []
 
     def reporters(self) -> dict:
@@ -342,8 +386,13 @@ class SwarmModel(mesa.Model):
         return out
 
     def summary(self) -> dict:
-        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`."""
-        return {**self.common_summary(), **self.metrics()}
+        """A flat dict of the run's results: :meth:`common_summary` then :meth:`metrics`
+        (checked: str keys other than the common ones, one number, true/false, text or None
+        each; else HookError).
+        """
+        common = self.common_summary()
+        hook = f"{type(self).__qualname__}.metrics()"
+        return {**common, **check_metrics(self.metrics(), hook, tuple(common))}
 
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: ``time`` plus one column per state."""
@@ -404,7 +453,7 @@ class SwarmModel(mesa.Model):
 
     def collision(self, kind: str, a: int, b: int | None = None) -> None:
         """Count and log a new contact: ``kind`` "wall" (robot ``a`` bumped a wall) or "robot"
-        (``a`` and ``b`` touched; counted twice, as Stirling et al. count them).
+        (``a`` and ``b`` touched; counted twice, once for each robot).
         """
         if kind == "robot":
             self.robot_collisions += 2
@@ -420,3 +469,23 @@ def _signature(params_cls: type[SwarmParams]) -> inspect.Signature:
     for f in param_fields(params_cls):
         parameters.append(inspect.Parameter(f.name, kw, default=f.default, annotation=f.type))
     return inspect.Signature(parameters)
+
+
+def _hand_time_to_simpy(model: mesa.Model) -> None:
+    """Make SimPy the model's clock the way Mesa's own discrete-event simulator does
+    (``mesa.experimental.devs.DEVSimulator.setup`` stops the default schedule).
+
+    Mesa 3.x binds ``model.step`` per instance to a wrapper that advances its clock by one
+    time unit and calls the class's ``step()`` from a recurring event. Here a step is
+    ``step_duration`` s of SimPy's clock, so ``model.step()`` is the class's own
+    :meth:`SwarmModel.step` and Mesa's recurring step event is stopped: ``run_for`` and
+    ``run_until`` then advance SimPy through ``model.time`` without running steps of their
+    own. A Mesa that binds neither leaves nothing to undo, and one without Mesa 3's
+    ``steps`` counter (Mesa 4) gets it here, since ``mesa.batch_run`` and the data collector
+    count steps with it.
+    """
+    model.__dict__.pop("step", None)
+    model.__dict__.setdefault("steps", 0)
+    schedule = model.__dict__.get("_default_schedule")
+    if schedule is not None:
+        schedule.stop()

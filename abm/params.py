@@ -2,10 +2,10 @@
 
 A model's ``Params`` subclasses :class:`SwarmParams` and lists every tunable constant with its
 unit, default and (in the class docstring's ``Attributes:`` section) what it means, with the
-paper's symbol and citation. Fields are declared with :func:`param`, which records the accepted
-range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a
-bad value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule,
-whoever passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
+source's symbol and citation. Fields are declared with :func:`param`, which records the accepted
+range or choices; :meth:`SwarmParams.__post_init__` checks every field against them once, so a bad
+value raises :class:`~abm.errors.ConfigError` naming the parameter, the value and the rule, whoever
+passed it (Python, ``mesa.batch_run``, a TOML sweep, a slider or the CLI).
 
 :func:`make_params` is the one place that maps constructor keywords to a validated instance;
 :func:`field_help` gives the docstring text of each field (CLI help, reports, sliders).
@@ -26,9 +26,12 @@ from abm.errors import ConfigError, check_choice, check_range
 __all__ = [
     "COLLISION_ROWS",
     "FAULT_KEYWORDS",
+    "FAULT_PARAMS",
     "MAX_FAULT_EVENTS",
-    "FaultParams",
     "MAX_PERIODS",
+    "LinkFaultParams",
+    "RobotFaultParams",
+    "SensorFaultParams",
     "SwarmParams",
     "check_value",
     "field_help",
@@ -37,6 +40,8 @@ __all__ = [
     "param",
     "param_fields",
     "plain_value",
+    "refuse_fault_keyword",
+    "with_faults",
 ]
 
 _RULE = "abm.rule"
@@ -68,6 +73,7 @@ def param(
     choices: Sequence | None = None,
     period: bool = False,
     events: bool = False,
+    shown: tuple[float, float] | None = None,
 ) -> object:
     """A dataclass field with a default and the rule its values must follow.
 
@@ -83,8 +89,13 @@ def param(
         events: the field is the rate (1/s) of a Poisson process of events over the whole run
             (not per robot, where each robot fails once at most); it may be expected to give
             at most :data:`MAX_FAULT_EVENTS` events in ``time_limit``.
+        shown: the part of the accepted range a slider offers, ``(low, high)``, for a field
+            whose accepted range is unbounded or far wider than anyone explores; None: the
+            accepted range itself.
 
     """
+    if shown is not None:
+        _check_shown(shown, low, high, low_open)
     rule = {
         "low": low,
         "high": high,
@@ -93,8 +104,22 @@ def param(
         "choices": None if choices is None else tuple(choices),
         "period": period,
         "events": events,
+        "shown": None if shown is None else (shown[0], shown[1]),
     }
     return dataclasses.field(default=default, metadata={_RULE: rule})
+
+
+def _check_shown(
+    shown: tuple[float, float], low: float | None, high: float | None, low_open: bool
+) -> None:
+    """A slider range must lie inside the accepted range: every value it offers is accepted."""
+    a, b = shown
+    below = low is not None and (a < low or (low_open and a == low))
+    if not a < b or below or (high is not None and b > high):
+        raise ConfigError(
+            f"shown range {shown} must be increasing and inside the accepted range "
+            f"[{low}, {high}]" + (" (low excluded)" if low_open else "")
+        )
 
 
 def field_rule(f: dataclasses.Field) -> dict:
@@ -116,40 +141,21 @@ class _RunParams:
 
 
 @dataclasses.dataclass(frozen=True)
-class FaultParams:
-    """The fault injector's keywords (:mod:`abm.faults`), which every model's params inherit
-    through :class:`SwarmParams`. The defaults inject nothing. A model accepts the keywords of
-    the fault kinds it declares in ``SwarmModel.FAULTS``; a non-default keyword of another kind
-    is a ConfigError (checked when the model is built).
-
-    A secondary keyword (shape, states, duration, loss, kind, noise) qualifies its rate: with
-    the rate 0 there is no fault to shape, so sweeps may run a rate down to 0 with the others
-    fixed.
+class RobotFaultParams:
+    """The keywords of "robot" faults (:mod:`abm.faults`), which a model's params get when
+    the model declares "robot" in ``SwarmModel.FAULTS``. The defaults inject nothing; the
+    shape and states qualify the rate or times (with neither there is no fault to shape).
 
     Attributes:
-        fault_rate: lambda, each robot's failure hazard (1/s; "robot" faults): its time to
-            failure is Weibull with shape ``fault_shape`` and scale 1/lambda (exponential
-            with mean 1/lambda at shape 1), counted only while it is in ``fault_states``
-            (ours; 0: no random failures).
+        fault_rate: lambda, each robot's failure hazard (1/s): its time to failure is Weibull
+            with shape ``fault_shape`` and scale 1/lambda (exponential with mean 1/lambda at
+            shape 1), counted only while it is in ``fault_states`` (ours; 0: no random
+            failures).
         fault_shape: k, the Weibull shape of the time to failure (1: exponential, a constant
             hazard; > 1: wear-out; < 1: infant mortality) (ours).
         fault_times: simulated times (s) at which one robot, drawn uniformly among those
-            in ``fault_states`` that have not failed, fails ("robot" faults; ours).
+            in ``fault_states`` that have not failed, fails (ours).
         fault_states: the states in which a robot can fail (empty: any state) (ours).
-        link_outage_rate: outages per second over the whole comm network ("link" faults):
-            each takes one link, drawn uniformly among the links up, down for
-            ``link_outage_duration`` (ours; 0: none).
-        link_outage_duration: how long one link outage lasts (s) (ours).
-        loss_burst_rate: message-loss bursts per second ("link" faults): during a burst each
-            transmission is lost with probability ``loss_burst_loss`` (ours; 0: none).
-        loss_burst_duration: how long one loss burst lasts (s) (ours).
-        loss_burst_loss: probability that a transmission sent during a burst is lost (ours).
-        sensor_fault_rate: each robot's hazard of a sensor fault (1/s; "sensor" faults): from
-            then on its readings are stuck at the first faulty reading or noisy (ours; 0: none).
-        sensor_fault_kind: "stuck" (the reading never changes again) or "noisy" (Gaussian
-            noise of sd ``sensor_fault_noise`` added to every reading) (ours).
-        sensor_fault_noise: sd of the extra noise of a "noisy" sensor, in the reading's unit
-            (m for distance sensors) (ours).
 
     """
 
@@ -157,31 +163,11 @@ class FaultParams:
     fault_shape: float = param(1.0, low=0.0, low_open=True)
     fault_times: tuple[float, ...] = param(())
     fault_states: tuple[str, ...] = param(())
-    link_outage_rate: float = param(0.0, low=0.0, events=True)
-    link_outage_duration: float = param(10.0, low=0.0, low_open=True)
-    loss_burst_rate: float = param(0.0, low=0.0, events=True)
-    loss_burst_duration: float = param(5.0, low=0.0, low_open=True)
-    loss_burst_loss: float = param(1.0, low=0.0, high=1.0, low_open=True)
-    sensor_fault_rate: float = param(0.0, low=0.0)
-    sensor_fault_kind: str = param("stuck", choices=("stuck", "noisy"))
-    sensor_fault_noise: float = param(0.5, low=0.0)
 
-    @property
-    def fault_kinds(self) -> frozenset[str]:
-        """The kinds of fault these keywords inject: "robot", "link" and/or "sensor"."""
-        kinds = set()
-        if self.fault_rate > 0 or self.fault_times:
-            kinds.add("robot")
-        if self.link_outage_rate > 0 or self.loss_burst_rate > 0:
-            kinds.add("link")
-        if self.sensor_fault_rate > 0:
-            kinds.add("sensor")
-        return frozenset(kinds)
+    def _injects(self) -> bool:
+        return self.fault_rate > 0 or bool(self.fault_times)
 
-    def _check_faults(self) -> None:
-        """Cross-field rules of the fault keywords (each value's range, finiteness included,
-        is checked with the other fields).
-        """
+    def _check_kind(self) -> None:
         for t in self.fault_times:
             if not np.isfinite(t) or t < 0:
                 raise ConfigError(
@@ -193,9 +179,79 @@ class FaultParams:
 
 
 @dataclasses.dataclass(frozen=True)
-class SwarmParams(FaultParams, _RunParams):
+class LinkFaultParams:
+    """The keywords of "link" faults (:mod:`abm.faults`), which a model's params get when
+    the model declares "link" in ``SwarmModel.FAULTS``. The defaults inject nothing.
+
+    Attributes:
+        link_outage_rate: outages per second over the whole comm network: each takes one
+            link, drawn uniformly among the links up, down for ``link_outage_duration``
+            (ours; 0: none).
+        link_outage_duration: how long one link outage lasts (s) (ours).
+        loss_burst_rate: message-loss bursts per second: during a burst each transmission is
+            lost with probability ``loss_burst_loss`` (ours; 0: none).
+        loss_burst_duration: how long one loss burst lasts (s) (ours).
+        loss_burst_loss: probability that a transmission sent during a burst is lost (ours).
+
+    """
+
+    link_outage_rate: float = param(0.0, low=0.0, events=True)
+    link_outage_duration: float = param(10.0, low=0.0, low_open=True)
+    loss_burst_rate: float = param(0.0, low=0.0, events=True)
+    loss_burst_duration: float = param(5.0, low=0.0, low_open=True)
+    loss_burst_loss: float = param(1.0, low=0.0, high=1.0, low_open=True)
+
+    def _injects(self) -> bool:
+        return self.link_outage_rate > 0 or self.loss_burst_rate > 0
+
+    def _check_kind(self) -> None:
+        """Each value's range is checked with the other fields."""
+
+
+@dataclasses.dataclass(frozen=True)
+class SensorFaultParams:
+    """The keywords of "sensor" faults (:mod:`abm.faults`), which a model's params get when
+    the model declares "sensor" in ``SwarmModel.FAULTS``. The defaults inject nothing.
+
+    Attributes:
+        sensor_fault_rate: each robot's hazard of a sensor fault (1/s): from then on its
+            readings are stuck at the first faulty reading or noisy (ours; 0: none).
+        sensor_fault_kind: "stuck" (the reading never changes again) or "noisy" (Gaussian
+            noise of sd ``sensor_fault_noise`` added to every reading) (ours).
+        sensor_fault_noise: sd of the extra noise of a "noisy" sensor, in the reading's unit
+            (m for distance sensors) (ours).
+
+    """
+
+    sensor_fault_rate: float = param(0.0, low=0.0)
+    sensor_fault_kind: str = param("stuck", choices=("stuck", "noisy"))
+    sensor_fault_noise: float = param(0.5, low=0.0)
+
+    def _injects(self) -> bool:
+        return self.sensor_fault_rate > 0
+
+    def _check_kind(self) -> None:
+        """Each value's range is checked with the other fields."""
+
+
+#: Each fault kind (``SwarmModel.FAULTS``) and the dataclass of its keywords.
+FAULT_PARAMS: dict[str, type] = {
+    "robot": RobotFaultParams,
+    "link": LinkFaultParams,
+    "sensor": SensorFaultParams,
+}
+
+#: Every fault keyword and its kind, in declaration order.
+FAULT_KEYWORDS: dict[str, str] = {
+    f.name: kind for kind, cls in FAULT_PARAMS.items() for f in dataclasses.fields(cls)
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class SwarmParams(_RunParams):
     """What every swarm model has, with neutral defaults (a model overrides what it needs):
-    the run's clock settings below and the fault keywords of :class:`FaultParams`.
+    the run's clock settings below. The fault keywords of the kinds a model declares
+    (:data:`FAULT_PARAMS`) are added by :func:`with_faults` when the model class is defined.
 
     Attributes:
         time_limit: the run ends at this simulated time at the latest (s).
@@ -214,8 +270,19 @@ class SwarmParams(FaultParams, _RunParams):
         for f in dataclasses.fields(self):
             value = _checked(f, getattr(self, f.name))
             object.__setattr__(self, f.name, value)
-        self._check_faults()
+        for mixin in FAULT_PARAMS.values():
+            if isinstance(self, mixin):
+                mixin._check_kind(self)
         self._check_periods()
+
+    @property
+    def fault_kinds(self) -> frozenset[str]:
+        """The kinds of fault these params inject: "robot", "link" and/or "sensor"."""
+        return frozenset(
+            kind
+            for kind, mixin in FAULT_PARAMS.items()
+            if isinstance(self, mixin) and mixin._injects(self)
+        )
 
     def _check_periods(self) -> None:
         """Every period (``dt``, ``step_duration``, ``trace_interval`` and the fields declared
@@ -259,8 +326,47 @@ class SwarmParams(FaultParams, _RunParams):
         return {name: plain_value(value) for name, value in self.as_dict().items()}
 
 
-#: The fault injector's keywords (fields of :class:`FaultParams`), in declaration order.
-FAULT_KEYWORDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(FaultParams))
+def with_faults(params_cls: type[SwarmParams], kinds: frozenset[str], owner: str) -> type:
+    """``params_cls`` with the fault keywords of ``kinds`` (and only those) as fields.
+
+    The model class calls it once when it is defined (``SwarmModel.__init_subclass__``): a
+    model that declares no fault kind has no fault keyword. The class keeps the base's name,
+    and records ``owner`` (the model) and its kinds, for :func:`refuse_fault_keyword`.
+
+    Args:
+        params_cls: the model's params dataclass (or one this function made).
+        kinds: the fault kinds the model declares.
+        owner: the model class's name.
+
+    """
+    base = vars(params_cls).get("_fault_base", params_cls)
+    mixins = [FAULT_PARAMS[k] for k in FAULT_PARAMS if k in kinds]
+    made = dataclasses.make_dataclass(
+        base.__name__, [], bases=(*reversed(mixins), base), frozen=True
+    )
+    made.__doc__ = base.__doc__
+    made.__module__ = base.__module__
+    made._fault_base = base
+    made.fault_owner = owner
+    made.fault_kinds_declared = frozenset(kinds)
+    return made
+
+
+def refuse_fault_keyword(params_cls: type, name: str, value: object = None) -> None:
+    """Raise ConfigError when ``name`` is a fault keyword ``params_cls`` lacks: one line
+    naming the keyword, the model and the fault kinds it handles.
+    """
+    kind = FAULT_KEYWORDS.get(name)
+    fields = {f.name for f in dataclasses.fields(params_cls)}
+    if kind is None or name in fields:
+        return
+    owner = getattr(params_cls, "fault_owner", params_cls.__name__)
+    handled = ", ".join(sorted(getattr(params_cls, "fault_kinds_declared", ()))) or "none"
+    given = name if value is None else f"{name}={value!r}"
+    raise ConfigError(
+        f"{given}: {owner} does not handle {kind} faults (it handles: {handled}); "
+        f"its fault keywords are those of the kinds it handles"
+    )
 
 
 def param_fields(params_cls: type[SwarmParams]) -> list[dataclasses.Field]:
@@ -281,6 +387,8 @@ def make_params(
     """
     names = [f.name for f in dataclasses.fields(params_cls)]
     unknown = [k for k in kwargs if k not in names]
+    for name in unknown:
+        refuse_fault_keyword(params_cls, name, kwargs[name])
     if unknown:
         close = _close_names(unknown[0], names)
         hint = f" (did you mean {close}?)" if close else ""
@@ -358,6 +466,7 @@ def check_value(params_cls: type[SwarmParams], name: str, value: object) -> obje
 
     """
     fields = {f.name: f for f in dataclasses.fields(params_cls)}
+    refuse_fault_keyword(params_cls, name, value)
     if name not in fields:
         raise ConfigError(
             f"unknown parameter {name!r}; {params_cls.__name__} accepts: " + ", ".join(fields)

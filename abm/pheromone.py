@@ -1,6 +1,6 @@
 """A virtual pheromone field on the arena's grid: disc deposits, exponential decay, queries.
 
-Arnaldo et al. (2018) store virtual pheromone in the landed robots; we keep it as one numpy
+A swarm may store virtual pheromone in its robots; we keep it as one numpy
 grid over the arena (one value per pixel) that every robot reads and writes. Intensity decays
 exponentially at rate ``decay`` (C_eps, 1/s): a value ``q`` deposited at ``t0`` is
 ``q * exp(-decay * (t - t0))`` at ``t``. The decay is applied exactly and lazily (the whole grid
@@ -267,15 +267,15 @@ class PheromoneField:
         relative: bool = True,
         line_of_sight: bool = False,
     ) -> np.ndarray:
-        """f1 of Arnaldo et al.: a vector towards less pheromone, ``(n, 2)``.
+        """The repulsion from pheromone: a vector towards less pheromone, ``(n, 2)``.
 
         ``f1 = -sum_c v_c / |v_c|^(1 + falloff) * field(p + v_c)`` over the pixels ``c`` within
-        ``radius`` of ``p`` (``v_c`` the offset from the robot's pixel to ``c``): each
-        pheromone reading pushes away from itself with an importance ``1 / |v_c|^falloff``.
-        ``falloff = 2`` is the paper's text ("the importance of a detected pheromone decreases
-        with the square of the distance"); ``falloff = 1`` is its formula read literally
-        (``v / |v|^2``). Not normalised. ``stride`` reads only every stride-th pixel in x and y
-        (the sensor's discretisation of the circle); the sum is then scaled by ``stride**2``.
+        ``radius`` of ``p`` (``v_c`` the offset from the robot's pixel to ``c``): each pheromone
+        reading pushes away from itself with an importance ``1 / |v_c|^falloff``. ``falloff = 2``
+        makes the importance of a reading fall with the square of its distance; ``falloff = 1``
+        weights the offsets as ``v / |v|^2``. Not normalised. ``stride`` reads only every stride-th
+        pixel in x and y (the sensor's discretisation of the circle); the sum is then scaled by
+        ``stride**2``.
 
         ``relative`` (default): only pixels inside the mask are read, each relative to the
         reading under the robot, ``field(p + v_c) - field(p)``. In open space this is the

@@ -2,7 +2,7 @@
 
 One SimPy process owns all continuous motion. Each tick of ``dt`` seconds it asks the model's
 controller for every flyer's desired velocity (and which flyers have finished their flight),
-applies the flight dynamics of Stirling et al. (2010, App. B) to all flyers at once, resolves
+applies point-mass flight dynamics with drag (below) to all flyers at once, resolves
 wall and robot-robot contacts, writes the positions into the Mesa space, and turns threshold
 crossings (a flight finished) back into SimPy events. While nothing flies it sleeps, so
 simulated time jumps straight to the next event.
@@ -16,7 +16,7 @@ Walls: a robot's body is an axis-aligned square of half-width ``body_radius``; m
 one axis at a time and each axis move is shorter than a grid pixel, so a body can never pass
 through a wall: it is stopped flush against it. A new contact counts one wall collision.
 Robots whose centres come closer than two body radii collide elastically; each new contact
-counts two collisions (the paper counts a robot-robot collision as 2). The per-flyer work is
+counts two collisions (one for each robot). The per-flyer work is
 compiled (:func:`abm.gridkernels.flight_rows`): with tens of flyers, numpy's per-call overhead,
 not arithmetic, would set the speed.
 """
@@ -34,6 +34,7 @@ from numba import njit
 
 from abm import gridkernels
 from abm.arena import Arena
+from abm.checks import check_control, check_controller
 from abm.errors import ConfigError, check_range
 from abm.neighbours import pairs_within
 
@@ -70,14 +71,17 @@ class Controller(Protocol):
     """What the physics asks of a model every tick."""
 
     def control(self, physics: "Physics") -> tuple[np.ndarray, np.ndarray]:
-        """Return desired velocities ``(n, 2)`` (m/s) and a boolean mask of finished flyers."""
+        """Return a tuple of the desired velocities, a float array ``(n, 2)`` of finite
+        values (m/s), and a bool array ``(n,)`` of the flyers whose flight ends now, both in
+        the rows of ``physics.ids``; checked every tick (:func:`abm.checks.check_control`).
+        """
         ...
 
 
 @dataclass(frozen=True)
 class FlightParams:
     """Flight-dynamics constants (SI units); the defaults are a generic small multirotor, not
-    any paper's robot (models pass their own).
+    any particular robot (models pass their own).
 
     Attributes:
         mass: m (kg).
@@ -122,6 +126,11 @@ class Physics:
         params: flight dynamics.
         dt: tick length (s).
         on_collision: called as ``on_collision(kind, robot_a, robot_b)`` for each new contact.
+        owner: the model's class name, which errors about its controller name.
+
+    Raises:
+        HookError: (from :meth:`fly_many` and :meth:`tick`) no controller when a robot takes
+            off, or a controller output that is not of the documented shape, dtype and range.
 
     """
 
@@ -135,6 +144,7 @@ class Physics:
         params: FlightParams | None = None,
         dt: float = 0.1,
         on_collision: Callable[[str, int, int | None], None] | None = None,
+        owner: str = "",
     ) -> None:
         check_range("dt", dt, 0.0, low_open=True)
         self.params = params or FlightParams()
@@ -159,6 +169,7 @@ class Physics:
         self.positions_out = positions_out
         self.dt = float(dt)
         self.on_collision = on_collision
+        self.owner = owner
         self.ids = np.empty(0, dtype=np.int64)
         self.pos = np.empty((0, 2))
         self.vel = np.empty((0, 2))
@@ -205,6 +216,7 @@ class Physics:
         """Start moving several robots at once (a swarm launched together): one event each,
         as :meth:`fly` gives, in the order given.
         """
+        check_controller(self.controller, self.owner)
         ids = np.asarray(list(robot_ids), dtype=np.int64)
         positions = np.asarray(positions, dtype=float).reshape(-1, 2)
         if len(ids) != len(positions):
@@ -280,10 +292,13 @@ class Physics:
             yield self.env.timeout(self.dt)
 
     def tick(self) -> None:
-        """Advance every flyer by one ``dt``."""
+        """Advance every flyer by one ``dt``, as the controller's checked output asks."""
         self.ticks += 1
         self.flyer_steps += self.n_flying
-        desired, done = self.controller.control(self)
+        controller = self.controller
+        if controller is None:
+            check_controller(controller, self.owner)
+        desired, done = check_control(controller.control(self), self.ids, self.owner, controller)
         contact = self._fly_one_tick(np.ascontiguousarray(desired, dtype=float))
         self._count_wall_contacts(contact)
         self._robot_contacts()
@@ -347,7 +362,7 @@ class Physics:
                     self.on_collision("wall", int(rid), None)
 
     def _robot_contacts(self) -> None:
-        """Elastic robot-robot collisions; each new contact counts 2 (Stirling et al.).
+        """Elastic robot-robot collisions; each new contact counts 2 (one per robot).
 
         Touching pairs come from :meth:`_touching_pairs`; contacts are compared with the last
         tick's as sorted integer keys.

@@ -13,7 +13,7 @@ Two layers of a machine change the last bits of ``exp``, ``sin``, ``atan2`` and 
 
 A last-bit difference that reaches a comparison (which pixel a robot is on, which beacon is
 nearest, which particle survives resampling, whether a launch comes before a physics tick)
-changes the run: on Arnaldo et al.'s hall the pheromone decay factor alone moved a landing
+changes the run: on a 100 m hall the pheromone decay factor alone moved a landing
 1.5 mm between two machines. So the functions here are written with IEEE-754 arithmetic only
 (``+ - * /``, comparisons, ``floor``, ``frexp``/``ldexp``: each correctly rounded or exact on
 every IEEE machine, x86-64 and ARM64 alike), compiled by numba, which never fuses a multiply

@@ -1,13 +1,13 @@
 """Global-best particle swarm optimisation: the update rules, and a plain optimiser over them.
 
-The rules are those of Kennedy and Eberhart as Saska et al. (2016, Sect. 4.2) write them, for
+The standard rules with a linearly falling inertia weight, for
 ``P`` particles at once (arrays ``(P, D)``):
 
-- velocity (eq. 2-3): ``u_j(t) = w(t) u_j(t-1) + Phi1 (b_j - p_j(t-1)) + Phi2 (b_g - p_j(t-1))``,
+- velocity: ``u_j(t) = w(t) u_j(t-1) + Phi1 (b_j - p_j(t-1)) + Phi2 (b_g - p_j(t-1))``,
   ``Phi_k = c_k diag(rand_k)``, ``rand ~ U[0, 1]`` per component;
-- inertia (eq. 5): ``w(t) = w_start + t (w_end - w_start) / t_max`` (``w = 1``: none);
+- inertia: ``w(t) = w_start + t (w_end - w_start) / t_max`` (``w = 1``: none);
 - velocity limit: components beyond ``+-u_max`` are clipped;
-- position (eq. 4): ``p_j(t) = p_j(t-1) + u_j(t)``.
+- position: ``p_j(t) = p_j(t-1) + u_j(t)``.
 
 A model that moves its particles itself (e.g. "tangible" particles that must fly there) calls
 :func:`velocity_update` and :func:`update_bests` and owns the rest; :func:`minimise` is the
@@ -25,7 +25,7 @@ __all__ = ["PSOResult", "inertia_weight", "minimise", "update_bests", "velocity_
 
 
 def inertia_weight(t: int, t_max: int, w_start: float, w_end: float) -> float:
-    """Eq. 5: the inertia at iteration ``t`` of ``t_max``, linear from ``w_start`` to ``w_end``."""
+    """The inertia at iteration ``t`` of ``t_max``, linear from ``w_start`` to ``w_end``."""
     return w_start + t * (w_end - w_start) / t_max
 
 
@@ -41,7 +41,7 @@ def velocity_update(
     w: float = 1.0,
     u_max: float = np.inf,
 ) -> np.ndarray:
-    """Eqs. 2-3 (with the inertia ``w`` of eq. 5 and the limit ``u_max``): the new velocities.
+    """The velocity rule (with the inertia ``w`` and the limit ``u_max``): the new velocities.
 
     Args:
         u: ``(P, D)`` velocities u_j(t-1).

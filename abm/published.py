@@ -1,13 +1,13 @@
-"""Record types for a paper's published numbers, claims and figure layout, read by ``abm report``.
+"""Record types for published numbers, claims and figure layout, read by ``abm report``.
 
-A model's ``published.py`` lists the numbers its paper reports as :class:`Published` records
-(what was measured, under every setting the paper fixed, the value and its spread, and its
-kind: a level, the direction of an effect or an ordering), its checkable claims as
-:class:`Claim` records, the summary metrics a run's end can cut short as :class:`Censored`
-records, and the layout of the paper's figures as a :class:`ReportLayout`. The model class
-exposes them (``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``), so reports, tests and
-benchmarks read the paper's numbers from one place. The rule that judges each kind is in
-:mod:`abm.verdicts`. Nothing here holds a paper's number.
+A model's *source* is the publication it reproduces. Its ``published.py`` lists the numbers the
+source reports as :class:`Published` records (what was measured, under every setting the source
+fixed, the value and its spread, and its kind: a level, the direction of an effect or an ordering),
+its checkable claims as :class:`Claim` records, the summary metrics a run's end can cut short as
+:class:`Censored` records, and the layout of the source's figures as a :class:`ReportLayout`. The
+model class exposes them (``PUBLISHED``, ``CLAIMS``, ``CENSORED``, ``REPORT``), so reports, tests
+and benchmarks read the source's numbers from one place. The rule that judges each kind is in
+:mod:`abm.verdicts`. Nothing here holds a source's number.
 """
 
 from collections.abc import Callable, Mapping
@@ -30,14 +30,14 @@ __all__ = [
 ]
 
 #: What kind of result a published number is, each judged by one rule
-#: (:mod:`abm.verdicts`): a level with the paper's spread, the direction of an effect, or an
+#: (:mod:`abm.verdicts`): a level with the published spread, the direction of an effect, or an
 #: ordering of conditions.
 KINDS = ("level", "direction", "ordering")
 
 #: How our value is computed from the runs of the condition.
 MEASURES = ("mean", "change", "pair", "ratio", "r", "convex")
 
-#: The checks of each kind: what the paper's number says.
+#: The checks of each kind: what the source's number says.
 CHECKS = {
     "level": ("band", "shown"),
     "direction": ("same sign", "decreases", "increases", "above 1", "below 1", "positive",
@@ -58,17 +58,17 @@ class Published:
     """One published number, the condition it was measured under, and its kind.
 
     Attributes:
-        section: the paper's experiment ("corridor", "open space", "map 1", ...).
+        section: the source's experiment ("corridor", "open space", "map 1", ...).
         quantity: what is measured, with its unit.
-        condition: every setting the paper fixed for this number, parameter -> value (the
+        condition: every setting the source fixed for this number, parameter -> value (the
             world, robots, particles, iterations, arena, time limit, ...). Ours is computed
             only from runs that match every one (a setting a sweep does not vary takes the
             model's default); otherwise the report says which setting differs.
         value: the published value (a number, or a short text such as "0.32 -> 0.02").
-        kind: "level" (the paper's level, with its spread), "direction" (the sign of an
+        kind: "level" (the published level, with its spread), "direction" (the sign of an
             effect) or "ordering" (how conditions rank): see :data:`KINDS`.
         metric: the summary column.
-        check: what the paper's number says (see :data:`CHECKS`): a level is tested as a
+        check: what the source's number says (see :data:`CHECKS`): a level is tested as a
             two-sided "band" (``value +- spread``; without a spread, the value itself) or only
             "shown" beside ours (``note`` says why); a direction "decreases", "increases",
             has the "same sign" as the published change, a ratio "above 1" / "below 1", a
@@ -80,14 +80,14 @@ class Published:
             (mean at ``b`` / mean at ``a``), "r" (Pearson r of the condition means of
             ``metric`` and ``other``, conditions = values of ``by``), "convex" (where the mean
             of ``metric`` over ``factor`` is lowest).
-        spread: the half-width of a level's band, in the value's unit (the paper's spread, or
-            where ``note`` says so a band the paper's own text sets); None: none published.
+        spread: the half-width of a level's band, in the value's unit (the published spread, or
+            where ``note`` says so a band the source's own text sets); None: none published.
         factor: the parameter ``a`` and ``b`` are values of.
         a: the reference value of ``factor``.
         b: the compared value of ``factor``.
         other: the second column of an "r" record.
         by: the parameters whose combinations are the conditions of an "r" record.
-        source: where in the paper (table, figure, section).
+        source: where in the source (table, figure, section).
         note: why a "shown" level has no verdict, or where a spread comes from.
 
     """
@@ -166,7 +166,7 @@ class Censored:
 
 @dataclass(frozen=True)
 class ReportLayout:
-    """The paper's figure types for a model's sweeps (``abm report`` draws them).
+    """The source's figure types for a model's sweeps (``abm report`` draws them).
 
     Attributes:
         x: the swept parameter on the x axis (e.g. the inter-launch period), or a numeric
@@ -184,7 +184,7 @@ class ReportLayout:
         curves: columns of the model's time series (``SwarmModel.samples``) drawn against
             ``curve_x``, mean and spread over the runs of each condition.
         curve_x: the time column of those curves.
-        curve_spread: "sd" (standard deviation over runs, as the papers' error bars) or "se".
+        curve_spread: "sd" (standard deviation over runs, as the usual error bars) or "se".
         labels: column -> axis label with unit.
         notes: column -> how to read it (shown under the figure).
         alternatives: layouts for other kinds of sweep of the same model (e.g. against a fault
@@ -215,7 +215,7 @@ class ReportLayout:
 class MacroSpec:
     """How ``abm fit`` fits the wander/beacon recurrence to a model's counts.
 
-    The recurrence (Arnaldo et al. 2018) moves robots from a moving state w to a settled state
+    The recurrence moves robots from a moving state w to a settled state
     b: ``w_t = w_{t-1} - a_t w_{t-1} + alpha5``, ``b_t = b_{t-1} + a_t w_{t-1}``,
     ``a_t = alpha6 a_{t-1}``; ``alpha5`` robots arrive per step.
 
@@ -223,22 +223,30 @@ class MacroSpec:
         moving: the state counted as w.
         settled: the state counted as b.
         step: the recurrence's step (s).
-        arrival_period: summary column holding the time between two arrivals (s), so that
+        arrival_period: the parameter holding the time between two arrivals (s), so that
             alpha5 = step / period; None: alpha5 is estimated from the growth of w + b.
-        supply: summary column holding how many robots there are in all (w + b never exceeds
-            it: arrivals stop, our extension for swarms of fixed size); None: no limit, as in
-            the paper.
-        regression: covariate -> summary column for the paper's lambda regressions
+        supply: how many robots there are in all (w + b never exceeds it: arrivals stop, our
+            extension for swarms of fixed size); None: no limit, as in the source.
+        regression: covariate -> where its value is, for the published lambda regressions
             (``alpha6 = l0 + l1 r + l2 r^2``, ``a0 = l3 - l4 entropy + l5 envsize``): keys
             "radius", "entropy", "envsize"; None: no regression.
-        published: condition (the values of ``condition_keys``, in order) -> the paper's
+        rates: the model's own names of the recurrence's rates, by symbol: "a0" (the share of
+            the moving robots that settle in the first step), "alpha6" (the factor that share
+            changes by at each step) and "alpha5" (robots arriving per step); a rate not named
+            here is named after the states (see :meth:`names`).
+        published: condition (the values of ``condition_keys``, in order) -> the published
             numbers for it (e.g. w, b, w_hat, b_hat, t, rmsd_w, rmsd_b).
         condition_keys: the parameters a published condition names.
-        published_summary: the paper's overall figures, name -> (mean, std), e.g. mean RMSDs.
+        published_summary: the published overall figures, name -> (mean, std), e.g. mean RMSDs.
         published_label: where the per-condition numbers are published (e.g. "Table 1").
         summary_label: where the overall figures are published (e.g. "Table 2, 10 maps").
-        lambdas: the paper's fitted l0..l5, if any.
-        source: the paper.
+        lambdas: the published fitted l0..l5, if any.
+        source: the source's citation.
+
+    ``arrival_period``, ``supply`` and the values of ``regression`` each name a parameter of
+    the model (a field or property of its ``Params``: ``abm fit`` reads each run's own value,
+    the default where a sweep did not set it) or, for a figure only the run determines (a
+    generated map's entropy), a key of its summary.
 
     """
 
@@ -255,6 +263,26 @@ class MacroSpec:
     summary_label: str = ""
     lambdas: Mapping[str, float] | None = None
     source: str = ""
+    rates: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The parameters and summary keys the spec reads (arrival period, supply, covariates)."""
+        names = (self.arrival_period, self.supply, *(self.regression or {}).values())
+        return tuple(dict.fromkeys(n for n in names if n is not None))
+
+    def names(self) -> dict[str, str]:
+        """What ``abm fit`` calls the recurrence's symbols in what it prints: w and b by the
+        two counted states, a0, alpha6 and alpha5 by ``rates``, else after the states
+        (``<settled>_share_0``, ``<settled>_share_decay``, ``arrivals``).
+        """
+        named = {
+            "a0": f"{self.settled}_share_0",
+            "alpha6": f"{self.settled}_share_decay",
+            "alpha5": "arrivals",
+            **self.rates,
+        }
+        return {"w": self.moving, "b": self.settled, **named}
 
 
 @dataclass(frozen=True)
@@ -289,19 +317,19 @@ class Verdict:
 
 @dataclass(frozen=True)
 class Claim:
-    """A checkable claim of a paper and the test a sweep's runs put it to.
+    """A checkable claim of a source and the test a sweep's runs put it to.
 
     Attributes:
         id: the claim's label (e.g. "C01").
-        source: where the paper makes it (section, figure).
-        statement: the claim, in the paper's words or close to them.
-        kind: "Q" (the paper gives a number) or "QL" (a direction, ordering or shape).
+        source: where the source makes it (section, figure).
+        statement: the claim, in the source's words or close to them.
+        kind: "Q" (the source gives a number) or "QL" (a direction, ordering or shape).
         setup: the runs that test it, in words.
         test: ``f(runs, samples) -> Verdict | None`` on the tidy run rows (one per run) and
             the model's time series (``samples``, may be None); None when these runs lack the
             set-up. A claim no simulation can test has no test and says why in ``untestable``.
         untestable: why a claim without a test cannot be tested (or where else it is tested).
-        condition: the settings the paper fixed for every run of the claim, parameter ->
+        condition: the settings the source fixed for every run of the claim, parameter ->
             value (a setting a sweep does not vary takes the model's default). The test sees
             only matching runs; when none match, the report says which setting differs.
         by_construction: why the claim holds by construction of the model or of its test

@@ -1,5 +1,6 @@
 """Robot: a Mesa continuous-space agent with a state, a power mode and a SimPy behaviour."""
 
+import inspect
 from collections.abc import Generator
 from typing import TYPE_CHECKING
 
@@ -7,7 +8,7 @@ import numpy as np
 import simpy
 from mesa.experimental.continuous_space import ContinuousSpaceAgent
 
-from abm.errors import ABMError
+from abm.errors import ABMError, HookError
 
 if TYPE_CHECKING:
     from abm.faults import Failure
@@ -24,7 +25,7 @@ class Robot(ContinuousSpaceAgent):
     """A robot of the swarm.
 
     The robot's behaviour is a SimPy generator (``behaviour``) that a model writes to read like
-    the paper's flowchart; the robot only keeps the bookkeeping every model needs: its state
+    the source's flowchart; the robot only keeps the bookkeeping every model needs: its state
     (counted by the recorder), its power mode (integrated by the energy ledger) and its place
     in the Mesa space.
 
@@ -97,7 +98,17 @@ class Robot(ContinuousSpaceAgent):
 
         When the robot fails or is removed its process is interrupted; a behaviour that does
         not catch the interrupt simply ends there.
+
+        Raises:
+            HookError: ``behaviour`` is not a generator (e.g. the generator function itself,
+                not called), naming the model and what it got.
+
         """
+        if not inspect.isgenerator(behaviour):
+            raise HookError(
+                f"{type(self.model).__qualname__}: robot.start() got {_called(behaviour)}; "
+                "expected a generator, the behaviour called: robot.start(self.walk(robot))"
+            )
         self.process = self.env.process(self._ends_on_interrupt(behaviour))
         return self.process
 
@@ -127,3 +138,12 @@ class Robot(ContinuousSpaceAgent):
         model.ledger.retire(self.unique_id)
         super().remove()
         model._robots_reindexed()
+
+
+def _called(behaviour: object) -> str:
+    """What a robot was given to run, for the message (a function: its name, not called)."""
+    if behaviour is None:
+        return "None (a behaviour without any yield runs at once when called)"
+    if callable(behaviour):
+        return f"the function {getattr(behaviour, '__qualname__', behaviour)!s} (not called)"
+    return f"a {type(behaviour).__qualname__}"

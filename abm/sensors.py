@@ -1,5 +1,5 @@
 """Noisy sensor models, vectorised over robots; every constant comes from the caller (a
-model's params), so the same models serve any paper's robot.
+model's params), so the same models serve any robot.
 
 - distance sensors: the distance to the first wall along a ray, with Gaussian noise, clipped
   to the sensor's range (a sensor that sees nothing reads its range);

@@ -6,7 +6,7 @@ of key, or ``fnmatch`` pattern such as ``"coverage_*"``, to a :class:`Quantity`)
 the model contract. ``abm run`` prints the units beside the values; reports label axes with
 them.
 
-Units are SI (s, m, m^2, J, W), also where a paper publishes its numbers in other units (the
+Units are SI (s, m, m^2, J, W), also where a source publishes its numbers in other units (the
 model's documentation then gives the conversion); besides those:
 
 * ``%``: percent; ``1``: a dimensionless number (a ratio, a share in [0, 1], a score);
@@ -34,7 +34,7 @@ class Quantity:
 
     Attributes:
         unit: one of :data:`UNITS`.
-        description: what the number is, in a phrase (with the paper's symbol where it has one).
+        description: what the number is, in a phrase (with the source's symbol where it has one).
 
     """
 

@@ -3,13 +3,13 @@
 Each rule returns a :class:`abm.published.Verdict` that states the rule, the number of runs,
 our value and its 95 % interval, so the report shows how every verdict was reached:
 
-- a **level** (:func:`band`, :func:`level`): the paper's level with its spread is a two-sided
+- a **level** (:func:`band`, :func:`level`): the published level with its spread is a two-sided
   band ``value +- spread``. It holds when our 95 % interval of the mean lies inside the band,
   fails when the interval lies outside it, and is undecided when the interval crosses an
-  edge. Without a published spread, it holds when our interval contains the paper's value,
+  edge. Without a published spread, it holds when our interval contains the published value,
   and otherwise says by how much ours differs.
 - a **direction** or an **ordering of two conditions** (:func:`difference`): the Welch 95 %
-  interval of the difference of the means excludes zero on the paper's side (holds), on the
+  interval of the difference of the means excludes zero on the published side (holds), on the
   other side (fails), or includes zero (undecided), with the two-sided Welch p.
 - a **difference of differences** (:func:`contrast`, e.g. "the gain from 2 to 4 is larger
   than from 8 to 10"): the Welch 95 % interval of a linear combination of group means,
@@ -17,17 +17,17 @@ our value and its 95 % interval, so the report shows how every verdict was reach
 - a **larger spread** (:func:`spread`): the Brown-Forsythe test (Levene's about the
   medians) with its p, judged like an ordering.
 - an **ordering over several values** (:func:`rank_order`): Spearman's rho over the runs with
-  its two-sided p; it holds when rho has the paper's sign and p < 0.05, fails when rho has
+  its two-sided p; it holds when rho has the published sign and p < 0.05, fails when rho has
   the other sign and p < 0.05, and is undecided otherwise.
 - a **correlation of condition means** (:func:`correlation`): Pearson's r with its Fisher-z
   95 % interval, judged like a direction.
-- an **agreement** of conditions the paper says give the same value (:func:`agreement`, e.g.
-  "the curves follow each other closely"): the paper's difference is 0 and it gives no margin,
+- an **agreement** of conditions the source says give the same value (:func:`agreement`, e.g.
+  "the curves follow each other closely"): the published difference is 0, with no margin,
   so the rule is the level rule without a spread: the Kruskal-Wallis test over the conditions
   (Holm-adjusted over checkpoints) finds no difference (holds) or finds one (fails, saying by
   how much the extreme means differ). The largest gap is shown with its Welch interval, so the
   reader sees how large a difference these runs could miss.
-- a **coefficient** the paper gives a value for (:func:`coefficient`, e.g. a speed-up
+- a **coefficient** the source gives a value for (:func:`coefficient`, e.g. a speed-up
   "almost linear" in n: the slope of log T on log n is -1; "no effect of W": 0): the level
   rule on the OLS coefficient's 95 % t-interval.
 
@@ -102,7 +102,7 @@ def level(
     """The level rule on our mean and its 95 % interval ``[low, high]`` (see the module)."""
     shown = ours or f"{mean:.4g} (95 % interval {low:.4g} to {high:.4g}, {runs} runs)"
     if spread is None:
-        rule = f"level: the paper's {value:g} inside our 95 % interval of the mean"
+        rule = f"level: the published {value:g} inside our 95 % interval of the mean"
     else:
         rule = (
             f"level: two-sided band {value:g} +- {spread:g}; our 95 % interval of the mean "
@@ -111,7 +111,7 @@ def level(
     common = {"rule": rule, "mean": mean, "low": low, "high": high, "runs": runs}
     if not np.isfinite(low) or not np.isfinite(high):
         return Verdict(shown, None, "fewer than two runs: no interval", **common)
-    off = f"ours differs from the paper's {value:g} by {mean - value:+.3g}"
+    off = f"ours differs from the published {value:g} by {mean - value:+.3g}"
     if spread is None:
         inside = bool(low <= value <= high)
         return Verdict(shown, inside, "" if inside else off, **common)
@@ -130,7 +130,7 @@ def band(
     share: bool = False,
     scale: float = 1.0,
 ) -> Verdict:
-    """The level rule on per-run ``values`` (``scale`` converts them to the paper's unit,
+    """The level rule on per-run ``values`` (``scale`` converts them to the published unit,
     e.g. 100 for a share in %).
     """
     x = np.asarray(values, dtype=float)
@@ -335,7 +335,7 @@ def agreement(checkpoints: Mapping[str, Sequence[Sequence[float]]], what: str) -
     """
     rule = (
         f"agreement: Kruskal-Wallis over {what}, Holm-adjusted over the checkpoints; no "
-        f"adjusted p < {ALPHA:g} holds (no difference found; the paper gives no margin), any "
+        f"adjusted p < {ALPHA:g} holds (no difference found; no published margin), any "
         "fails"
     )
     tests = {}
@@ -378,7 +378,7 @@ def coefficient(
     y: Sequence[float], regressors: Mapping[str, Sequence[float]], name: str, value: float
 ) -> Verdict:
     """The level rule on the coefficient ``name`` of the OLS fit ``y = a + sum_k b_k x_k`` over
-    the runs (``regressors``: name -> values): the paper's ``value`` inside our 95 %
+    the runs (``regressors``: name -> values): the published ``value`` inside our 95 %
     t-interval of the coefficient holds; outside it fails, saying by how much ours differs. A
     design without full rank (collinear regressors) is not judged.
     """
@@ -389,7 +389,7 @@ def coefficient(
     design, target = design[keep], target[keep]
     n, k = design.shape
     terms = " + ".join(f"b_{key} {key}" for key in regressors)
-    rule = f"level: the paper's {value:g} inside our 95 % interval of b_{name} in y = a + {terms}"
+    rule = f"level: the published {value:g} inside our 95 % interval of b_{name} in y = a + {terms}"
     if n <= k:
         return Verdict("", None, f"{n} runs for {k} coefficients", rule, runs=n)
     if np.linalg.matrix_rank(design) < k:

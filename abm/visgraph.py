@@ -4,9 +4,8 @@ The graph's nodes are the obstacles' vertices grown by a clearance (a robot's ra
 edges the pairs of nodes that see each other (networkx); all shortest node-to-node routes are
 computed once when the planner is built. A query then only needs which nodes its start and goal
 see: the route is the best ``start -> a -> ... -> b -> goal`` over all visible pairs (a, b),
-found for every query of a batch in one array operation. This is the "Visibility graph (VG)
-approach" of Saska et al. (2016, Sect. 5), and any model whose robots fly around no-fly zones
-can use it.
+found for every query of a batch in one array operation. Any model whose robots fly around no-fly
+zones can use it.
 """
 
 from collections.abc import Sequence

@@ -9,7 +9,9 @@ lambdas across conditions, predicts with them (the paper's Table 1 / Table 2) an
 on held-out conditions; :func:`write_fit_report` writes one HTML page.
 """
 
+import dataclasses
 import json
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -37,24 +39,59 @@ __all__ = [
     "RUN_COLUMNS",
     "analyse",
     "fit_runs",
+    "is_parameter",
     "macro_spec",
     "methods",
-    "read_runs",
     "methods_note",
+    "rate_legend",
+    "read_runs",
+    "set_keys",
+    "speak",
+    "spoken",
+    "with_parameters",
     "write_fit_report",
 ]
 
 #: The ways of getting a0 and alpha6 per condition that :func:`methods` compares, as
-#: (RMSD column suffix, description); "" is the joint refinement, the headline figure.
+#: (RMSD column suffix, description with the rates' names as ``{a0}``, ``{alpha6}``); "" is
+#: the joint refinement, the headline figure.
 METHODS = (
-    ("_reg", "the paper's method: a0, alpha6 fitted per curve, then the two regressions "
-             "(alpha6 on the radius, a0 on entropy and size)"),
+    ("_reg", "the paper's method: {a0}, {alpha6} fitted per curve, then the two regressions "
+             "({alpha6} on the radius, {a0} on entropy and size)"),
     ("", "joint refinement: the six lambdas fitted to all curves at once, minimising the "
          "mean RMSD"),
-    ("_fit", "a0, alpha6 fitted per curve (no lambda model)"),
-    ("_reg_alpha6", "diagnosis: alpha6 from the regression, a0 per curve"),
-    ("_reg_a0", "diagnosis: a0 from the regression, alpha6 per curve"),
+    ("_fit", "{a0}, {alpha6} fitted per curve (no lambda model)"),
+    ("_reg_alpha6", "diagnosis: {alpha6} from the regression, {a0} per curve"),
+    ("_reg_a0", "diagnosis: {a0} from the regression, {alpha6} per curve"),
 )  # fmt: skip
+
+#: The recurrence's symbols as they appear in column names (``rmsd_w_fit``, ``a0_se``).
+_SYMBOL = re.compile(r"(?<![A-Za-z0-9])(w|b|a0|alpha6|alpha5)(?![A-Za-z0-9])")
+
+
+def spoken(text: str, spec: MacroSpec) -> str:
+    """``text`` (a column name or a sentence) with the recurrence's symbols replaced by the
+    model's names: w and b by its two counted states, a0, alpha6 and alpha5 by the rate names
+    it declares (:meth:`abm.published.MacroSpec.names`); ``rmsd_w_fit`` of the beacon/explorer
+    swarm reads ``rmsd_explorer_fit``.
+    """
+    names = spec.names()
+    return _SYMBOL.sub(lambda m: names[m.group(1)], text)
+
+
+def speak(frame: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
+    """``frame`` with its columns named in the model's words (:func:`spoken`)."""
+    return frame.rename(columns=lambda c: spoken(str(c), spec))
+
+
+def rate_legend(spec: MacroSpec) -> list[str]:
+    """One line per fitted rate: its name in the model's words and what it is."""
+    n = spec.names()
+    return [
+        f"{n['a0']}: share of the {n['w']} robots that turn {n['b']} in the first step",
+        f"{n['alpha6']}: factor that share changes by at each step ({spec.step:g} s)",
+        f"{n['alpha5']}: {n['w']} robots arriving per step",
+    ]
 
 
 def macro_spec(model: str | type) -> MacroSpec:
@@ -123,9 +160,56 @@ def read_runs(
         )
     manifest = json.loads((folder / "sweep.json").read_text())
     conditions = swept_keys(manifest, summaries)
+    summaries = with_parameters(summaries, model_class(manifest["target"]), set_keys(manifest))
     info = summaries[["run_id", *conditions]]
     counts = series[series["run_id"].isin(summaries["run_id"])].merge(info, on="run_id")
     return summaries, counts.sort_values(["run_id", "time"], kind="stable"), conditions
+
+
+def set_keys(manifest: Mapping) -> list[str]:
+    """The parameters a sweep sets (its ``grid`` and ``points`` keys), in the file's order."""
+    keys = [*manifest.get("grid", {}), *(k for p in manifest.get("points", []) for k in p)]
+    return list(dict.fromkeys(keys))
+
+
+def is_parameter(params_cls: type, name: str) -> bool:
+    """True when ``name`` is a field or a property of the params dataclass."""
+    fields = {f.name for f in dataclasses.fields(params_cls)}
+    return name in fields or isinstance(getattr(params_cls, name, None), property)
+
+
+def with_parameters(summaries: pd.DataFrame, model: type, keys: Sequence[str]) -> pd.DataFrame:
+    """``summaries`` with a column for every parameter the model's ``MACRO`` reads, holding
+    each run's own value: its params built from what the sweep set (``keys``; a points-only
+    key a run leaves unset takes the default) and read back, so a default or a property of
+    the params (a launch period derived from a launch rate) is the value the run had.
+
+    Args:
+        summaries: one row per run, with the columns of ``keys``.
+        model: the model class of the runs.
+        keys: the parameters the sweep set.
+
+    """
+    spec = model.MACRO
+    names = [n for n in (spec.inputs if spec else ()) if is_parameter(model.Params, n)]
+    if not names or summaries.empty:
+        return summaries
+    given = [k for k in keys if k in summaries]
+    values, built = [], {}  # runs of one grid point share their params: built once
+    for row in summaries[given].to_dict("records"):
+        set_here = {k: v for k, v in row.items() if not _unset(v)}
+        key = repr(sorted(set_here.items()))
+        if key not in built:
+            params = model.make_params(**set_here)
+            built[key] = [getattr(params, n) for n in names]
+        values.append(built[key])
+    columns = pd.DataFrame(values, columns=names, index=summaries.index)
+    return summaries.drop(columns=names, errors="ignore").join(columns)
+
+
+def _unset(value: object) -> bool:
+    """A points-only parameter a run does not set reads back as missing."""
+    return value is None or (pd.api.types.is_scalar(value) and pd.isna(value))
 
 
 def _label(row: Mapping, conditions: Sequence[str]) -> str:
@@ -169,12 +253,12 @@ def analyse(
     """
     notes: list[str] = []
     conditions = list(conditions)
-    for role in ("arrival_period", "supply"):
-        column = getattr(spec, role)
-        if column is not None and column not in summaries:
+    for column in spec.inputs:
+        if column not in summaries:
             raise ConfigError(
-                f"the model's MACRO.{role} names {column!r}, which is not a key of its summary; "
-                f"summary keys: {', '.join(summaries.columns)}"
+                f"the model's MACRO names {column!r}, which is neither a parameter of the "
+                f"model nor a key of its runs' summaries; their columns: "
+                f"{', '.join(summaries.columns)}"
             )
     groups = [((), counts)] if not conditions else counts.groupby(conditions, sort=True)
     rows, curves = [], []
@@ -296,10 +380,11 @@ def methods(table: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
 
     """
     rows = []
+    names = spec.names()
     for suffix, text in METHODS:
         w, b = f"rmsd_w{suffix}", f"rmsd_b{suffix}"
         if w in table and b in table and table[w].notna().any():
-            rows.append(_method_row(text, table[w], table[b]))
+            rows.append(_method_row(text.format(**names), table[w], table[b]))
     matched = _published_columns(table, spec)
     if {"paper rmsd_w", "paper rmsd_b"} <= set(matched):
         keep = matched["paper rmsd_w"].notna() & matched["paper rmsd_b"].notna()
@@ -388,15 +473,16 @@ def _curve_figure(obs: pd.DataFrame, spec: MacroSpec, title: str) -> str:
 
 def _draw_curves(ax, obs: pd.DataFrame, spec: MacroSpec, title: str) -> None:
     t = obs["time"].to_numpy()
+    names = spec.names()
     for col, colour, name in (
-        ("wander", "tab:orange", f"w ({spec.moving})"),
-        ("beacon", "tab:blue", f"b ({spec.settled})"),
+        ("wander", "tab:orange", spec.moving),
+        ("beacon", "tab:blue", spec.settled),
     ):
         mean, se = obs[col].to_numpy(), obs[f"{col}_se"].fillna(0).to_numpy()
         ax.fill_between(t, mean - se, mean + se, color=colour, alpha=0.25, lw=0)
         ax.plot(t, mean, color=colour, lw=1.5, label=f"{name}: simulated mean \u00b1 s.e.")
         ax.plot(t, obs[f"{col}_fit"], color=colour, ls="--", lw=1.2,
-                label=f"{name}: recurrence, fitted a0, \u03b16")  # fmt: skip
+                label=f"{name}: recurrence, fitted {names['a0']}, {names['alpha6']}")  # fmt: skip
         if f"{col}_lambda" in obs and obs[f"{col}_lambda"].notna().any():
             ax.plot(t, obs[f"{col}_lambda"], color=colour, ls=":", lw=1.5,
                     label=f"{name}: recurrence from fitted \u03bb")  # fmt: skip
@@ -426,14 +512,16 @@ def _published_columns(table: pd.DataFrame, spec: MacroSpec) -> pd.DataFrame:
 RUN_COLUMNS = ("run_id", "rep", "time", "end_reason", "status")
 
 
-def methods_note(overall: pd.DataFrame) -> str:
+def methods_note(overall: pd.DataFrame, spec: MacroSpec) -> str:
     """What the methods table holds, in as many words as it has rows."""
     ours = [m for m in overall["method"] if not str(m).startswith("paper")]
     ways = "one way" if len(ours) == 1 else f"{len(ours)} ways"
-    text = f"The same runs, a0 and alpha6 per condition got {ways} (one row each)"
+    n = spec.names()
+    text = f"The same runs, {n['a0']} and {n['alpha6']} per condition got {ways} (one row each)"
     if any(str(m).startswith("the paper's method") for m in ours):
         text += (
-            ". In the paper's method errors small in parameter space, such as 1e-4 in alpha6, "
+            f". In the paper's method errors small in parameter space, such as 1e-4 in "
+            f"{n['alpha6']}, "
             "compound over thousands of steps; the joint refinement fits the same six lambdas "
             "to all count curves at once, minimising the mean RMSD it is judged on"
         )
@@ -482,10 +570,11 @@ def write_fit_report(
     heldout = result["heldout"]
     held_text = None
     if heldout is not None:
-        held_text = (
+        held_text = spoken(
             f"Mean held-out RMSD: w {heldout['rmsd_w'].mean():.3g}, b "
             f"{heldout['rmsd_b'].mean():.3g} (in-sample: w {t['rmsd_w'].mean():.3g}, b "
-            f"{t['rmsd_b'].mean():.3g})."
+            f"{t['rmsd_b'].mean():.3g}).",
+            spec,
         )
     # panels in the fits' order: the condition values' own (6, 12, 24), not their text's
     curves = result["curves"].groupby("condition", sort=False)
@@ -501,15 +590,17 @@ def write_fit_report(
     return render_page(
         "fit_report.html.j2",
         out / "fit_report.html",
-        title=f"Macroscopic model vs simulation: {spec.moving} (w) and {spec.settled} (b)",
+        title=f"Macroscopic model vs simulation: {spec.moving} and {spec.settled}",
         subtitle=spec.source,
         meta=meta,
         notes=result["notes"],
-        methods_note=methods_note(overall),
-        fits=table(t, digits=4),
-        overall=table(overall, digits=4, text_columns=("method",)),
+        names=spec.names(),
+        legend=rate_legend(spec),
+        methods_note=methods_note(overall, spec),
+        fits=table(speak(t, spec), digits=4),
+        overall=table(speak(overall, spec), digits=4, text_columns=("method",)),
         lambdas=None if lambdas is None else table(lambdas, digits=4),
-        heldout=None if heldout is None else table(heldout, digits=4),
+        heldout=None if heldout is None else table(speak(heldout, spec), digits=4),
         held_text=held_text,
         figures=figures,
         runs=table(

@@ -32,7 +32,8 @@ import numpy as np
 import pandas as pd
 
 from abm.arena import Arena
-from abm.errors import ABMError, OutputError
+from abm.checks import layers_of
+from abm.errors import ABMError, HookError, OutputError
 from abm.styles import Layer, StateStyle
 
 __all__ = [
@@ -127,6 +128,8 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
     Raises:
         OutputError: a file could not be written; the message names it (the model, still in
             memory, can be saved again elsewhere).
+        HookError: the model's ``metrics()`` or ``layers()`` returned what no run file can
+            hold (:mod:`abm.checks`); nothing is left behind.
 
     """
     out = Path(out_dir)
@@ -143,6 +146,9 @@ def save_run(model, out_dir: str | Path) -> list[Path]:
             staging.rmdir()
         else:
             staging.rename(out)
+    except HookError:  # a model's hook returned what no file can hold (abm.checks)
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
     except OSError as exc:
         shutil.rmtree(staging, ignore_errors=True)
         where = exc.filename
@@ -174,6 +180,7 @@ def _write_run(model, folder: Path) -> None:
     from abm.registry import name_of
 
     summary = model.summary()
+    layers = layers_of(model)  # the model's hooks are checked before any file is written
 
     def parquet(frame: pd.DataFrame, name: str) -> None:
         with _opened(folder / name, "wb") as file:
@@ -191,7 +198,6 @@ def _write_run(model, folder: Path) -> None:
     }
     if coverage is not None:
         arrays["first_covered"] = coverage.first_covered
-    layers = list(model.layers())
     for i, layer in enumerate(layers):
         for part in ("points", "raster"):
             if getattr(layer, part) is not None:

@@ -1,4 +1,4 @@
-"""CPU time of one bubble-coverage call (spec §2.4) as the hierarchy model makes them.
+"""CPU time of one bubble-coverage call (the report's Fig. 24) as the hierarchy model makes them.
 
 Runs the hierarchy model on the 20 m x 20 m room for a few (workers, scouts per worker)
 configurations, records every coverage call the directors make, and re-times a sample of them

@@ -1,9 +1,10 @@
-"""The topology comparison of spec §5.3, run and drawn: HST, STAR, FC and RING on the same
-empty 20 m room with n_s = 4, 8, 16, 32 scouts (W = 2, 4 x S = 2, 4, 8; the grid of
-``experiments/hierarchy_topology.toml``) and **the same seeds in every arm** (common random
-numbers, F1: the sweep runner would spawn a different seed per condition). Then figures of task
-transmissions, bytes, the busiest node's load and the completion time against n_s (one line per
-topology, mean +- SD over the seeds) and a Markdown table of the means (plus a CSV of every run).
+"""The topology comparison (models/hierarchy/README.md, "The message comparison"), run and drawn:
+HST, STAR, FC and RING on the same empty 20 m room with n_s = 4, 8, 16, 32 scouts (W = 2, 4 x S = 2,
+4, 8; the grid of ``experiments/hierarchy_topology.toml``) and **the same seeds in every arm**
+(common random numbers: the sweep runner would spawn a different seed per condition). Then figures
+of task transmissions, bytes, the busiest node's load and the completion time against n_s (one line
+per topology, mean +- SD over the seeds) and a Markdown table of the means (plus a CSV of every
+run).
 
 Usage:
     python benchmarks/bench_hierarchy_topology.py                 # 4 arms x 6 sizes x 5 seeds

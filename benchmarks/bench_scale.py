@@ -46,7 +46,7 @@ import numpy as np
 from tqdm import tqdm
 
 from abm.registry import model_class
-from abm.worlds.world import world_from_cells
+from models.environments.world import world_from_cells
 
 #: Sizes of the full and the quick run (robots).
 SIZES = (50, 200, 1000, 2000)

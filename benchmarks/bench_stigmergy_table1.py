@@ -27,9 +27,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from abm.worlds import MAPS, builtin_map
 from analysis.fit import analyse, fit_runs, methods, write_fit_report
 from analysis.macro import predict_from_lambdas
+from models.environments import MAPS, builtin_map
 from models.stigmergy.published import LAMBDAS, MACRO, MAP_OF_ID, TABLE1, TABLE1_COLUMNS
 
 #: Our reconstructions of the paper's Table 1 maps, in the paper's order.
@@ -44,8 +44,8 @@ def _load() -> str:
 
 def _drop_stale(out: Path, maps: list[str]) -> int:
     """Delete stored runs of ``maps`` made on other walls than today's; returns how many."""
-    from abm.worlds import builtin_map, map_digest
     from analysis.sweep import load_results
+    from models.environments import builtin_map, map_digest
 
     if not (out / "runs").is_dir():
         return 0

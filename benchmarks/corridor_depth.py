@@ -1,6 +1,7 @@
 """How deep our corridor worlds are, and what the paper's complete-coverage rates need.
 
-For generated 40-cell corridor worlds (``abm.worlds.make_world``) this prints, per complexity:
+For generated 40-cell corridor worlds (``models.environments.make_world``) this prints, per
+complexity:
 branch count, the longest path from the base (cells), the depths of the dead ends, and the
 share of worlds within the two bounds of ``models.beacon_explorer.diagnose`` for 20 explorers
 (the path bound: deepest cell <= 20; the perfect depth-first search under the paper's rules).
@@ -17,10 +18,10 @@ import argparse
 import networkx as nx
 import numpy as np
 
-from abm.worlds import World, make_world
-from abm.worlds.world import world_from_cells
 from models.beacon_explorer.diagnose import cell_depths, paper_dfs_completes
 from models.beacon_explorer.published import COMPLETE
+from models.environments import World, make_world
+from models.environments.world import world_from_cells
 
 N_ROBOTS = 20
 

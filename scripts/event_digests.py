@@ -38,7 +38,7 @@ import numpy as np
 import pandas as pd
 
 from abm.registry import model_class
-from abm.worlds import COMPLEXITIES
+from models.environments import COMPLEXITIES
 
 __all__ = [
     "CASES",
@@ -260,7 +260,7 @@ WORLDS = "worlds-default"
 
 def world_digest() -> dict:
     """SHA-256 prefix of the paper-default generated worlds (walls, start, cells, branches)."""
-    from abm.worlds import make_world
+    from models.environments import make_world
 
     parts = []
     for kind, levels in (("corridor", COMPLEXITIES), ("open", COMPLEXITIES), ("mixed", ["medium"])):

@@ -209,7 +209,7 @@ def settled_network(cells, base, others, seed=0):
     """A model on a world of 3 m ``cells`` with beacons attached by hand at ``others`` (m),
     run until the beacons' decisions have settled (no explorer takes off meanwhile)."""
     from abm.arena import Arena
-    from abm.worlds import World
+    from models.environments import World
 
     arena = Arena.from_cells(cells, cell_size=3.0)
     world = World(arena, np.array(base), "bitmap", "high", np.array(cells), None)
@@ -338,7 +338,7 @@ def test_two_opposing_walls_closer_than_3_m_make_a_corridor_beacon(width, x, acr
     """The paper's corridor test (Sect. 3.3.1) holds without code of its own: opposing walls
     within the obstacle threshold leave no open quadrant."""
     from abm.arena import Arena
-    from abm.worlds import World
+    from models.environments import World
 
     free = np.zeros((width + 2, 30), dtype=bool)
     free[1:-1, 1:-1] = True  # an east-west corridor, width m wide, 1 m pixels
@@ -501,8 +501,8 @@ def test_the_stall_detector_ends_a_stalled_run_and_records_why():
 
 
 def test_floor_plans_are_built_in_maps_with_a_free_start():
-    from abm.worlds import MAPS
-    from abm.worlds.floorplans import FLOOR_PLANS
+    from models.environments import MAPS
+    from models.environments.floorplans import FLOOR_PLANS
 
     for name in FLOOR_PLANS:
         model = BeaconExplorerModel(world=name, n_robots=1, seed=0, trace_interval=None)

@@ -7,9 +7,9 @@ from hypothesis import strategies as st
 
 from abm.arena import Arena
 from abm.errors import ConfigError
-from abm.worlds import World, make_world
 from models.beacon_explorer import BeaconExplorerModel
 from models.beacon_explorer.diagnose import CAUSES, cell_depths, classify, paper_dfs_completes
+from models.environments import World, make_world
 
 
 def cell_world(cells: list[tuple[int, int]], start: tuple[int, int]) -> World:

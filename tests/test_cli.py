@@ -159,7 +159,7 @@ def test_fit_regresses_the_lambdas_and_holds_maps_out(tmp_path, capsys):
     printed = capsys.readouterr().out
     written = _wrote(printed)
     assert written and all(p.exists() for p in written)
-    assert "w_hat" in printed and "rmsd_w" in printed
+    assert "wander_hat" in printed and "rmsd_wander" in printed
     # both fitting methods side by side, with the paper's figures
     assert "[6 conditions, the paper's method" in printed
     assert "[6 conditions, joint refinement" in printed and "[paper (Table 2" in printed

@@ -23,7 +23,7 @@ def test_a_band_is_two_sided(ours, paper, spread):
         assert verdict.holds is True
     elif high < paper - spread or low > paper + spread:
         assert verdict.holds is False
-        assert "differs from the paper's" in verdict.why
+        assert "differs from the published" in verdict.why
     else:
         assert verdict.holds is None
     # a level far above the band fails as surely as one far below it

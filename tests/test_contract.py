@@ -157,7 +157,13 @@ def test_abm_fit_of_each_model_that_counts_two_states(name, tmp_path, capsys):
         return
     assert main([*args, "--out", str(out)]) == 0
     printed = capsys.readouterr().out
-    assert "rmsd_w_fit" in printed and (out / "fit_report.html").is_file()
+    assert (out / "fit_report.html").is_file()
+    # the columns speak the model's states and rate names, not stigmergy's w, b, a0, alpha6
+    spec, header = cls.MACRO, printed.splitlines()[0].split()
+    named = spec.names()
+    assert {spec.moving, spec.settled, f"rmsd_{spec.moving}_fit", named["a0"]} <= set(header)
+    assert not {"w", "b"} & set(header)
+    assert ("alpha6" in header) == (named["alpha6"] == "alpha6")
 
 
 def test_each_model_has_a_page(name):

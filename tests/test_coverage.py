@@ -10,7 +10,7 @@ from abm.arena import Arena
 from abm.coverage import CoverageRaster
 from abm.discs import disc_offsets
 from abm.errors import ConfigError
-from abm.worlds import builtin_map
+from models.environments import builtin_map
 
 
 def _brute_force(arena, raster, points):

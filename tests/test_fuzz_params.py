@@ -99,7 +99,7 @@ def test_fuzzed_parameters_run_or_raise_config_error_naming_them(model):
             {"link_outage_rate": 1e12, "time_limit": 30},
             r"link_outage_rate=1000000000000.0 per s asks for 3e\+13 events",
         ),
-        ("stigmergy", {"loss_burst_rate": 1e300}, r"loss_burst_rate=1e\+300 per s asks"),
+        ("beacon-explorer", {"loss_burst_rate": 1e300}, r"loss_burst_rate=1e\+300 per s asks"),
         ("tangible-pso", {"fault_rate": 1e12}, r"^fault_rate=1000000000000.0: MAV failures"),
         ("tangible-pso", {"fault_times": (1,)}, r"^fault_times=\(1.0,\): MAV failures"),
         ("beacon-explorer", {"collision_rows": -1}, r"collision_rows must be in \[0, inf\]"),

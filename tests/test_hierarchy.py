@@ -1,5 +1,5 @@
 """The hierarchical swarm (HST) model: the report's invariants over whole runs, determinism,
-the message catalogue's encoding, and bad input named in errors (spec hst.md §8)."""
+the message catalogue's encoding, and bad input named in errors."""
 
 import itertools
 

@@ -1,4 +1,4 @@
-"""The coverage call (spec §2.3-2.6): unit tests from hand-made maps (spec §8) and hypothesis
+"""The coverage call (the report's Figs. 24-27): unit tests from hand-made maps and hypothesis
 properties of the plans it returns."""
 
 import math
@@ -32,7 +32,8 @@ def scout(key: int, x: float, y: float) -> Child:
 
 
 def fresh_map(children, world: Rect = WORLD) -> ProbMap:
-    """The map at t = 0: only the children's own cells are known (spec §2.9)."""
+    """The map at t = 0: only the children's own cells are known (README "Choices":
+    initial knowledge)."""
     pmap = ProbMap(world, world, cell_size=H)
     pmap.mark_free([c.position for c in children])
     return pmap

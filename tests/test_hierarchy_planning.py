@@ -1,6 +1,5 @@
-"""Planning on the director's map (spec §2.2, §2.8, §3): ProbMap merging, shadow inference,
-supercover, smoothing, BFS and the wave generator. Unit tests from hand-made maps (spec §8)
-plus hypothesis properties."""
+"""Planning on the director's map (Figs. 28-33): ProbMap merging, shadow inference, supercover,
+smoothing, BFS and the wave generator. Unit tests from hand-made maps plus hypothesis properties."""
 
 import math
 
@@ -37,7 +36,7 @@ def cells_of(points) -> set[tuple[int, int]]:
     return {(math.floor(x / H + 1e-9), math.floor(y / H + 1e-9)) for x, y in points}
 
 
-# ------------------------------------------------------------------ ProbMap (§2.2, §2.8)
+# ------------------------------------------------------------------ ProbMap (Figs. 28-30)
 def test_point_outside_the_bubble_is_discarded():
     pmap = ProbMap(Bubble(1.0, 1.0, 0.5), WORLD, cell_size=H)
     assert not pmap.stamp_point(1.8, 1.0)
@@ -107,7 +106,7 @@ def test_bad_map_arguments_raise():
         ProbMap(Bubble(50.0, 50.0, 1.0), WORLD)
 
 
-# ------------------------------------------------------------------ supercover (§3.3)
+# ------------------------------------------------------------------ supercover (Fig. 31)
 def test_supercover_through_a_corner_includes_the_vertex_sharing_cells():
     cells = {tuple(c) for c in supercover((0.05, 0.05), (0.25, 0.25), H)}
     assert cells == {(0, 0), (1, 0), (0, 1), (1, 1), (2, 1), (1, 2), (2, 2)}
@@ -137,7 +136,7 @@ def test_supercover_is_symmetric_and_connected(x0, y0, x1, y1):
     assert seen == forward
 
 
-# ------------------------------------------------------------------ BFS and smoothing (§3.1-3.4)
+# ------------------------------------------------------------------ BFS and smoothing (Fig. 32)
 def test_manhattan_staircase_with_clear_sight_smooths_to_two_points():
     pmap = known_map()
     stairs = [(0.55 + 0.1 * (k // 2 + k % 2), 0.55 + 0.1 * (k // 2)) for k in range(11)]
@@ -187,7 +186,7 @@ def test_the_world_boundary_is_a_wall_for_the_padding():
     assert not field.reachable(0.05, 1.05) and field.reachable(0.15, 1.05)
 
 
-# ------------------------------------------------------------------ waves (§3.5)
+# ------------------------------------------------------------------ waves (Fig. 33)
 def test_crossing_paths_give_two_waves_disjoint_paths_one():
     across = np.array([(0.55, 1.05), (1.55, 1.05)])
     down = np.array([(1.05, 0.55), (1.05, 1.55)])
@@ -249,7 +248,7 @@ def test_reports_never_add_knowledge_outside_the_bubble(points, scans, stamp):
         assert accepted == pmap.in_bounds(px, py)
     for sx, sy, sr in scans:
         pmap.infer_scan(sx, sy, sr)
-    assert not (pmap._scanned & ~pmap._in).any()  # spec §8 invariant 7
+    assert not (pmap._scanned & ~pmap._in).any()  # a map never gains data outside its region
     assert ((pmap._blocked >= 0) & (pmap._blocked <= 1)).all()
 
 

@@ -14,8 +14,8 @@ from PIL import Image
 from abm import memory
 from abm.arena import Arena, map_parts
 from abm.errors import ConfigError, MapError
-from abm.worlds import load_map
 from models.beacon_explorer import BeaconExplorerModel
+from models.environments import load_map
 from models.stigmergy import StigmergyModel
 
 #: Memory a test may take beyond what the test process holds already (bytes): today's loader

@@ -3,8 +3,8 @@ import pytest
 
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
-from abm.worlds import MAPS, builtin_map, load_map, map_entropy
-from abm.worlds.bitmap import MAPS_DIR
+from models.environments import MAPS, builtin_map, load_map, map_entropy
+from models.environments.bitmap import MAPS_DIR
 
 
 def test_hall_entropy_is_papers_map1():
@@ -73,7 +73,7 @@ def test_complex_map_openings_are_wide_enough():
     (pixels 4 m or more from every wall) can reach every part of the map."""
     from scipy import ndimage
 
-    from abm.worlds.bitmap import COMPLEX_MIN_OPENING
+    from models.environments.bitmap import COMPLEX_MIN_OPENING
 
     free = MAPS["complex"].build()
     core = ndimage.distance_transform_edt(free) >= COMPLEX_MIN_OPENING / 2
@@ -83,7 +83,7 @@ def test_complex_map_openings_are_wide_enough():
 
 
 def test_map_digest_tells_walls_apart():
-    from abm.worlds import map_digest
+    from models.environments import map_digest
 
     free = MAPS["complex"].build()
     other = free.copy()

@@ -42,7 +42,7 @@ def test_landings_respect_link_threshold(run):
 
 
 def test_sonar_f2_points_away_from_the_walls_it_detects():
-    from abm.worlds import builtin_map
+    from models.environments import builtin_map
     from models.stigmergy.wander import sonar_grid
 
     arena = builtin_map("divided")  # wall at x = 50, door at y = 45..49

@@ -116,7 +116,8 @@ def test_same_seed_same_event_log_and_samples_and_another_seed_differs(algorithm
 
 
 def test_an_explorer_that_hears_no_anchor_stops():
-    # a radio range shorter than any anchor's distance: the explorers stop at once (spec §5.4)
+    # a radio range shorter than any anchor's distance: the explorers stop at once (README
+    # "Choices": stop rule)
     model = SugarMapModel(seed=4, horizon=30, radio_range=0.05, **TESTBED).run()
     assert model.summary()["stopped"] == TESTBED["n_explorers"]
     assert (model.events()["event"] == "stopped").sum() == TESTBED["n_explorers"]
@@ -182,7 +183,7 @@ def test_bad_input_raises_a_config_error_naming_the_parameter(kwargs, named):
 
 # ---------------------------------------------------------------- model claims C20, C25
 def test_single_rtof_varies_more_than_the_signature():
-    """C20 (spec §8): at a fixed point, each single anchor's RToF has a larger normalised
+    """C20: at a fixed point, each single anchor's RToF has a larger normalised
     variance (var / mean^2) than the signature's norm |s| / N_a, 10 anchors as Fig. 14."""
     rng = np.random.default_rng(14)
     anchors = rng.uniform(0.5, 19.5, (10, 2))
@@ -198,7 +199,7 @@ def test_single_rtof_varies_more_than_the_signature():
 
 @given(speed=st.floats(0.25, 0.45), ticks=st.integers(1, 30), heading=st.sampled_from([0, 90]))
 def test_a_node_enters_the_next_cell_in_one_tick(speed, ticks, heading):
-    """C25 (spec §8): noise off, from a cell centre a node enters the adjacent cell in exactly
+    """C25: noise off, from a cell centre a node enters the adjacent cell in exactly
     one tick at every speed in [0.25, 0.45] m/s, and k straight ticks enter
     floor((0.25 + k v) / 0.5) new cells."""
     edges = (0.25 + ticks * speed) / 0.5

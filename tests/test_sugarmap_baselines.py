@@ -1,4 +1,4 @@
-"""The baselines of spec §6: the lattice and bounce random walks, and D-cell OMSTC."""
+"""The baselines of Sect. 4.2: the lattice and bounce random walks, and D-cell OMSTC."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The SugarMap particle filter (spec §5.3, eqs. 3-11) and the SIG_TH calibration (§3.5.3)."""
+"""The SugarMap particle filter (Sect. 3.3, eqs. 3-11) and the SIG_TH calibration (Sect. 4.3.6)."""
 
 import numpy as np
 import pytest
@@ -89,7 +89,8 @@ def test_eq10_one_explorer_global_map_is_its_node_map():
 
 
 def test_eq8_by_hand_is_flat():
-    """Spec A9: one perfect particle among nine equal ones weighs only 9/8 of each other."""
+    """README "Choices", eq. 8's weights: one perfect particle among nine equal ones weighs only 9/8
+    of each other."""
     w = eq8_weights(np.r_[0.0, np.ones(9)])
     assert w.sum() == pytest.approx(1.0)
     assert w[0] / w[1] == pytest.approx(9 / 8)
@@ -208,8 +209,8 @@ def _heading_spread(model: str, ticks: int) -> float:
 
 
 def test_heading_errors_accumulate_only_under_h_acc():
-    """Spec §3.3: H-lit draws a fresh error each tick (SD 18 deg for a 90 deg turn), H-acc
-    integrates them (SD 18 sqrt(k))."""
+    """README "Choices", heading errors: H-lit draws a fresh error each tick (SD 18 deg for a 90 deg
+    turn), H-acc integrates them (SD 18 sqrt(k))."""
     lit_1, lit_50 = _heading_spread("literal", 1), _heading_spread("literal", 50)
     acc_1, acc_50 = _heading_spread("accumulate", 1), _heading_spread("accumulate", 50)
     assert lit_1 == pytest.approx(18.0, rel=0.15)
@@ -231,7 +232,7 @@ def test_draw_order_turn_noise_then_speed_noise():
 
 
 def test_turn_is_wrapped_before_its_noise():
-    """A 270 deg turn is a -90 deg turn: SD 18 deg, not 54 (spec A8)."""
+    """A 270 deg turn is a -90 deg turn: SD 18 deg, not 54 (README "Choices": actuation noise)."""
     pf = make(n=2000)
     pf.predict(
         np.random.default_rng(2),
@@ -315,7 +316,8 @@ def test_match_needs_a_distance_below_sig_th():
 
 
 def test_nearest_stored_signature_wins():
-    """Spec A14: when several stored signatures are below SIG_TH, the nearest matches."""
+    """README "Choices", match: when several stored signatures are below SIG_TH, the nearest
+    matches."""
     for query, index in [(8.0, 0), (12.0, 1)]:
         pf = make(sig_th=10.0)
         rng = np.random.default_rng(0)
@@ -410,7 +412,7 @@ def test_same_seed_same_arrays():
 
 
 def _toy(sigma: float, seed: int, **kw) -> float:
-    """Spec §3.5.3's toy: 6 anchors uniform in a 20 m square, metre-equivalent RToF with
+    """A toy: 6 anchors uniform in a 20 m square, metre-equivalent RToF with
     Normal(0, sigma^2) noise, every point of the square navigable."""
     rng = np.random.default_rng(seed)
     anchors = rng.uniform(0.0, 20.0, (6, 2))
@@ -434,7 +436,7 @@ def test_calibration_grows_with_the_noise():
 
 
 def test_calibration_reproduces_the_spec_illustration():
-    """Spec §3.5.3 [D]: 1.23 at sigma = 2 m with 6 anchors. Over 400 seeds this code gives
+    """Derived: 1.23 at sigma = 2 m with 6 anchors. Over 400 seeds this code gives
     1.22 with SD 0.038 per seed, so the mean of 8 seeds has SD 0.013: 0.05 is about 4 SD.
     Independently, a pair's expected squared distance is N_a (2 sigma^2 + R^2 / 2) for anchor
     directions spread evenly (E|x - y|^2 = R^2 in a disc), so by Jensen f <= sqrt(60) / 6.

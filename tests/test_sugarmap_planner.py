@@ -1,4 +1,4 @@
-"""The coverage path planner of Fig. 4 (spec §5.2, P1-P18) on hand-made GlobalMaps."""
+"""The coverage path planner of Fig. 4 (Sect. 3.2) on hand-made GlobalMaps."""
 
 import numpy as np
 import pytest

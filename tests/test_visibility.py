@@ -4,7 +4,7 @@ import pytest
 from abm.discs import disc_offsets
 from abm.errors import ConfigError
 from abm.visibility import disc_parents, disc_visibility, visible_rows
-from abm.worlds import builtin_map
+from models.environments import builtin_map
 
 
 def _exact(arena, cell, dy, dx):

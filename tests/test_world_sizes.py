@@ -5,7 +5,7 @@ import pytest
 from scipy import ndimage
 
 from abm.errors import ConfigError
-from abm.worlds import branch_count, make_world, mixed_world, open_world
+from models.environments import branch_count, make_world, mixed_world, open_world
 
 
 def free_grid(world):

@@ -8,7 +8,9 @@ from hypothesis import strategies as st
 from scipy import ndimage
 
 from abm.errors import ConfigError
-from abm.worlds import (
+from models.beacon_explorer.published import BRANCHES, BRANCHES_SD
+from models.beacon_explorer.published import OBSTACLES as PAPER_OBSTACLES
+from models.environments import (
     COMPLEXITIES,
     World,
     branch_count,
@@ -19,8 +21,6 @@ from abm.worlds import (
     open_world,
     room_layouts,
 )
-from models.beacon_explorer.published import BRANCHES, BRANCHES_SD
-from models.beacon_explorer.published import OBSTACLES as PAPER_OBSTACLES
 
 CASES = [("corridor", c) for c in COMPLEXITIES] + [("open", c) for c in COMPLEXITIES]
 CASES += [("mixed", "medium")]

@@ -86,10 +86,5 @@ class TinyModel(SwarmModel):
             self.finish("all resting")
 
     def metrics(self) -> dict:
-        """Final counts, and the two figures MACRO reads (arrival period, supply)."""
-        p = self.params
-        return {
-            "resting": self.recorder.counts["resting"],
-            "walkers": p.walkers,
-            "launch_period": p.launch_period,
-        }
+        """Robots resting at the end (MACRO reads its parameters from the run's own)."""
+        return {"resting": self.recorder.counts["resting"]}

@@ -16,6 +16,7 @@ from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from abm.checks import arrows_of, layers_of
 from abm.styles import Layer, StateStyle, resolve_styles
 
 __all__ = [
@@ -86,8 +87,8 @@ def scene_of(model) -> Scene:
         states=states,
         links=links,
         covered=None if model.coverage is None else model.coverage.covered,
-        arrows=model.arrows() if model.ARROWS_LABEL else None,
-        layers=list(model.layers()),
+        arrows=arrows_of(model) if model.ARROWS_LABEL else None,
+        layers=layers_of(model),
     )
 
 

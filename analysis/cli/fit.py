@@ -53,7 +53,16 @@ def main(args: argparse.Namespace) -> int:
     from abm.errors import ConfigError
     from abm.registry import model_class, name_of
     from analysis.cli.flags import parse_assignment
-    from analysis.fit import analyse, fit_runs, macro_spec, methods, read_runs, write_fit_report
+    from analysis.fit import (
+        analyse,
+        fit_runs,
+        macro_spec,
+        methods,
+        rate_legend,
+        read_runs,
+        speak,
+        write_fit_report,
+    )
 
     cls = model_class(args.model)
     name = name_of(cls) or args.model
@@ -80,7 +89,7 @@ def main(args: argparse.Namespace) -> int:
     result = analyse(summaries, counts, spec, conditions)
     meta = [
         ("model", name),
-        ("counted states", f"w = {spec.moving}, b = {spec.settled}, step {spec.step:g} s"),
+        ("counted states", f"{spec.moving} and {spec.settled}, step {spec.step:g} s"),
         ("conditions", ", ".join(conditions) or "one"),
         ("runs", f"{len(summaries)}; {source}"),
         ("wall time", _wall_time(elapsed, None if args.read else args.workers)),
@@ -90,13 +99,15 @@ def main(args: argparse.Namespace) -> int:
     shown = [c for c in ("condition", "runs", "w", "b", "w_hat", "b_hat", "t", "a0", "alpha6",
                          "rmsd_w", "rmsd_b", "rmsd_w_reg", "rmsd_b_reg", "rmsd_w_fit",
                          "rmsd_b_fit") if c in table]  # fmt: skip
-    print(table[shown].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(speak(table[shown], spec).to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print("", *rate_legend(spec), sep="\n  ")
+    names = spec.names()
     print("\nmean RMSD over conditions, by fitting method (std in brackets):")
     for row in methods(table, spec).to_dict("records"):
         n = "" if pd.isna(row["conditions"]) else f"{row['conditions']:.0f} conditions, "
         print(
-            f"  w {row['rmsd_w']:.3g} ({row['rmsd_w_std']:.3g})  b {row['rmsd_b']:.3g} "
-            f"({row['rmsd_b_std']:.3g})  [{n}{row['method']}]"
+            f"  {names['w']} {row['rmsd_w']:.3g} ({row['rmsd_w_std']:.3g})  {names['b']} "
+            f"{row['rmsd_b']:.3g} ({row['rmsd_b_std']:.3g})  [{n}{row['method']}]"
         )
     (out / "fit.json").write_text(
         json.dumps({"model": name, "conditions": conditions, "runs": len(summaries)}, indent=2)

@@ -11,7 +11,7 @@ import dataclasses
 import types
 import typing
 
-from abm.params import field_help, field_rule, param_fields
+from abm.params import FAULT_KEYWORDS, field_help, field_rule, param_fields, refuse_fault_keyword
 
 __all__ = ["add_param_flags", "flag_name", "given_params", "parse_assignment"]
 
@@ -37,6 +37,21 @@ def add_param_flags(parser: argparse.ArgumentParser, params_cls: type) -> None:
         group.add_argument(
             flag_name(f.name), dest=_DEST + f.name, default=argparse.SUPPRESS, **kwargs
         )
+    fields = {f.name for f in param_fields(params_cls)}
+    for name in FAULT_KEYWORDS.keys() - fields:  # kinds the model does not handle: one line
+        parser.add_argument(flag_name(name), nargs="*", help=argparse.SUPPRESS,
+                            action=_Refused, params_cls=params_cls)  # fmt: skip
+
+
+class _Refused(argparse.Action):
+    """A fault keyword of a kind the model does not handle: refused naming the kinds it does."""
+
+    def __init__(self, *args, params_cls: type, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.params_cls = params_cls
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        refuse_fault_keyword(self.params_cls, self.dest, " ".join(values) or None)
 
 
 def given_params(args: argparse.Namespace) -> dict:

@@ -39,14 +39,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
-    """The parser of ``abm run NAME ...``: seed, output folder, progress, one flag per parameter."""
+    """The parser of ``abm run NAME ...``: seed, output folder, progress, one flag per parameter.
+
+    Raises:
+        ContractError: the model class has no docstring (:func:`abm.contract.description`).
+
+    """
+    from abm.contract import description
     from analysis.cli import OneLineParser
     from analysis.cli.flags import add_param_flags
 
-    parser = OneLineParser(
-        prog=f"abm run {name}",
-        description=(model_cls.__doc__ or "").strip().splitlines()[0],
-    )
+    parser = OneLineParser(prog=f"abm run {name}", description=description(model_cls))
     parser.add_argument(
         "--seed", type=_seed, default=1, help="the model's seed, an integer in [0, 2**63 - 1] [1]"
     )

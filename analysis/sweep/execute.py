@@ -96,13 +96,15 @@ def _report_set_aside(out: Path, moved: list[SetAside]) -> None:
 
 
 def _dry_build(sweep: Sweep) -> None:
-    """Build grid points once (without running them) so bad values fail before any run."""
+    """Build grid points once (without running them) so bad values, and a model that cannot
+    start (:meth:`~abm.model.SwarmModel.check_ready`), fail before any run.
+    """
     for params in _points_to_build(sweep):
         try:
-            sweep.model_cls(**params, seed=0)
+            sweep.model_cls(**params, seed=0).check_ready()
         except ConfigError as exc:
             shown = ", ".join(f"{k}={v!r}" for k, v in params.items())
-            raise ConfigError(f"grid point ({shown}): {exc}") from exc
+            raise type(exc)(f"grid point ({shown}): {exc}") from exc  # a HookError stays one
 
 
 def _points_to_build(sweep: Sweep) -> Iterator[dict]:

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from abm.errors import ConfigError, check_seed
-from abm.params import check_value, param_fields
+from abm.params import check_value, param_fields, refuse_fault_keyword
 from abm.registry import model_class, name_of, target_of
 
 __all__ = [
@@ -188,6 +188,7 @@ def check_grid(model_cls: type, grid: Mapping, allow_empty: bool = False) -> dic
             raise ConfigError(
                 f"grid key {key!r} is not allowed: per-run seeds are spawned from the sweep seed"
             )
+        refuse_fault_keyword(model_cls.Params, key)
         if key not in accepted:
             raise ConfigError(
                 f"grid key {key!r} is not a parameter of {model_cls.__name__}; "

@@ -1,4 +1,4 @@
-"""Beacon/explorer incremental deployment (Stirling et al. 2010), SPEC A."""
+"""Beacon/explorer incremental deployment (Stirling et al. 2010)."""
 
 from models.beacon_explorer.model import BeaconExplorerModel
 from models.beacon_explorer.params import DEFAULTS, SWARM_SIZE, BeaconExplorerParams

@@ -4,9 +4,12 @@ directions, comm links and the covered area; sliders for the paper's experimenta
 Serve it with ``abm viz beacon-explorer`` (or ``solara run models.beacon_explorer.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
 from models.beacon_explorer.model import BeaconExplorerModel
+
+#: The model's parameters: every slider's bounds come from them.
+P = BeaconExplorerModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
@@ -16,11 +19,11 @@ MODEL_PARAMS = {
               "values": ["corridor", "open", "mixed"]},
     "complexity": {"type": "Select", "label": "complexity", "value": "high",
                    "values": ["low", "medium", "high"]},
-    "launch_period": slider("launch period t (s)", 6.0, 1.0, 30.0, 1.0),
-    "n_robots": slider("robots", 20, 2, 40, 1),
-    "max_speed": slider("explorer speed (m/s)", 1.0, 0.2, 2.0, 0.1),
+    "launch_period": param_slider(P, "launch_period", "launch period t (s)", step=1.0),
+    "n_robots": param_slider(P, "n_robots", "robots", 20),
+    "max_speed": param_slider(P, "max_speed", "explorer speed (m/s)", step=0.1),
     "hover_beacons": {"type": "Checkbox", "label": "beacons hover (no ceiling)", "value": False},
-    "seed": slider("seed", 1, 0, 100, 1),
+    "seed": seed_slider(),
 }  # fmt: skip
 
 page = make_page(

@@ -5,7 +5,7 @@ explorers (plus the pre-deployed base beacon) can cover a corridor world at all;
 did not complete on a world within the bound is then put in one failure class from the state
 it ended in (:func:`classify`).
 
-**Cells.** A corridor world is a tree of 3 m cells (:mod:`abm.worlds.corridor`). Complete
+**Cells.** A corridor world is a tree of 3 m cells (:mod:`models.environments.corridor`). Complete
 coverage (99.9 % of the free area inside some beacon's S_r = 3.5 m disc) needs a beacon in
 every dead-end cell: from the cell before it, the far 1 m of a 3 m cell lies 4.5 m away.
 
@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abm.worlds import World
+from models.environments import World
 
 __all__ = [
     "CAUSES",

@@ -18,19 +18,19 @@ from abm.model import SwarmModel
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
-from abm.worlds import MAPS, WORLD_KINDS, World, builtin_map, make_world
 from models.beacon_explorer import published
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
 from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
 from models.beacon_explorer.repair import link_fault, robot_failed
 from models.beacon_explorer.units import SUMMARY_UNITS
+from models.environments import MAPS, WORLD_KINDS, World, builtin_map, make_world
 
 __all__ = ["BeaconExplorerModel"]
 
 
 class BeaconExplorerModel(SwarmModel):
-    """Beacon/explorer swarm search (SPEC A).
+    """Beacon/explorer swarm search (Stirling et al. 2010).
 
     Every field of :class:`BeaconExplorerParams` is a keyword of the constructor, e.g.
     ``BeaconExplorerModel(world="corridor", complexity="high", launch_period=6.0, seed=1)``.
@@ -317,7 +317,6 @@ class BeaconExplorerModel(SwarmModel):
             "complexity": self.complexity,
             "n_robots": self.n_robots,
             "robots": self.n_robots + 1,
-            "launch_period": self.launch_period,
             "hover_beacons": self.params.hover_beacons,
             "seed": self.seed,
             "coverage_time": float(self.env.now),

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from abm.errors import ConfigError
 from abm.params import SwarmParams, param
-from abm.worlds import COMPLEXITIES, MAPS, WORLD_KINDS, World
+from models.environments import COMPLEXITIES, MAPS, WORLD_KINDS, World
 
 __all__ = ["BeaconExplorerParams", "DEFAULTS", "MAP_SUFFIXES", "SWARM_SIZE"]
 
@@ -39,10 +39,10 @@ class BeaconExplorerParams(SwarmParams):
 
     Attributes:
         world: "corridor", "open" or "mixed" (generated from the seed, Sect. 3.5 and Fig. 5),
-            a built-in map's name (``abm.worlds.MAPS``, e.g. the floor plans "office",
+            a built-in map's name (``models.environments.MAPS``, e.g. the floor plans "office",
             "office_small", "lhall", "pillar_room", "diagonal_hall"; 1 m per pixel), a bitmap
             map file (PNG/PGM/BMP/NPY; dark pixels are walls) or a ready
-            :class:`abm.worlds.World`.
+            :class:`models.environments.World`.
         complexity: corridor branching, or obstacle density in open rooms: "low", "medium" or
             "high"; None: "medium" for mixed worlds (the only level the paper uses there), else
             "high".
@@ -183,8 +183,8 @@ class BeaconExplorerParams(SwarmParams):
 
     world: str | Path | World = "corridor"
     complexity: str | None = param(None, choices=COMPLEXITIES)
-    n_robots: int | None = param(None, low=1, high=10_000, integer=True)
-    launch_period: float = param(6.0, low=0.0, low_open=True)
+    n_robots: int | None = param(None, low=1, high=10_000, integer=True, shown=(2, 40))
+    launch_period: float = param(6.0, low=0.0, low_open=True, shown=(1.0, 30.0))
     hover_beacons: bool = False
     battery_capacity: float | None = param(None, low=0.0, low_open=True)
     repair: bool = True
@@ -225,7 +225,7 @@ class BeaconExplorerParams(SwarmParams):
     power_flight: float = param(110.0 + 10.0, low=0.0)
     power_beacon: float = param(5.0, low=0.0)
     power_hover: float = param(110.0 + 5.0, low=0.0)
-    max_speed: float = param(1.0, low=0.0, high=5.0, low_open=True)
+    max_speed: float = param(1.0, low=0.0, high=5.0, low_open=True, shown=(0.2, 2.0))
     mass: float = param(0.5, low=0.0, low_open=True)
     max_force: float = param(2.0, low=0.0, low_open=True)
     tau: float = param(0.5, low=0.0, low_open=True)

@@ -5,21 +5,24 @@ weights.
 Serve it with ``abm viz flocking`` (or ``solara run models.flocking.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
 from models.flocking.model import FlockingModel
+
+#: The model's parameters: every slider's bounds come from them.
+P = FlockingModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
 #: Sliders of the page (SolaraViz model_params); the defaults are the comparison's small case.
 MODEL_PARAMS = {
-    "birds": slider("birds N", 200, 10, 1000, 10),
-    "extent": slider("side of the square (m)", 100.0, 60.0, 300.0, 10.0),
-    "visual_distance": slider("visual distance (m)", 5.0, 1.0, 30.0, 0.5),
-    "cohere_factor": slider("cohere factor", 0.03, 0.0, 0.3, 0.01),
-    "separate_factor": slider("separate factor", 0.015, 0.0, 0.3, 0.005),
-    "match_factor": slider("match factor", 0.05, 0.0, 0.5, 0.01),
-    "seed": slider("seed", 1, 0, 100, 1),
+    "birds": param_slider(P, "birds", "birds N", step=10),
+    "extent": param_slider(P, "extent", "side of the square (m)", step=10.0),
+    "visual_distance": param_slider(P, "visual_distance", "visual distance (m)", step=0.5),
+    "cohere_factor": param_slider(P, "cohere_factor", "cohere factor", step=0.01),
+    "separate_factor": param_slider(P, "separate_factor", "separate factor", step=0.005),
+    "match_factor": param_slider(P, "match_factor", "match factor", step=0.01),
+    "seed": seed_slider(),
 }
 
 page = make_page(

@@ -43,14 +43,14 @@ class FlockingParams(SwarmParams):
 
     """
 
-    birds: int = param(200, low=1, high=1_000_000, integer=True)
-    extent: float = param(100.0, low=0.0, low_open=True)
-    visual_distance: float = param(5.0, low=0.0, low_open=True)
+    birds: int = param(200, low=1, high=1_000_000, integer=True, shown=(10, 1000))
+    extent: float = param(100.0, low=0.0, low_open=True, shown=(60.0, 300.0))
+    visual_distance: float = param(5.0, low=0.0, low_open=True, shown=(1.0, 30.0))
     speed: float = param(1.0, low=0.0)
     separation: float = param(1.0, low=0.0)
-    cohere_factor: float = param(0.03, low=0.0)
-    separate_factor: float = param(0.015, low=0.0)
-    match_factor: float = param(0.05, low=0.0)
+    cohere_factor: float = param(0.03, low=0.0, shown=(0.0, 0.3))
+    separate_factor: float = param(0.015, low=0.0, shown=(0.0, 0.3))
+    match_factor: float = param(0.05, low=0.0, shown=(0.0, 0.5))
     steps: int = param(100, low=1, integer=True)
     dt: float = param(1.0, low=0.0, low_open=True)
     step_duration: float = param(1.0, low=0.0, low_open=True)

@@ -1,4 +1,4 @@
-"""Hierarchical swarm topology with bubble coverage (Alunni et al., WPI 2011; spec hst.md)."""
+"""Hierarchical swarm topology with bubble coverage (Alunni et al., WPI 2011)."""
 
 from models.hierarchy.model import HierarchyModel
 from models.hierarchy.params import HierarchyParams

@@ -1,6 +1,7 @@
-"""The queen, the workers and the scouts as SimPy behaviours (spec §1.6).
+"""The queen, the workers and the scouts as SimPy behaviours (the report's "Queen / Worker"
+and "Scout").
 
-Every node holds only its local address book (0 = parent, 1..k = children, spec §1.3) and an
+Every node holds only its local address book (0 = parent, 1..k = children, "Communication") and an
 inbox; it sends through the model's comm network, whose tree policy refuses anything but a
 parent/child link. Nothing a node keeps names the swarm's size or depth.
 
@@ -17,10 +18,10 @@ parent/child link. Nothing a node keeps names the swarm's size or depth.
 Failures (the report's "Node Failure Detection", Future Work): a node whose body failed does
 nothing more. Its parent's and children's heartbeat watchdogs notice after
 ``heartbeat_timeout`` (a :class:`LinkLost` in their inbox, not a radio message: the report's
-heartbeats are not counted, spec §1.4). The parent forgets the child (no longer waited for,
-its bubble left unscanned for a later round); an orphaned scout finishes the command it is
-running, re-attaches to the queen (the tree's only legal new parent that directs) and sends
-her its INFO; she places it from her next round on like any child.
+heartbeats are not counted, README "Choices": start-up heartbeat). The parent forgets the child (no
+longer waited for, its bubble left unscanned for a later round); an orphaned scout finishes the
+command it is running, re-attaches to the queen (the tree's only legal new parent that directs) and
+sends her its INFO; she places it from her next round on like any child.
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ HIT_NUDGE = 1e-6
 
 
 class NoProgressError(RuntimeError):
-    """A director exceeded ``max_rounds`` coverage rounds (the guard of spec §2.9)."""
+    """A director exceeded ``max_rounds`` coverage rounds (README "Choices": no-progress guard)."""
 
 
 class LinkLost:
@@ -78,7 +79,7 @@ class Node:
     Args:
         model: the HST model.
         node_id: its name on the comm network (the simulator's, never seen by other nodes).
-        robot: its body; None for the queen, who has no position (spec A26).
+        robot: its body; None for the queen, who has no position (README "Choices": the queen).
 
     """
 
@@ -164,8 +165,8 @@ class Scout(Node):
     role = "scout"
 
     def run(self):
-        """Start-up (INFO on REQUEST_INFO), then the FIFO command loop (spec §1.6); an orphan
-        re-attaches to the queen and introduces itself with an INFO.
+        """Start-up (INFO on REQUEST_INFO), then the FIFO command loop ("Task organization"); an
+        orphan re-attaches to the queen and introduces itself with an INFO.
         """
         while True:
             _, cmd = yield self.inbox.get()
@@ -220,7 +221,7 @@ class Director(Node):
         self.info: dict[int, InfoMsg] = {}
         self.where: dict[int, np.ndarray] = {}
         self.iterations = 0
-        self.retained = None  # the worker's map of its last bubble (spec §2.8 step 5)
+        self.retained = None  # the worker's map of its last bubble (README "Choices": two regions)
         self.map_down = None
         self.bubble: dict[int, Bubble] = {}  # the last bubble given to each child
         self.map: ProbMap | None = None
@@ -230,7 +231,7 @@ class Director(Node):
 
     # ------------------------------------------------------------------ the story
     def run(self):
-        """Start-up (bottom-up radius discovery), then the command loop (spec §1.6)."""
+        """Start-up (bottom-up radius discovery), then the command loop ("Queen / Worker")."""
         _, first = yield self.inbox.get()  # REQUEST_INFO, or the operator's START at the root
         yield from self.discover()
         if self.role == "queen":
@@ -286,7 +287,8 @@ class Director(Node):
         if isinstance(msg, InfoMsg):
             self.info[k] = msg
             self.where[k] = np.array([msg.x, msg.y])
-            if self.map is not None:  # the child knows its own cell is free (spec §2.9)
+            # the child knows its own cell is free (README "Choices": initial knowledge)
+            if self.map is not None:
                 self.map.mark_free([(msg.x, msg.y)])
             return True
         return False
@@ -308,7 +310,7 @@ class Director(Node):
         ]
 
     def assignment(self, region: Rect | Bubble, cover):
-        """Cover ``region`` with the children (run_assignment of spec §1.6); returns the last
+        """Cover ``region`` with the children (the coverage loop of Fig. 24); returns the last
         coverage status.
         """
         p = self.model.params
@@ -346,7 +348,7 @@ class Director(Node):
         return plan.status
 
     def round(self, m: ProbMap, plan: Plan, region):
-        """Dispatch one plan and merge every placed child's report (spec §1.5)."""
+        """Dispatch one plan and merge every placed child's report (README "Choices": rounds)."""
         p = self.model.params
         self.model.log_plan(self, m, plan)
         yield from self.dispatch(plan.idle_moves, MoveMsg)
@@ -402,7 +404,9 @@ class Director(Node):
                     self.early.append((k, msg))
 
     def collect(self, m: ProbMap, plan: Plan, placed: list[int]):
-        """Merge reports until every placed child sent SCAN_COMPLETE (spec §2.8)."""
+        """Merge reports until every placed child sent SCAN_COMPLETE ("Interpreting Incoming
+        Data").
+        """
         p = self.model.params
         gained = dict.fromkeys(placed, 0)
         pending = set(placed)
@@ -439,5 +443,5 @@ class Director(Node):
                 pending.discard(k)
             gained[k] += m.n_scanned - before
             if k not in pending and gained[k] == 0:
-                m.exhaust(*plan.centres[k])  # the no-progress guard (spec §2.9)
+                m.exhaust(*plan.centres[k])  # README "Choices": no-progress guard
                 gained[k] = -1

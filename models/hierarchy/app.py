@@ -8,20 +8,23 @@ the report's room.
 Serve it with ``abm viz hierarchy`` (or ``solara run models.hierarchy.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
 from models.hierarchy.model import HierarchyModel
+
+#: The model's parameters: every slider's bounds come from them.
+P = HierarchyModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
 #: Sliders and selects of the page (SolaraViz model_params).
 MODEL_PARAMS = {
-    "workers": slider("workers W", 3, 1, 7, 1),
-    "scouts_per_worker": slider("scouts per worker S", 3, 1, 8, 1),
-    "world_size": slider("room side (m)", 10.0, 4.0, 20.0, 1.0),
-    "boxes": slider("box obstacles", 4, 0, 20, 1),
+    "workers": param_slider(P, "workers", "workers W", 3),
+    "scouts_per_worker": param_slider(P, "scouts_per_worker", "scouts per worker S", 3),
+    "world_size": param_slider(P, "world_size", "room side (m)", 10.0, 1.0),
+    "boxes": param_slider(P, "boxes", "box obstacles", 4),
     "wave_generator": {"type": "Checkbox", "label": "wave generator", "value": True},
-    "seed": slider("seed", 1, 0, 100, 1),
+    "seed": seed_slider(),
 }  # fmt: skip
 
 page = make_page(

@@ -152,7 +152,7 @@ def c3(runs, samples) -> Verdict | None:
             spreads.append(f"{total} scouts: W={list(means.index)} spread "
                            f"{(means.max() - means.min()) / means.mean():.1%}")  # fmt: skip
     ours = (
-        f"log A = a + b log N + c W: {judged.ours.replace('b_W', 'c')}; W explains "
+        f"log A = a + b log N + c W: {judged.ours.replace('b_W', 'c =')}; W explains "
         f"{share_n:.1%} of the variance left after log N; with log(W S) instead: "
         f"c = {c_s:+.3f}, {share_s:.1%}. Equal-scout groups: "
         f"{'; '.join(spreads) or 'none in these runs'}"
@@ -259,8 +259,9 @@ def c9(runs, samples) -> Verdict | None:
 def c12(runs, samples) -> Verdict | None:
     """C12, with the wave generator robots "could move around safely and without worry of
     colliding" (Software Results): no wave-order violation and no scout proximity event in any
-    run with waves. Runs without the wave generator are the control: when they show no event
-    either, these runs cannot tell what the generator does, and the claim is not judged.
+    run with waves. Any event fails it. Runs without the wave generator are the control for
+    a run of no events: when they show none either (or are missing), the diagnostics may be
+    blind, and the claim is not judged.
     """
     if "wave_order_violations" not in runs:
         return None
@@ -289,12 +290,14 @@ def c12(runs, samples) -> Verdict | None:
     rule = ("no wave-order violation and no proximity event in any run with waves, against "
             "the no-wave control")  # fmt: skip
     common = {"rule": rule, "runs": len(on), "mean": share, "low": low, "high": high}
-    if off.empty:
+    if share > 0:
+        return Verdict(text, False, "events with the wave generator", **common)
+    if off.empty:  # no event, but would the diagnostics have seen one?
         return Verdict(text, None, "no run without waves: no control", **common)
     if not (events(off) > 0).any():
         return Verdict(text, None, "no event without waves either: the runs cannot tell",
                        **common)  # fmt: skip
-    return Verdict(text, bool(share == 0), "" if share == 0 else "events with waves", **common)
+    return Verdict(text, True, "", **common)
 
 
 def c14(runs, samples) -> Verdict | None:

@@ -1,4 +1,5 @@
-"""Bubble coverage: the director's placement call (spec §2.3-2.6).
+"""Bubble coverage: the director's placement call ("Rules of the Coverage Algorithm",
+"Heuristics of the Coverage Algorithm", Figs. 24-27).
 
 ``coverage(pmap, children, rng)`` places one bubble per child on the director's ProbMap with the
 report's rules and heuristics: no overlap (R1), centres known and reachable (R2), radii within
@@ -6,10 +7,11 @@ every child's limits (R3), one common radius (H1), as many children as possible 
 ``V = alpha*C - beta*D`` (H3) over frontier centres (H4). The radius starts at the smallest
 ``r_max`` and shrinks by ``decay`` (0.9) per failed attempt, clamped at the largest ``r_min``;
 at the floor a child is removed: one that can reach no VALID cell if any (OURS, switch
-``drop_unreachable_first``), else the closest robot (§2.5). Idle robots in the way are moved to
-the nearest free cell of a square spiral (§2.6).
+``drop_unreachable_first``), else the closest robot ("Removing the Closest Robot"). Idle robots in
+the way are moved to the nearest free cell of a square spiral ("Move Idle Robots"; README "Choices":
+move idle robots).
 
-Run time (spec §8): each child's BFS runs once per call and stops as soon as every VALID cell it
+Run time: each child's BFS runs once per call and stops as soon as every VALID cell it
 could reach is found; C_r is computed only for cells still placeable at radius r; the search
 over radii is compiled, and radii that provably cannot succeed (the first two children's
 reachable cells are closer than 2r, or a child reaches no VALID cell) are skipped. None of
@@ -57,13 +59,13 @@ __all__ = [
 
 PACKING_RATIO = (1.0, 2.0, 2.1547, 2.4142, 2.7013, 3.0, 3.0, 3.3048)
 """rho(S), S = 1..8: radius of the smallest circle enclosing S unit discs (optimal packings),
-for the worker's minimum bubble [OURS reading of spec §2.1 / A4]."""
+for the worker's minimum bubble [README "Choices": worker r_min]."""
 
 _TOL = 1e-9
 
 
 class Status(enum.Enum):
-    """Outcome of one coverage call (spec §2.4)."""
+    """Outcome of one coverage call (Fig. 24)."""
 
     COMPLETE = "complete"
     IN_PROGRESS = "in_progress"
@@ -72,7 +74,7 @@ class Status(enum.Enum):
 
 @dataclass(frozen=True)
 class Child:
-    """What a director knows of one child from its INFO (spec §1.4 M2).
+    """What a director knows of one child from its INFO (``protocol.Info``, M2).
 
     Attributes:
         key: the child's local number (1..k).
@@ -111,10 +113,11 @@ class Plan:
         paths: local number -> smoothed path (``(n, 2)`` metres) of every placed child; a
             one-point path means the child already stands on its centre.
         distances: local number -> D, the Dijkstra steps (cells) to its centre.
-        idle: children left without a bubble (removed at the floor, §2.5), local order.
+        idle: children left without a bubble (removed at the floor, "Removing the Closest Robot"),
+            local order.
         idle_moves: idle child -> smoothed path to its refuge, for idle robots in the way.
         stranded: idle children in the way for which no reachable refuge exists (diagnostic).
-        waves: placed children that must move, grouped into waves (§3.5).
+        waves: placed children that must move, grouped into waves ("Path Planning", Fig. 33).
         idle_waves: idle movers grouped into waves; dispatched before ``waves``.
         radii_tried: the final radius's position in the schedule (1 = the first radius; radii
             skipped by the exact bounds count, and each restart after a removal counts one).
@@ -136,7 +139,7 @@ class Plan:
 
 def worker_r_min(n_children: int, r_min_child: float) -> float:
     """A worker's minimum bubble radius: ``rho(S) * r_min_child``, the smallest circle that
-    holds its S children's minimum bubbles without overlap [OURS, spec §2.1 / A4].
+    holds its S children's minimum bubbles without overlap [README "Choices": worker r_min].
 
     Raises:
         ConfigError: ``n_children`` outside 1..8 (the tabulated packings) or a bad radius.
@@ -158,7 +161,7 @@ def worker_r_min(n_children: int, r_min_child: float) -> float:
 
 def radius_schedule(r_max: float, r_min: float, decay: float = 0.9) -> list[float]:
     """Radii a call tries: ``r_max, decay*r_max, ...`` clamped so that ``r_min`` is the last
-    (spec §2.4.1; scouts: 21 radii from 0.80 m to 0.10 m).
+    ("Exponential Decay of the Scan Radius"; scouts: 21 radii from 0.80 m to 0.10 m).
     """
     if not (0 < r_min <= r_max):
         raise ConfigError(f"need 0 < r_min <= r_max, got r_min={r_min!r}, r_max={r_max!r}")
@@ -172,7 +175,7 @@ def radius_schedule(r_max: float, r_min: float, decay: float = 0.9) -> list[floa
 
 def closest_robot(children: Sequence[Child]) -> int:
     """Local number of the child with the smallest mean Euclidean distance to the other
-    children (spec §2.5, A16); ties go to the lowest local number.
+    children (Fig. 26; README "Choices": closest robot); ties go to the lowest local number.
     """
     if not children:
         raise ValueError("closest_robot needs at least one child")
@@ -186,8 +189,9 @@ def closest_robot(children: Sequence[Child]) -> int:
 
 
 def _valid_mask(pmap: ProbMap) -> np.ndarray:
-    """VALID of spec §2.4 step 1 on the map's grid: in-bounds cells with an in-bounds unscanned
-    4-neighbour (A18), minus EXHAUSTED.
+    """VALID of Fig. 24 on the map's grid: in-bounds cells with an in-bounds unscanned
+    4-neighbour (matching the 4-connected search, README "Choices": Dijkstra), minus
+    EXHAUSTED.
     """
     open_ = pmap._in & ~pmap._scanned
     near = np.zeros_like(open_)
@@ -200,7 +204,7 @@ def _valid_mask(pmap: ProbMap) -> np.ndarray:
 
 def valid_cells(pmap: ProbMap) -> np.ndarray:
     """Centres ``(n, 2)`` (metres) of the VALID cells: in bounds, bordering in-bounds unknown
-    space (spec §2.4 step 1, H4), not EXHAUSTED.
+    space (Fig. 24, H4), not EXHAUSTED.
     """
     rows, cols = np.nonzero(_valid_mask(pmap))
     h = pmap.cell_size
@@ -209,8 +213,9 @@ def valid_cells(pmap: ProbMap) -> np.ndarray:
 
 @njit(cache=True, inline="always")
 def _disc_count(prefix, r0, c0, radius):
-    """Optimistic gain C (spec H3) of cell (r0, c0): the cells counted in ``prefix`` (row prefix
-    sums of in-bounds-and-unscanned) whose centres lie within ``radius`` cells of its centre.
+    """Optimistic gain C (H3; README "Choices": value of a candidate) of cell (r0, c0): the cells
+    counted in ``prefix`` (row prefix sums of in-bounds-and-unscanned) whose centres lie within
+    ``radius`` cells of its centre.
     """
     ny = prefix.shape[0]
     nx = prefix.shape[1] - 1
@@ -236,7 +241,7 @@ def _search(
     r, floor, decay, span, n_active, n_ready, ids, dist, offsets, vx, vy, alpha, beta,
     prefix, rows, cols, inv_h, gain, stamp, gen, gen_r, uniforms, cursor,
 ):  # fmt: skip
-    """Steps 5-16 and 25-26 of spec §2.4 from radius ``r`` down: place the active children in
+    """The loop of Fig. 24 from radius ``r`` down: place the active children in
     order (fail-fast), each at the reachable VALID cell of maximum ``alpha*C - beta*D`` at least
     2r from the centres placed before it; on a failure shrink r by ``decay`` (clamped at
     ``floor``) and start again.
@@ -343,7 +348,7 @@ def coverage(
     reset_radius_after_removal: bool = False,
     drop_unreachable_first: bool = True,
 ) -> Plan:
-    """One call of the coverage algorithm (spec §2.4, report Fig. 24).
+    """One call of the coverage algorithm (Fig. 24).
 
     Args:
         pmap: the director's map.
@@ -352,10 +357,12 @@ def coverage(
         alpha: weight of the gain C in ``V = alpha*C - beta*D`` (report: 1).
         beta: weight of the drive distance D in cells (report: 3).
         decay: radius factor per failed attempt (report: 0.9).
-        occupied: further robot positions that block routing (e.g. the worker itself, A26).
-        padding: robot padding in cells (§3.1).
+        occupied: further robot positions that block routing (e.g. the worker itself, README
+            "Choices": the queen).
+        padding: robot padding in cells (README "Choices": drivability).
         reset_radius_after_removal: after a closest-robot removal, restart the radius at the
-            smallest r_max (True) or stay at the floor (False, the pseudo-code; A15).
+            smallest r_max (True) or stay at the floor (False, the pseudo-code; README "Choices":
+            common radius of mixed children).
         drop_unreachable_first: at the floor, first remove a child that cannot reach any VALID
             cell (lowest local number), and use the closest-robot rule only when every child
             could be placed alone [OURS: reading of H2 "as many bubbles as possible"; with False
@@ -451,7 +458,7 @@ def coverage(
                 dict(zip(keys, steps_to.tolist(), strict=True)), vx, vy, r, fields, occupied,
                 padding, tried,
             )  # fmt: skip
-        else:  # failed at the floor: remove a child (§2.5)
+        else:  # failed at the floor: remove a child (Fig. 26)
             stuck = [c.key for c in active if drop_unreachable_first and not candidates(c)[0].size]
             victim = stuck[0] if stuck else closest_robot(active)
             active = [c for c in active if c.key != victim]
@@ -515,7 +522,7 @@ def move_idle_robots(
     padding: int = 1,
     fields: Mapping[int, DistanceField] | None = None,
 ) -> tuple[dict[int, np.ndarray], tuple[int, ...]]:
-    """Move idle robots out of the way of the placed ones (spec §2.6, report Fig. 27).
+    """Move idle robots out of the way of the placed ones (Fig. 27).
 
     CONFLICT = cells with centre within ``r`` of a placed centre plus the padded cells of every
     placed path. Each idle robot standing in CONFLICT (list order) goes to the first cell of a

@@ -1,6 +1,6 @@
-"""The flat arms of the topology comparison (spec §5.3): the same scouts, map and planning code
-as the hierarchy, coordinated by *replicated planning* over a fully connected graph (FC) or a
-ring (RING).
+"""The flat arms of the topology comparison (README, "The message comparison"): the same scouts, map
+and planning code as the hierarchy, coordinated by *replicated planning* over a fully connected
+graph (FC) or a ring (RING).
 
 Every node keeps a full-world replica of the map and runs the same deterministic coverage call
 each round with all scouts as children (model RNG: identical on every node), so no MOVE, SCAN
@@ -25,8 +25,8 @@ HOLDER = "holder"
 
 
 def ring_order(holder: object, scouts: list, positions: np.ndarray) -> list:
-    """The ring's order [OURS, spec §5.3]: the map holder first, then the scouts in angular
-    order of their start positions about their centroid.
+    """The ring's order [ours, README "The message comparison"]: the map holder first, then the
+    scouts in angular order of their start positions about their centroid.
     """
     centre = positions.mean(axis=0)
     angle = portable.arctan2(positions[:, 1] - centre[1], positions[:, 0] - centre[0])
@@ -74,8 +74,8 @@ class FlatScout(Scout):
 
 class FlatHolder(Director):
     """The designated map holder of a flat arm (no body, no scanning): its replica decides when
-    the map is complete (spec §5.3 F2). Its "sends" to scouts are the scouts' own identical
-    computation, so they reach the scout without a transmission.
+    the map is complete (README "The message comparison", item 2). Its "sends" to scouts are the
+    scouts' own identical computation, so they reach the scout without a transmission.
     """
 
     def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:

@@ -1,5 +1,5 @@
 """HierarchyModel: a hierarchical swarm (queen, workers, scouts) mapping a room by bubble
-coverage (Alunni et al. 2011; spec ``hst.md``).
+coverage (Alunni et al. 2011).
 
 The story of a run: the operator sends START to the queen; every director learns its children's
 bubble limits bottom-up (REQUEST_INFO / INFO); the queen then covers the whole world with its
@@ -10,10 +10,10 @@ Robots drive their smoothed paths at 0.3048 m/s through the framework's physics 
 path-following controller for every body). The run ends when the queen's coverage call returns
 COMPLETE (or CANNOT_COMPLETE).
 
-The queen has no body (spec A26: "a laptop", no position in the arena): she is a comm node off
-the arena (a node without a position, whose radio reaches everyone, limited by the tree policy
-to her workers) and not a Mesa agent, so she is never drawn, never occupies a cell and never
-collides; she still counts in N = 1 + W + W S. Workers and scouts are :class:`abm.robot.Robot`
+The queen has no body ("a laptop", no position in the arena; README "Choices": the queen): she is a
+comm node off the arena (a node without a position, whose radio reaches everyone, limited by the
+tree policy to her workers) and not a Mesa agent, so she is never drawn, never occupies a cell and
+never collides; she still counts in N = 1 + W + W S. Workers and scouts are :class:`abm.robot.Robot`
 bodies.
 """
 
@@ -194,7 +194,9 @@ class HierarchyModel(SwarmModel):
         return scout
 
     def _build_flat(self, scouts: np.ndarray) -> None:
-        """The map holder and the scouts on a complete graph (FC) or a ring (spec §5.3)."""
+        """The map holder and the scouts on a complete graph (FC) or a ring (README, "The message
+        comparison").
+        """
         self.queen = FlatHolder(self, HOLDER, None)
         self.nodes[HOLDER] = self.queen
         nodes = [self._scout(spos, None, s + 1) for s, spos in enumerate(scouts)]
@@ -297,7 +299,8 @@ class HierarchyModel(SwarmModel):
 
     def _proximity(self, physics) -> None:
         """Count scout pairs whose centres come closer than one body width while one moves
-        (``robot_proximity_events``, spec §3.5; a pair counts once per approach).
+        (``robot_proximity_events``, README "Choices": wave-order and proximity diagnostics; a pair
+        counts once per approach).
         """
         moving = self._scout_of[physics.ids]
         moving = moving[moving >= 0]

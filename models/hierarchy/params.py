@@ -1,8 +1,8 @@
 """Parameters of the hierarchical swarm (HST) model, with the report's values and our readings.
 
 Source: Alunni, Goloski, Haggerty, Jones, *Hierarchical Swarm Robotics*, WPI MQP GSF113 (2011);
-spec ``hst.md`` (§7 lists every value). [R] marks a value the report states, "ours" a reading
-where it is silent; every "ours" is listed in the model's README.
+the report's sections are cited by title (it numbers none). [R] marks a value the report states,
+"ours" a reading where it is silent; every "ours" is listed in the model's README.
 """
 
 from dataclasses import dataclass
@@ -19,7 +19,7 @@ PACKING_RATIO = (1.0, 2.0, 2.1547, 2.4142, 2.7013, 3.0, 3.0, 3.3048)
 #: The states in which a worker may fail.
 WORKER_STATES = ("worker_idle", "worker_driving", "worker_directing")
 
-#: Built-in worlds: the square room of spec §4.5 (empty unless ``boxes`` > 0).
+#: Built-in worlds: the square room of "Data Collection" (empty unless ``boxes`` > 0).
 WORLDS = ("room",)
 
 
@@ -32,7 +32,7 @@ class HierarchyParams(SwarmParams):
             Collection").
         scouts_per_worker: S, level-2 robots under each worker (2-8 in the experiment); 1-8,
             the counts whose circle-packing ratio sets the worker's minimum bubble.
-        world: "room" (the 20 m x 20 m room of spec §4.5, empty unless ``boxes`` > 0) or a
+        world: "room" (the 20 m x 20 m room of "Data Collection", empty unless ``boxes`` > 0) or a
             bitmap file (PNG/PGM/BMP/NPY, dark = obstacle) of ``world_pixel`` m pixels.
         world_size: side of the square room (m; 20 m [R], "Data Collection").
         world_pixel: pixel of the ground-truth world (m; ours: 0.2 m, the finest grid the
@@ -41,24 +41,25 @@ class HierarchyParams(SwarmParams):
             describe its map; the obstacle variant is a robustness study).
         box_size: side of each box (m; ours).
         start_layout: "row" (workers ``worker_spacing`` apart 1 m from the south wall) or
-            "centre" (the same groups around the map centre), spec §4.5 (ours).
+            "centre" (the same groups around the map centre), ours (README "Choices": start layout).
         worker_spacing: distance between neighbouring workers at the start (m; ours: 2 m).
         scout_ring: radius of the circle a worker's scouts start on (m; ours: 0.6 m, so that
-            8 scouts start >= 0.3 m apart after snapping to cells, spec §4.5's 0.4 m cannot).
+            8 scouts start >= 0.3 m apart after snapping to cells, a 0.4 m ring cannot).
         start_jitter: each group (a worker and its scouts) is shifted by up to this much per
-            axis before snapping to cell centres (m; ours, spec §4.5).
-        cell_size: side of a ProbMap cell (m; ours: 0.10 m, spec A2).
+            axis before snapping to cell centres (m; ours, README "Choices": start jitter).
+        cell_size: side of a ProbMap cell (m; ours: 0.10 m, README "Choices": cell size).
         scout_r_min: a scout's minimum bubble radius, the IR range's near end (m; 0.10 [R]).
         scout_r_max: a scout's maximum bubble radius, the IR range (m; 0.80 [R]).
         worker_r_max: a worker's maximum bubble radius, the XBee range (m; ~400 [R]).
         worker_r_min: a worker's minimum bubble radius (m); None: rho(S) x ``scout_r_min``
-            (optimal circle packing, ours, spec A4).
+            (optimal circle packing, ours, README "Choices": worker r_min).
         radius_decay: factor of the radius schedule r_{k+1} = decay r_k (0.9 [R]).
         alpha: alpha of V = alpha C - beta D, weight of the cells revealed (1 [R]).
         beta: beta of V, weight of the cells driven (3 [R]).
         blocked_threshold: tau, a cell with blocked >= tau counts as an obstacle (ours: 0.5).
         reset_radius_after_removal: after the closest-robot removal, restart the radius
-            schedule at the maximum (ours; False keeps the pseudo-code's floor, spec A15).
+            schedule at the maximum (ours; False keeps the pseudo-code's floor, README "Choices":
+            common radius of mixed children).
         drop_unreachable_first: at the minimum radius, first remove a child that can reach no
             VALID cell (lowest local number), then apply the closest-robot rule (ours: a
             reading of H2, "as many bubbles as possible"; False: the literal pseudo-code).
@@ -66,18 +67,21 @@ class HierarchyParams(SwarmParams):
             False sends every move at once (the counterfactual of claim C12).
         speed: driving speed (m/s; 0.3048, the 1 ft/s design target [R]).
         scan_time: duration of one stationary sensor sweep (s; ours, the report gives none).
-        scan_step: angle between two IR rays of a sweep (degrees; ours: 1, spec A25).
+        scan_step: angle between two IR rays of a sweep (degrees; ours: 1, README "Choices": scan).
         sigma_sensor: sigma the scout reports with each obstacle point (m; ours: 0, the
             report's simulation had perfect localisation).
         stamp: how a reported point is stamped into the map: "mass" (probability mass of
-            the Gaussian per cell) or "peak" (peak-normalised kernel), ours, spec A20.
+            the Gaussian per cell) or "peak" (peak-normalised kernel), ours, README "Choices": point
+            stamping.
         dedupe_points_per_cell: a scout sends one POINT per hit cell instead of one per ray
             hit (ours, for message studies; the report's scout "forgets").
         worker_report: "batch" (a worker sends its points in one MAP_REPORT when its bubble
-            is done) or "relay" (it forwards each accepted POINT as it arrives), spec A12.
-        combine_move_scan: send MOVE and SCAN as one ASSIGN message (ours, spec M5).
+            is done) or "relay" (it forwards each accepted POINT as it arrives), README "Choices":
+            worker report.
+        combine_move_scan: send MOVE and SCAN as one ASSIGN message (ours, README "Choices": MOVE
+            and SCAN).
         los_hint_separate: the scout's line-of-sight hint is its own LOS_HINT message instead
-            of a flag on SCAN_COMPLETE (ours, spec A13).
+            of a flag on SCAN_COMPLETE (ours, README "Choices": line-of-sight hint).
         latency: delay of one message (s; ours: 0, the report's simulator used direct buffers).
         message_loss: probability one transmission attempt is lost (a lost message arrives
             on a later attempt, so loss is delay; ours: 0, the XBees were "highly reliable").
@@ -89,11 +93,11 @@ class HierarchyParams(SwarmParams):
         time_limit: the run ends at this simulated time at the latest (s).
         trace_interval: how often robot positions are sampled for pictures (s).
         topology: "hst" (queen, workers, scouts: the report's tree), or an arm of the topology
-            comparison (spec §5.3) with the same W S scouts: "star" (the queen directs every
-            scout, a tree of depth 1), "fc" / "ring" (a map holder and the scouts with
-            replicated planning on a complete graph / a ring); ours.
+            comparison (README, "The message comparison") with the same W S scouts: "star" (the
+            queen directs every scout, a tree of depth 1), "fc" / "ring" (a map holder and the
+            scouts with replicated planning on a complete graph / a ring); ours.
         max_rounds: a director that needs more coverage rounds than this fails loudly (ours,
-            the no-progress guard of spec §2.9).
+            README "Choices": no-progress guard).
         heartbeat_timeout: time after a worker fails until its parent and its scouts notice
             (s; ours: the report's "Node Failure Detection" heartbeat gives no value). Acts
             only when robots fail (``fault_rate`` or ``fault_times``); only workers fail
@@ -101,12 +105,12 @@ class HierarchyParams(SwarmParams):
 
     """
 
-    workers: int = param(2, low=1, high=50, integer=True)
+    workers: int = param(2, low=1, high=50, integer=True, shown=(1, 7))
     scouts_per_worker: int = param(4, low=1, high=8, integer=True)
     world: str = "room"
-    world_size: float = param(20.0, low=2.0, high=200.0)
+    world_size: float = param(20.0, low=2.0, high=200.0, shown=(4.0, 20.0))
     world_pixel: float = param(0.2, low=0.16, high=1.0)
-    boxes: int = param(0, low=0, high=200, integer=True)
+    boxes: int = param(0, low=0, high=200, integer=True, shown=(0, 20))
     box_size: float = param(1.0, low=0.2, high=5.0)
     start_layout: str = param("row", choices=("row", "centre"))
     worker_spacing: float = param(2.0, low=0.6, high=10.0)
@@ -204,5 +208,5 @@ class HierarchyParams(SwarmParams):
 
     @property
     def total_robots(self) -> int:
-        """N = 1 + W + W S, the queen included (spec A7)."""
+        """N = 1 + W + W S, the queen included (README "Choices": robots counted)."""
         return 1 + self.workers + self.workers * self.scouts_per_worker

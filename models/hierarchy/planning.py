@@ -1,16 +1,17 @@
-"""Path planning on a director's ProbMap (spec §3): drivability, BFS/Dijkstra, supercover ray
-trace, path smoothing and the wave generator.
+"""Path planning on a director's ProbMap ("Dijkstra's Algorithm", "Path Planning"): drivability,
+BFS/Dijkstra, supercover ray trace, path smoothing and the wave generator.
 
-- Drivability (§3.1, OURS resolution): a cell is drivable if it is known, not blocked, not
+- Drivability (README "Choices": drivability): a cell is drivable if it is known, not blocked, not
   occupied, and no cell within ``padding`` (8-neighbourhood for 1) is known-blocked or occupied.
   Unknown neighbours are allowed; the source cell of a search is always expandable.
-- Dijkstra (§3.2): 4-connected, unit cost, from one source to all cells, so it is a BFS;
-  neighbours in the order N, E, S, W decide predecessor ties.
-- Supercover (§3.3): every cell a segment passes through plus, where it passes exactly through a
+- Dijkstra ("Dijkstra's Algorithm"): 4-connected, unit cost, from one source to all cells, so it is
+  a BFS; neighbours in the order N, E, S, W decide predecessor ties.
+- Supercover (Fig. 31): every cell a segment passes through plus, where it passes exactly through a
   cell corner, both cells beside the corner (Amanatides-Woo with the tie rule).
-- Smoothing (§3.4): drop a waypoint while the supercover of the segment that skips it is
-  drivable (the start cell exempt); first and last points always stay.
-- Waves (§3.5): padded path cells, conflict = shared cell, Welsh-Powell greedy colouring.
+- Smoothing ("path optimization", Fig. 32): drop a waypoint while the supercover of the segment that
+  skips it is drivable (the start cell exempt); first and last points always stay.
+- Waves ("Path Planning", Fig. 33): padded path cells, conflict = shared cell, Welsh-Powell greedy
+  colouring.
 
 Paths are ``(n, 2)`` arrays of points in metres. The kernels are compiled with numba (house
 style of ``abm/gridkernels.py``) because a coverage call runs one BFS per child on a grid of up to
@@ -191,7 +192,7 @@ def _segment_clear(drivable, x0, y0, x1, y1, sr, sc):
 
 @njit(cache=True)
 def _smooth_keep(drivable, pts, sr, sc):
-    """Keep-mask of the waypoints ``pts`` (local cell units) after §3.4's smoothing."""
+    """Keep-mask of the waypoints ``pts`` (local cell units) after the smoothing of Fig. 32."""
     n = pts.shape[0]
     keep = np.zeros(n, dtype=np.bool_)
     keep[0] = True
@@ -214,7 +215,7 @@ def _smooth_keep(drivable, pts, sr, sc):
 @njit(cache=True)
 def _los_mark(scanned, blocked, tau, in_bounds, ox, oy, radius):
     """Mark scanned the in-bounds cells seen from (ox, oy) (local cell units) within ``radius``
-    cells; return how many were new (spec §2.8 step 2).
+    cells; return how many were new (Fig. 30; README "Choices": shadows).
 
     Rays go to points on the circle with an angular step of at most ``1 / (2 radius)`` (half a
     cell at the rim). A ray stops at the first known-blocked cell, which is itself seen; at an
@@ -286,7 +287,7 @@ _KEY = 1 << 21
 @njit(cache=True)
 def _padded_keys(pts, padding):
     """Sorted keys of the cells swept by the polyline ``pts`` (cell units), dilated by
-    ``padding`` cells (spec §3.5 step 1).
+    ``padding`` cells (README "Choices": waves).
     """
     n = pts.shape[0]
     parts = []
@@ -369,9 +370,9 @@ def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
 
 
 def _framed_base(pmap: ProbMap, padding: int = 1) -> np.ndarray:
-    """Drivability of §3.1 before robots are added, framed by one ring of False (the layout
-    :func:`_bfs` reads): known, and no known-blocked cell (nor the world's wall) within
-    ``padding`` cells.
+    """Drivability (README "Choices": drivability) before robots are added, framed by one ring of
+    False (the layout :func:`_bfs` reads): known, and no known-blocked cell (nor the world's wall)
+    within ``padding`` cells.
 
     The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
     ring of world cells); the edge of a routing region inside the world is not.
@@ -422,20 +423,22 @@ def _frame(grid: np.ndarray) -> np.ndarray:
 def _drivable(
     pmap: ProbMap, occupied: Sequence[Sequence[float]] = (), padding: int = 1
 ) -> np.ndarray:
-    """Drivability grid of §3.1 over the map's routing region, robots at ``occupied``."""
+    """Drivability grid (README "Choices": drivability) over the map's routing region, robots at
+    ``occupied``.
+    """
     return _without(_framed_base(pmap, padding), pmap, occupied, padding)[1:-1, 1:-1].copy()
 
 
 # ---------------------------------------------------------------------------- public API
 class DistanceField:
-    """Dijkstra (BFS) distances from one robot to every cell of a map (spec §3.2).
+    """Dijkstra (BFS) distances from one robot to every cell of a map ("Dijkstra's Algorithm").
 
     Built by :func:`shortest_paths`. Distances are in cells (4-connected steps).
 
     Args:
         pmap: the map.
         source: the robot's position (metres); its cell is always expandable.
-        drivable: the drivability grid for this robot (§3.1).
+        drivable: the drivability grid for this robot (README "Choices": drivability).
         target: optional bool grid; the search may stop once every drivable target cell is
             reached (an exact shortcut: it resumes in full if any other cell is queried).
 
@@ -541,13 +544,14 @@ def shortest_paths(
     occupied: Sequence[Sequence[float]] = (),
     padding: int = 1,
 ) -> DistanceField:
-    """BFS from the robot at ``source`` (metres) over ``pmap``'s drivable cells (spec §3.1-3.2).
+    """BFS from the robot at ``source`` (metres) over ``pmap``'s drivable cells ("Dijkstra's
+    Algorithm"; README "Choices": drivability).
 
     Args:
         pmap: the director's map.
         source: the robot's position; its cell is always expandable.
         occupied: positions of the other robots the director knows (treated as obstacles).
-        padding: robot padding in cells (1 = the 8-neighbourhood, spec §3.1).
+        padding: robot padding in cells (1 = the 8-neighbourhood, README "Choices": drivability).
 
     """
     return DistanceField(pmap, source, _drivable(pmap, occupied, padding))
@@ -572,7 +576,7 @@ def smooth(
     occupied: Sequence[Sequence[float]] = (),
     padding: int = 1,
 ) -> np.ndarray:
-    """Path optimisation by ray tracing (spec §3.4): remove a waypoint while the straight
+    """Path optimisation by ray tracing (Fig. 32): remove a waypoint while the straight
     segment skipping it crosses only drivable cells (the start cell exempt). The first and last
     points are never removed.
 
@@ -587,7 +591,7 @@ def smooth(
 
 
 def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.ndarray:
-    """Global lattice cells ``(k, 2)`` as ``(ix, iy)`` met by the segment a -> b (spec §3.3).
+    """Global lattice cells ``(k, 2)`` as ``(ix, iy)`` met by the segment a -> b (Fig. 31).
 
     Includes both cells beside any cell corner the segment passes exactly through.
     """
@@ -609,14 +613,16 @@ def _decode(keys: np.ndarray) -> np.ndarray:
 
 def padded_cells(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
     """Global cells ``(k, 2)`` as ``(ix, iy)`` swept by a robot following ``path``: the
-    supercover of every segment, dilated by ``padding`` cells (spec §3.5 step 1). A one-point
+    supercover of every segment, dilated by ``padding`` cells (README "Choices": waves). A one-point
     path gives its cell (dilated).
     """
     return _decode(_path_keys(path, cell_size, padding))
 
 
 def path_length(path: np.ndarray) -> float:
-    """Length (metres) of the polyline ``path`` (the drive distance, spec A6)."""
+    """Length (metres) of the polyline ``path`` (the drive distance, README "Choices": drive
+    distance).
+    """
     path = np.asarray(path, dtype=np.float64)
     if path.shape[0] < 2:
         return 0.0
@@ -624,7 +630,7 @@ def path_length(path: np.ndarray) -> float:
 
 
 def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
-    """Group moves into waves so that no two moves of a wave share a padded path cell (§3.5).
+    """Group moves into waves so that no two moves of a wave share a padded path cell (Fig. 33).
 
     Welsh-Powell: moves in descending conflict degree (ties: ascending key, the local number),
     each into the first wave holding no conflicting move, else a new wave. Disjoint paths give a
@@ -665,9 +671,9 @@ def wave_order_violations(
     cell_size: float,
     padding: int = 1,
 ) -> int:
-    """Count ordered pairs the symmetric conflict rule cannot protect (spec §3.5 diagnostic):
-    a later wave's padded path crossing an earlier wave's end cell, or an earlier wave's padded
-    path crossing a later wave's start cell.
+    """Count ordered pairs the symmetric conflict rule cannot protect (README "Choices": wave-order
+    and proximity diagnostics): a later wave's padded path crossing an earlier wave's end cell, or
+    an earlier wave's padded path crossing a later wave's start cell.
     """
     h = float(cell_size)
 

@@ -1,13 +1,15 @@
-"""The director's probability map (ProbMap, spec §2.2 and §2.8).
+"""The director's probability map (ProbMap: "Data Representation" and "Interpreting
+Incoming Data").
 
 Every director (queen or worker) keeps an occupancy grid of what its subtree reported. A cell
 holds ``scanned`` (known), ``blocked`` (probability of a permanent obstacle, counted as blocked at
 ``blocked >= tau``) and ``in_bounds`` (inside the director's assigned region and the world).
 
-Two regions per map [OURS, spec §2.2]: ``in_bounds`` (the assigned rectangle or bubble, clipped
-to the world) governs VALID, the optimistic gain C, placement centres and which reported data is
-accepted; the *routing region* is the whole stored rectangle (the region's circumscribing box,
-widened by any boxes given in ``cover``, e.g. a MAP_DOWN window) and governs path planning.
+Two regions per map [README "Choices": two regions]: ``in_bounds`` (the assigned rectangle or
+bubble, clipped to the world) governs VALID, the optimistic gain C, placement centres and which
+reported data is accepted; the *routing region* is the whole stored rectangle (the region's
+circumscribing box, widened by any boxes given in ``cover``, e.g. a MAP_DOWN window) and governs
+path planning.
 
 The public API speaks metres only. Every map of a run shares one global lattice: cell
 ``(ix, iy)`` covers ``[ix*h, (ix+1)*h) x [iy*h, (iy+1)*h)`` for the cell size ``h``, so windows of
@@ -30,7 +32,8 @@ from models.hierarchy.planning import _los_mark
 __all__ = ["STAMPS", "Bubble", "MapWindow", "ProbMap", "Rect"]
 
 STAMPS = ("mass", "peak")
-"""How a reported point is spread over cells (spec §2.8 step 1, switch ``stamp``)."""
+"""How a reported point is spread over cells (Fig. 28; README "Choices": point stamping, switch
+``stamp``)."""
 
 _ALL = slice(None)
 _EPS = 1e-9
@@ -62,7 +65,7 @@ class Rect:
 
 @dataclass(frozen=True)
 class Bubble:
-    """A circular region: centre ``(x, y)`` and radius ``r`` in metres (spec §2.1)."""
+    """A circular region: centre ``(x, y)`` and radius ``r`` in metres ("Thinking in Bubbles")."""
 
     x: float
     y: float
@@ -79,7 +82,8 @@ class Bubble:
 
 @dataclass(frozen=True)
 class MapWindow:
-    """A rectangle of known cells cut from a ProbMap: the MAP_DOWN payload (spec §1.4 M9).
+    """A rectangle of known cells cut from a ProbMap: the MAP_DOWN payload (README "Choices":
+    MAP_DOWN).
 
     ``scanned[j, i]`` and ``blocked[j, i]`` describe global cell ``(ix0 + i, iy0 + j)``.
     """
@@ -92,7 +96,9 @@ class MapWindow:
 
     @property
     def known_cells(self) -> int:
-        """Number of scanned cells carried (the message's payload items, spec A28)."""
+        """Number of scanned cells carried (the message's payload items, README "Choices":
+        MAP_DOWN).
+        """
         return int(self.scanned.sum())
 
     @property
@@ -109,20 +115,21 @@ def _cell(v: float, h: float) -> int:
 
 
 class ProbMap:
-    """Occupancy grid of one director's assigned region (spec §2.2).
+    """Occupancy grid of one director's assigned region ("Data Representation", Figs. 28-29).
 
     Args:
         region: the assigned region: a ``Rect`` (the queen: the whole map) or a ``Bubble`` (a
             worker's assignment). ``in_bounds`` = cell centre inside the region and inside
             ``world``.
-        world: the world rectangle; cells outside it are never stored (spec A27).
-        cell_size: cell edge ``h`` in metres (spec A2: 0.10 m).
-        tau: blocked threshold; a scanned cell with ``blocked >= tau`` is an obstacle (spec §2.2,
-            OURS 0.5).
+        world: the world rectangle; cells outside it are never stored (README "Choices": world
+            boundary).
+        cell_size: cell edge ``h`` in metres (README "Choices": cell size, 0.10 m).
+        tau: blocked threshold; a scanned cell with ``blocked >= tau`` is an obstacle (ours 0.5,
+            README "Choices": blocked threshold tau).
         stamp: ``"mass"`` (probability mass of N(p, sigma^2 I) over the cell) or ``"peak"``
-            (``exp(-d^2 / 2 sigma^2)`` at the cell centre), spec §2.8 / A20.
+            (``exp(-d^2 / 2 sigma^2)`` at the cell centre), README "Choices": point stamping.
         cover: further rectangles the stored (routing) grid must include, e.g. the MAP_DOWN box of
-            the previous and the new bubble (spec §2.9).
+            the previous and the new bubble (README "Choices": MAP_DOWN).
 
     Raises:
         ConfigError: a bad cell size, threshold, stamp or a region outside the world.
@@ -239,7 +246,7 @@ class ProbMap:
 
     @property
     def n_scanned(self) -> int:
-        """Number of scanned cells in the stored grid (for the no-progress guard, spec §2.9)."""
+        """Number of scanned cells in the stored grid (README "Choices": no-progress guard)."""
         return self._n_scanned
 
     @property
@@ -322,7 +329,7 @@ class ProbMap:
     # ------------------------------------------------------------------ updates
     def mark_free(self, positions: Iterable[Sequence[float]]) -> int:
         """Mark the cells under ``positions`` scanned and free: a robot knows its own cell is free
-        (spec §2.9 "Initial knowledge"). Positions outside the stored grid are ignored.
+        (README "Choices": initial knowledge). Positions outside the stored grid are ignored.
 
         Returns:
             The number of newly scanned cells.
@@ -341,13 +348,15 @@ class ProbMap:
         return new
 
     def exhaust(self, x: float, y: float) -> None:
-        """Remove the cell holding ``(x, y)`` from VALID for good (the EXHAUSTED guard, §2.9)."""
+        """Remove the cell holding ``(x, y)`` from VALID for good (README "Choices": no-progress
+        guard).
+        """
         cell = self._local(x, y)
         if cell is not None:
             self._exhausted[cell] = True
 
     def stamp_point(self, x: float, y: float, sigma: float = 0.0) -> bool:
-        """Merge one POINT report (spec §2.8 step 1).
+        """Merge one POINT report ("Interpreting Incoming Data", Fig. 28).
 
         A point outside the in-bounds region is discarded (rule R1a). Otherwise in-bounds cells
         within 3 sigma get ``p`` (mass or peak of the Gaussian; sigma = 0 gives the containing
@@ -394,7 +403,8 @@ class ProbMap:
         return True
 
     def infer_scan(self, x: float, y: float, r: float) -> int:
-        """Line-of-sight inference after a scout's SCAN_COMPLETE (spec §2.8 step 2).
+        """Line-of-sight inference after a scout's SCAN_COMPLETE (Fig. 30; README "Choices":
+        shadows).
 
         Rays go from the scan position ``(x, y)`` to points on the circle of radius ``r`` with an
         angular step of at most ``cell / (2 r)``; each ray's supercover cells are visible up to
@@ -423,7 +433,8 @@ class ProbMap:
     def mark_bubble(
         self, x: float, y: float, r: float, unscanned: Iterable[Sequence[float]] = ()
     ) -> int:
-        """Merge a worker's finished bubble (spec §2.8 step 3): every in-bounds cell with centre
+        """Merge a worker's finished bubble ("Communication": the worker lists the cells it did
+        not scan): every in-bounds cell with centre
         within ``r`` of ``(x, y)`` becomes scanned, except the cells holding the ``unscanned``
         points the worker listed. No shadow inference.
 
@@ -457,7 +468,8 @@ class ProbMap:
         return MapWindow(h, self._ix0 + c0, self._iy0 + r0, scanned, blocked)
 
     def merge(self, window: MapWindow) -> int:
-        """Merge a MAP_DOWN window (or a retained copy) into the stored grid (spec §2.9).
+        """Merge a MAP_DOWN window (or a retained copy) into the stored grid (README "Choices":
+        MAP_DOWN).
 
         Scanned cells of the window become scanned here; their blocked value is the larger of
         the two (idempotent, so merging the same knowledge twice changes nothing). Cells outside

@@ -1,15 +1,16 @@
-"""The HST message catalogue (spec §1.4, M1-M10) as dataclasses with their byte encoding.
+"""The HST message catalogue (M1-M10: "Communication", "Scout", "Queen / Worker") as dataclasses
+with their byte encoding.
 
 Every message a node sends is one of these; the comm network logs its ``KIND``, its payload
 ``items`` (points, cells or waypoints carried) and its ``nbytes`` under one fixed encoding
-[OURS, spec §5.3], so that batching cannot hide data volume:
+[README "Choices": message bytes], so that batching cannot hide data volume:
 
 - a header of 2 bytes (kind, local address) on every message;
 - a coordinate or radius: 2 bytes (centimetres, 16 bit), so a point or waypoint is 4 bytes and a
   reported obstacle point 6 (x, y and sigma in millimetres);
 - cells: one flag byte per cell, run-length encoded as (flag, run length <= 255) pairs.
 
-Addresses are local (spec §1.3): a node sends to 0 (its parent) or 1..k (its children); the
+Addresses are local ("Communication"): a node sends to 0 (its parent) or 1..k (its children); the
 payloads never carry a global identity or the swarm's size.
 """
 
@@ -58,7 +59,8 @@ class Message:
     """Base of every message: its kind and what the log counts."""
 
     KIND: ClassVar[str] = "message"
-    #: "startup" messages (radius discovery) are counted apart from "task" messages (§5.3).
+    #: "startup" messages (radius discovery) are counted apart from "task" messages (README
+    #: "Choices": message bytes).
     PHASE: ClassVar[str] = "task"
 
     @property

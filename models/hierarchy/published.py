@@ -1,6 +1,6 @@
-"""What Alunni et al. (2011) publish about the hierarchical swarm: no number (spec §4.3: the
-result figures are images whose values did not survive), every checkable claim C1-C14 of spec
-§4.4 with its test, and the paper-style figure layout (Figs. 36-38: mean scan area and drive
+"""What Alunni et al. (2011) publish about the hierarchical swarm: no number (the result figures
+are images whose values did not survive), every checkable claim C1-C14 (README, "The claims")
+with its test, and the paper-style figure layout (Figs. 36-38: mean scan area and drive
 distance per scout and per worker against the total number of robots N, one line per W).
 
 Units: the summary, and so the report's axes, are in SI (m^2, m). The report measures scan area
@@ -13,7 +13,8 @@ from models.hierarchy.claims import TESTS
 
 __all__ = ["CENSORED", "CLAIMS", "FAULT_REPORT", "PUBLISHED", "REPORT", "ROOM"]
 
-#: The report publishes no numeric result value (spec §4.3), so there is nothing to list here.
+#: The report publishes no numeric result value (Figs. 36-38 carry none), so there is nothing to
+#: list here.
 PUBLISHED: list = []
 
 #: The report's room and swarm: the empty 20 m x 20 m map and the queen-worker-scout tree
@@ -192,11 +193,13 @@ REPORT = ReportLayout(
         "worker_drive": "Worker drive distance (m)",
     },
     notes={
-        "scout_scan_area": "Σ π r² over every SCAN a scout received (spec A5), mean per scout; "
+        "scout_scan_area": "Σ π r² over every SCAN a scout received (README, Choices: scan area), "
+        "mean per scout; "
         "the report's Figs. 36-37 plot cm² (1 m² = 10⁴ cm²)",
         "worker_scan_area": "Σ π r² of the bubbles the queen gave a worker, mean per worker; "
         "the report's Fig. 36 plots cm² (1 m² = 10⁴ cm²)",
-        "scout_drive": "Σ smoothed path lengths (spec A6), mean per scout; "
+        "scout_drive": "Σ smoothed path lengths (README, Choices: drive distance), "
+        "mean per scout; "
         "the report's Fig. 38 plots cm (1 m = 100 cm)",
         "worker_drive": "Σ smoothed path lengths, mean per worker; "
         "the report's Fig. 38 plots cm (1 m = 100 cm)",

@@ -1,6 +1,6 @@
-"""The HST world and start layout (spec §4.5): the 20 m x 20 m room, optionally with random
-axis-aligned boxes, or any bitmap; workers in a row (or around the centre) with their scouts on
-a small circle around each.
+"""The HST world and start layout (README "Choices": room, start layout): the 20 m x 20 m room,
+optionally with random axis-aligned boxes, or any bitmap; workers in a row (or around the centre)
+with their scouts on a small circle around each.
 """
 
 import numpy as np
@@ -8,13 +8,13 @@ import numpy as np
 from abm import portable
 from abm.arena import Arena
 from abm.errors import ConfigError, MapError
-from abm.worlds import load_map
+from models.environments import load_map
 from models.hierarchy.params import WORLDS, HierarchyParams
 
 __all__ = ["MIN_START_GAP", "build_world", "start_layout"]
 
 #: Smallest distance between two start positions (m): a padded robot cell (3 cells of 0.10 m)
-#: must not make another robot's start cell undrivable (spec §4.5).
+#: must not make another robot's start cell undrivable (README "Choices": start layout).
 MIN_START_GAP = 0.3
 #: Clearance kept free of boxes around every start position (m; ours).
 BOX_CLEARANCE = 1.0

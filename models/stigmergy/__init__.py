@@ -1,4 +1,4 @@
-"""Wander/beacon UAV swarm with virtual stigmergy (Arnaldo et al. 2018), SPEC B."""
+"""Wander/beacon UAV swarm with virtual stigmergy (Arnaldo et al. 2018)."""
 
 from models.stigmergy.model import StigmergyModel
 from models.stigmergy.params import DEFAULTS, StigmergyParams

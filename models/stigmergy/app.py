@@ -4,20 +4,23 @@ for the map, the pheromone radius C_rb, the launch rate and the UAV speed.
 Serve it with ``abm viz stigmergy`` (or ``solara run models.stigmergy.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
-from abm.worlds.bitmap import MAPS
+from models.environments.bitmap import MAPS
 from models.stigmergy.model import StigmergyModel
+
+#: The model's parameters: every slider's bounds come from them.
+P = StigmergyModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
 #: Sliders and selects of the page (SolaraViz model_params).
 MODEL_PARAMS = {
     "map": {"type": "Select", "label": "map", "value": "hall100", "values": list(MAPS)},
-    "pheromone_radius": slider("pheromone radius C_rb (m)", 20.0, 5.0, 60.0, 5.0),
-    "launch_rate": slider("launch rate eta (robots per 0.5 s)", 0.01, 0.005, 0.1, 0.005),
-    "max_speed": slider("UAV speed (m/s)", 2.0, 0.5, 5.0, 0.5),
-    "seed": slider("seed", 1, 0, 100, 1),
+    "pheromone_radius": param_slider(P, "pheromone_radius", "pheromone radius C_rb (m)", step=5.0),
+    "launch_rate": param_slider(P, "launch_rate", "launch rate eta (robots per 0.5 s)", step=0.005),
+    "max_speed": param_slider(P, "max_speed", "UAV speed (m/s)", step=0.5),
+    "seed": seed_slider(),
 }
 
 page = make_page(

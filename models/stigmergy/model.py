@@ -1,4 +1,4 @@
-"""StigmergyModel: UAV swarm deployment with virtual pheromone (Arnaldo et al. 2018), SPEC B.
+"""StigmergyModel: UAV swarm deployment with virtual pheromone (Arnaldo et al. 2018).
 
 One beacon sits at p0; a new wander robot takes off from p0 every launch period (eta = 0.01
 robots per 0.5 s step = one per 50 s). Three SimPy processes tell the story:
@@ -26,7 +26,7 @@ from abm.pheromone import PheromoneField, field_bytes
 from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import StateStyle
-from abm.worlds.bitmap import MAPS, load_map, map_digest, map_entropy
+from models.environments.bitmap import MAPS, load_map, map_digest, map_entropy
 from models.stigmergy import published
 from models.stigmergy.params import P0, StigmergyParams
 from models.stigmergy.units import SUMMARY_UNITS
@@ -223,7 +223,6 @@ class StigmergyModel(SwarmModel):
         counts = self.recorder.counts
         return {
             "map": self.map_name,
-            "pheromone_radius": self.params.pheromone_radius,
             "seed": self.seed,
             "wander": counts["wander"],
             "beacon": counts["beacon"],
@@ -232,7 +231,6 @@ class StigmergyModel(SwarmModel):
             "cb": 100.0 * self.cb(),
             "entropy": self.entropy,
             "envsize": self.envsize,
-            "launch_period": self.launch_period,
             "map_digest": map_digest(self.arena),
         }
 

@@ -43,8 +43,8 @@ class StigmergyParams(SwarmParams):
     """Everything a stigmergy run can vary (SI units), the paper's values unless marked "ours".
 
     Attributes:
-        map: a built-in map name (``abm.worlds.MAPS``), a bitmap file (PNG/PGM/BMP/NPY, black
-            = not navigable), a boolean array (True = free) or an :class:`Arena`.
+        map: a built-in map name (``models.environments.MAPS``), a bitmap file (PNG/PGM/BMP/NPY,
+            black = not navigable), a boolean array (True = free) or an :class:`Arena`.
         pheromone_radius: C_rb, the beacon footprint radius (m).
         wander_radius: C_rw, the radius a flying robot deposits on (m); None: C_rb / 2.
         wander_intensity: C_dw, pheromone a flying robot deposits per model step.
@@ -105,7 +105,7 @@ class StigmergyParams(SwarmParams):
     """
 
     map: str | Path | Arena | np.ndarray = "hall100"
-    pheromone_radius: float = param(20.0, low=0.0, low_open=True)
+    pheromone_radius: float = param(20.0, low=0.0, low_open=True, shown=(5.0, 60.0))
     wander_radius: float | None = param(None, low=0.0)
     wander_intensity: float = param(0.03, low=0.0)
     decay: float = param(0.0001, low=0.0)
@@ -116,7 +116,7 @@ class StigmergyParams(SwarmParams):
     link_fading_sd: float = param(_RADIO_DEFAULTS["link_fading_sd"], low=0.0)
     obstacle_range: float = param(5.0, low=0.0, low_open=True)
     obstacle_beams: int = param(8, low=0, high=360, integer=True)
-    launch_rate: float = param(0.01, low=0.0, high=1.0, low_open=True)
+    launch_rate: float = param(0.01, low=0.0, high=1.0, low_open=True, shown=(0.005, 0.1))
     model_step: float = param(0.5, low=0.0, low_open=True, period=True)
     start: tuple[float, float] | None = None
     a1: float = param(0.2, low=0.0)
@@ -128,7 +128,7 @@ class StigmergyParams(SwarmParams):
     f1_line_of_sight: bool = False
     deposit_line_of_sight: bool = True
     swarm_size: int | None = param(None, low=1, integer=True)
-    max_speed: float = param(2.0, low=0.0, low_open=True)
+    max_speed: float = param(2.0, low=0.0, low_open=True, shown=(0.5, 5.0))
     detection_range: float = param(10.0, low=0.0, low_open=True)
     coverage_target: float = param(0.95, low=0.0, high=1.0, low_open=True)
     coverage_interval: float = param(1.0, low=0.0, low_open=True, period=True)

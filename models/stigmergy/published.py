@@ -4,12 +4,12 @@ model: the one home that reports, tests and benchmarks read them from.
 Table 1 gives, per map (Id 1-4) and pheromone radius C_rb, the final wanders w and beacons b
 of the simulation, the recurrence's predictions w_hat, b_hat from the fitted lambdas, the time
 t to cover 95 %, ca and cb (%), and the RMSDs of w and b. Table 2 gives the mean (std) RMSD
-over its 10 maps. Our built-in maps reconstruct the Table 1 maps (``abm.worlds.MAPS``, by
+over its 10 maps. Our built-in maps reconstruct the Table 1 maps (``models.environments.MAPS``, by
 ``paper_id``).
 """
 
 from abm.published import Censored, MacroSpec, Published, ReportLayout
-from abm.worlds.bitmap import MAPS
+from models.environments.bitmap import MAPS
 
 __all__ = [
     "CENSORED",
@@ -170,4 +170,5 @@ MACRO = MacroSpec(
     summary_label="Table 2, its 10 maps",
     lambdas=LAMBDAS,
     source="Arnaldo et al. (2018), Tables 1 and 2",
+    rates={"a0": "a0", "alpha6": "alpha6", "alpha5": "alpha5"},  # the paper's own symbols
 )

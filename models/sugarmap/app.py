@@ -7,22 +7,25 @@ pick "open" for the 20 m square of the simulations.
 Serve it with ``abm viz sugarmap`` (or ``solara run models.sugarmap.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
 from models.sugarmap.arenas import ARENAS
 from models.sugarmap.model import SugarMapModel
+
+#: The model's parameters: every slider's bounds come from them.
+P = SugarMapModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
 #: Sliders and selects of the page (SolaraViz model_params).
 MODEL_PARAMS = {
     "arena": {"type": "Select", "label": "arena", "value": "testbed", "values": list(ARENAS)},
-    "n_anchors": slider("anchors", 5, 1, 12, 1),
-    "n_explorers": slider("explorers", 2, 1, 8, 1),
-    "n_particles": slider("particles per explorer", 10, 1, 100, 1),
+    "n_anchors": param_slider(P, "n_anchors", "anchors", 5),
+    "n_explorers": param_slider(P, "n_explorers", "explorers", 2),
+    "n_particles": param_slider(P, "n_particles", "particles per explorer", 10),
     "heading_model": {"type": "Select", "label": "heading errors", "value": "literal",
                       "values": ["literal", "accumulate"]},
-    "seed": slider("seed", 1, 0, 100, 1),
+    "seed": seed_slider(),
 }  # fmt: skip
 
 page = make_page(

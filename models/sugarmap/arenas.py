@@ -1,20 +1,21 @@
-"""The arenas of the SugarMap experiments as bitmaps of D = 0.5 m cells (spec §9, Appendix A).
+"""The arenas of the SugarMap experiments as bitmaps of D = 0.5 m cells (README "Choices": arenas).
 
 The paper gives a 20 m x 20 m square arena "with multiple configurations of boundary walls and
 obstacles" (Purohit et al. Sect. 4.1) and describes the three Fig. 10 geometries in one sentence
-each (Sect. 4.3.5); no dimensions. These are the spec's readings [R], all but the testbed on a
+each (Sect. 4.3.5); no dimensions. These are our readings (README "Choices": arenas), all but the
+testbed on a
 42 x 42 cell frame: a one-cell wall border around the 40 x 40 cell (20 m) arena, so the border
-sits at index 0 and the testbed's "[1,1], [2,1]" are bitmap indices (spec A34):
+sits at index 0 and the testbed's "[1,1], [2,1]" are bitmap indices (README "Choices": start):
 
-- ``open`` (9.1): the plain square of Figs. 5-9;
+- ``open``: the plain square of Figs. 5-9;
 - ``open10`` (ours): a 10 m x 10 m open square, the smaller place of claim C22;
-- ``circle`` (9.2, geometry a): the 10 m-radius disc inscribed in the square, four 1 m x 1 m
+- ``circle`` (Fig. 10 geometry a): the 10 m-radius disc inscribed in the square, four 1 m x 1 m
   obstacles;
-- ``ushape`` (9.3, geometry b): a 10 m x 20 m room joined by the U's base to a 2 m hallway;
-- ``serpentine`` (9.4, geometry c, the default reading): one 2 m corridor folded into eight
+- ``ushape`` (Fig. 10 geometry b): a 10 m x 20 m room joined by the U's base to a 2 m hallway;
+- ``serpentine`` (Fig. 10 geometry c, the default reading): one 2 m corridor folded into eight
   lanes, about 160 m long, so its area is comparable with (a) and (b);
-- ``corridor`` (9.4', geometry c read literally): one straight 2 m x 20 m corridor;
-- ``testbed`` (9.5): the 5 m x 3 m testbed of Sect. 4.4 with its wall border.
+- ``corridor`` (Fig. 10 geometry c read literally): one straight 2 m x 20 m corridor;
+- ``testbed``: the 5 m x 3 m testbed of Sect. 4.4 with its wall border.
 
 Codes: 0 navigable (the paper's blue), 1 wall (red), 2 obstacle (green); both walls and
 obstacles are impassable (Sect. 2.2). The shipped PNGs in ``maps/`` (written by
@@ -52,7 +53,8 @@ NAVIGABLE, WALL, OBSTACLE = 0, 1, 2
 #: grey is impassable yet still tells obstacles from walls to a human eye.
 _GREY = {NAVIGABLE: 255, WALL: 0, OBSTACLE: 90}
 _BITMAP_SUFFIXES = (".png", ".pgm", ".bmp", ".npy")
-#: Side of the common frame (cells): the 40-cell arena and its one-cell wall border (spec §9).
+#: Side of the common frame (cells): the 40-cell arena and its one-cell wall border (README
+#: "Choices": arenas).
 _FRAME = 42
 
 
@@ -62,7 +64,7 @@ def _walled(rows: int = _FRAME, cols: int = _FRAME) -> np.ndarray:
 
 
 def _open() -> np.ndarray:
-    """9.1: x, y in 1..40 navigable."""
+    """The open square: x, y in 1..40 navigable."""
     codes = _walled()
     codes[1:41, 1:41] = NAVIGABLE
     return codes
@@ -78,7 +80,9 @@ def _open10() -> np.ndarray:
 
 
 def _circle() -> np.ndarray:
-    """9.2: (x + 0.5 - 21)^2 + (y + 0.5 - 21)^2 < 20^2; 2 x 2 obstacles at (12|28, 12|28)."""
+    """Fig. 10 (a): (x + 0.5 - 21)^2 + (y + 0.5 - 21)^2 < 20^2; 2 x 2 obstacles at
+    (12|28, 12|28).
+    """
     codes = _walled()
     y, x = np.mgrid[0:_FRAME, 0:_FRAME]
     codes[(x + 0.5 - 21) ** 2 + (y + 0.5 - 21) ** 2 < 20**2] = NAVIGABLE
@@ -89,7 +93,7 @@ def _circle() -> np.ndarray:
 
 
 def _ushape() -> np.ndarray:
-    """9.3: room x 1..20, hallway x 37..40 (y 1..40), base x 21..36, y 1..4."""
+    """Fig. 10 (b): room x 1..20, hallway x 37..40 (y 1..40), base x 21..36, y 1..4."""
     codes = _walled()
     codes[1:41, 1:21] = NAVIGABLE
     codes[1:41, 37:41] = NAVIGABLE
@@ -98,8 +102,8 @@ def _ushape() -> np.ndarray:
 
 
 def _serpentine() -> np.ndarray:
-    """9.4: walls at x = 5, 15, 25, 35 over y 1..36 (gap north), x = 10, 20, 30 over y 5..40
-    (gap south), and x = 40.
+    """Fig. 10 (c), serpentine: walls at x = 5, 15, 25, 35 over y 1..36 (gap north),
+    x = 10, 20, 30 over y 5..40 (gap south), and x = 40.
     """
     codes = _open()
     codes[:, 40] = WALL
@@ -109,14 +113,14 @@ def _serpentine() -> np.ndarray:
 
 
 def _corridor() -> np.ndarray:
-    """9.4': x 19..22, y 1..40."""
+    """Fig. 10 (c), straight: x 19..22, y 1..40."""
     codes = _walled()
     codes[1:41, 19:23] = NAVIGABLE
     return codes
 
 
 def _testbed() -> np.ndarray:
-    """9.5: a 12 x 8 bitmap, navigable x 1..10, y 1..6."""
+    """The testbed: a 12 x 8 bitmap, navigable x 1..10, y 1..6."""
     codes = _walled(8, 12)
     codes[1:7, 1:11] = NAVIGABLE
     return codes
@@ -128,9 +132,9 @@ class ArenaInfo:
 
     Attributes:
         name: its name, also its PNG's stem.
-        title: one line, with the spec section.
+        title: one line, with where the paper describes it.
         build: returns its codes, int8 ``[rows, cols]``, row 0 = south.
-        navigable: its navigable cell count as the spec gives it.
+        navigable: its navigable cell count in our reading (README "Choices": arenas).
 
     """
 
@@ -143,15 +147,13 @@ class ArenaInfo:
 ARENAS: dict[str, ArenaInfo] = {
     info.name: info
     for info in (
-        ArenaInfo("open", "20 m x 20 m open square (spec 9.1)", _open, 1600),
+        ArenaInfo("open", "20 m x 20 m open square (Sect. 4.1)", _open, 1600),
         ArenaInfo("open10", "10 m x 10 m open square (ours, claim C22)", _open10, 400),
-        ArenaInfo("circle", "geometry (a): 10 m disc, four obstacles (spec 9.2)", _circle, 1248),
-        ArenaInfo("ushape", "geometry (b): room and 2 m hallway, a U (spec 9.3)", _ushape, 1024),
-        ArenaInfo(
-            "serpentine", "geometry (c): 2 m corridor in eight lanes (spec 9.4)", _serpentine, 1308
-        ),
-        ArenaInfo("corridor", "geometry (c) literal: straight 2 m corridor (9.4')", _corridor, 160),
-        ArenaInfo("testbed", "the 5 m x 3 m testbed of Sect. 4.4 (spec 9.5)", _testbed, 60),
+        ArenaInfo("circle", "Fig. 10 (a): 10 m disc, four obstacles", _circle, 1248),
+        ArenaInfo("ushape", "Fig. 10 (b): room and 2 m hallway, a U", _ushape, 1024),
+        ArenaInfo("serpentine", "Fig. 10 (c): 2 m corridor in eight lanes", _serpentine, 1308),
+        ArenaInfo("corridor", "Fig. 10 (c) literal: straight 2 m corridor", _corridor, 160),
+        ArenaInfo("testbed", "the 5 m x 3 m testbed of Sect. 4.4", _testbed, 60),
     )
 }
 
@@ -240,11 +242,11 @@ def start_cells(
     free: np.ndarray, n: int, entrance: tuple[int, int] | None = None
 ) -> list[tuple[int, int]]:
     """The start cells of n nodes: the leftmost contiguous free cells of the lowest free row,
-    continuing along that row (left to right), then the next free row up (spec §9).
+    continuing along that row (left to right), then the next free row up (README "Choices": start).
 
     The nodes enter "through an accessible opening" (Sect. 2.2) and the testbed's explorers
     started in a corner at [1, 1] and [2, 1] (Sect. 4.4), hence a corner of the lowest row.
-    "Continuing along that row" is the spec's literal rule: past a wall in that row it takes
+    "Continuing along that row" is meant literally: past a wall in that row it takes
     the next free cells of the same row (in the serpentine, the next lane) before going up.
 
     Args:

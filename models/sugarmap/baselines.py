@@ -1,15 +1,16 @@
-"""The baselines of Purohit et al. Sect. 4.2 (spec §6), run on the same arena, motion and noise.
+"""The baselines of Purohit et al. Sect. 4.2, run on the same arena, motion and noise.
 
-- Random walk (Gage [8]): the paper gives no rule (spec A44). :func:`lattice_turns` is the
-  default, a random cardinal turn every tick (the paper likens a degraded SugarMap's "high
-  variance" to a random walk's, Sect. 4.3.1); :class:`BounceWalk` flies straight until it bumps,
-  then takes a heading uniform in [0, 360) (Gage's randomised straight-line search, spec §6.1).
+- Random walk (Gage [8]): the paper gives no rule (README "Choices": random walk).
+  :func:`lattice_turns` is the default, a random cardinal turn every tick (the paper likens a
+  degraded SugarMap's "high variance" to a random walk's, Sect. 4.3.1); :class:`BounceWalk` flies
+  straight until it bumps, then takes a heading uniform in [0, 360) (Gage's randomised straight-line
+  search).
 - OMSTC (Hazon, Mieli, Kaminka [9]): online multi-robot spanning-tree coverage with accurate
-  positions, the paper's ideal reference. :class:`OMSTC` is the spec's D-cell version (§6.2,
-  A45), not the mega-cell Spiral-STC of [7].
+  positions, the paper's ideal reference. :class:`OMSTC` is our D-cell version (README "Choices":
+  OMSTC), not the mega-cell Spiral-STC of [7].
 
 Every function here returns commands only; the caller executes them with the truth model and
-the bump model (spec §3.3) and reports the bumps back.
+the bump model (README "Choices": walls) and reports the bumps back.
 """
 
 from collections import deque
@@ -23,14 +24,14 @@ __all__ = ["BounceWalk", "OMSTC", "lattice_turns"]
 
 Cell = tuple[int, int]
 
-#: The lattice walk's turns (deg): straight, right, left, back (spec §6.1).
+#: The lattice walk's turns (deg): straight, right, left, back (README "Choices": random walk).
 _TURNS = np.array([0.0, 90.0, -90.0, 180.0])
 #: The 4-neighbour steps (dx, dy) in counter-clockwise order from north: N, W, S, E.
 _CCW = ((0, 1), (-1, 0), (0, -1), (1, 0))
 
 
 def lattice_turns(rng: np.random.Generator, n: int) -> np.ndarray:
-    """The lattice random walk's commanded turns for one tick (spec §6.1).
+    """The lattice random walk's commanded turns for one tick (README "Choices": random walk).
 
     Args:
         rng: the generator.
@@ -47,11 +48,11 @@ def lattice_turns(rng: np.random.Generator, n: int) -> np.ndarray:
 
 class BounceWalk:
     """Gage-style random straight-line search: fly straight until blocked, then a new heading
-    uniform in [0, 360) (spec §6.1, option ``rw="bounce"``).
+    uniform in [0, 360) (README "Choices": random walk, option ``rw="bounce"``).
 
-    Every robot starts facing north (0 deg), as every node does at tau = 0 (spec A35); the start
-    therefore draws nothing from ``rng``, which the constructor takes only so that it is built
-    like every other random part of a run.
+    Every robot starts facing north (0 deg), as every node does at tau = 0 (README "Choices":
+    start); the start therefore draws nothing from ``rng``, which the constructor takes only so that
+    it is built like every other random part of a run.
 
     Args:
         n: robots (>= 1).
@@ -89,7 +90,7 @@ class BounceWalk:
 
 class OMSTC:
     """Online multi-robot spanning-tree coverage on true D-cells, the paper's ideal reference
-    (Sect. 4.2; spec §6.2, the D-cell version).
+    (Sect. 4.2; README "Choices": OMSTC, the D-cell version).
 
     Each robot grows its own depth-first tree from its start cell over the cells no robot has
     covered yet (the shared binary map of true coverage), scanning the 4-neighbours
@@ -103,7 +104,7 @@ class OMSTC:
     new subtree from it. It stops when no such cell is reachable.
 
     Walls and obstacles are found only by bumping, as SugarMap's explorers find them ("for
-    parity", spec §6.2 item 4): the true map's values are never read, only its shape, the
+    parity", README "Choices": OMSTC): the true map's values are never read, only its shape, the
     extent of the grid. A bump marks the target cell blocked for that robot alone, as
     SugarMap's planners keep their marks to themselves. A bump on the way to a covered cell
     (backtracking or a help walk) cannot be a wall, since a robot stood there: it is actuation
@@ -148,7 +149,8 @@ class OMSTC:
         speed: float,
         dt: float,
     ) -> tuple[float, float] | None:
-        """The robot's command this tick (closed loop on its true position, spec §6.2 item 4).
+        """The robot's command this tick (closed loop on its true position, README "Choices":
+        OMSTC).
 
         Args:
             robot: its index in ``roots``.

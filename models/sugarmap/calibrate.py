@@ -1,9 +1,9 @@
 """SIG_TH by the paper's calibration procedure, in our metre-equivalent RToF units.
 
-The paper sets SIG_TH = 1.2 "in its lab's units" from this procedure (Sect. 4.3.6, spec
-§3.5.3): at 5 random places, 20 signatures within a 2 m disc, the mean eq. 11 distance of all
-pairs. Its RToF unit is unknown, so 1.2 cannot be carried over; this script runs the same
-procedure on our measurement model instead. The anchors are where a real run lands them: each
+The paper sets SIG_TH = 1.2 "in its lab's units" from this procedure (Sect. 4.3.6;
+README "Choices": SIG_TH): at 5 random places, 20 signatures within a 2 m disc, the mean eq. 11
+distance of all pairs. Its RToF unit is unknown, so 1.2 cannot be carried over; this script runs the
+same procedure on our measurement model instead. The anchors are where a real run lands them: each
 replication disperses the anchors with the model's own phase 1 (fresh seeds, not the seeds of the
 tests), then calibrates on those anchors.
 

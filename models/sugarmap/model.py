@@ -1,6 +1,6 @@
 """SugarMapModel: location-less coverage by a micro-aerial swarm (Purohit et al. 2013).
 
-The story of a run, as SimPy processes on the 1 s tick (spec §4, §5.1):
+The story of a run, as SimPy processes on the 1 s tick (Sect. 3, 4.1):
 
 1. **Dispersion** (Fig. 3): the anchors take off from the entrance on random headings; every
    dispersion period each flying anchor asks the others for an RToF reading: if one does not
@@ -126,7 +126,9 @@ class SugarMapModel(SwarmModel):
         return int(ix[0]), int(iy[0])
 
     def _entrance(self, i: int) -> np.ndarray:
-        """Anchor i starts on the explorers' start cells, round-robin, +-5 cm jitter (D1)."""
+        """Anchor i starts on the explorers' start cells, round-robin, +-5 cm jitter (README
+        "Choices": dispersion).
+        """
         return self.starts[i % len(self.starts)] + self.rng.uniform(-0.05, 0.05, 2)
 
     # ------------------------------------------------------------------ the story
@@ -142,7 +144,7 @@ class SugarMapModel(SwarmModel):
         self.finish("horizon")
 
     def _disperse(self):
-        """Fig. 3, constrained dispersion of the anchors (spec §4, D1-D18)."""
+        """Fig. 3, constrained dispersion of the anchors (README "Choices": dispersion)."""
         p = self.params
         robots = self.anchor_robots
         ids = [r.unique_id for r in robots]
@@ -209,7 +211,8 @@ class SugarMapModel(SwarmModel):
         n = len(self.explorer_robots)
         self.explorer_ids = np.array([r.unique_id for r in self.explorer_robots])
         self.pos = self.starts.copy()
-        self.truth_heading = np.zeros(n)  # executed heading (deg), all face north (A35)
+        # executed heading (deg), all face north (README "Choices": start)
+        self.truth_heading = np.zeros(n)
         self.command_heading = np.zeros(n)  # the last commanded absolute heading
         self.presumed = self.starts.copy()
         self.active = np.ones(n, dtype=bool)
@@ -269,7 +272,9 @@ class SugarMapModel(SwarmModel):
         self._sample()
 
     def _tick(self) -> None:
-        """S1-S5 of spec §5.1 for every explorer."""
+        """One tick for every explorer: S1 commands, S2 flight, S3 radio and signatures, S4 the
+        filter, S5 the metrics.
+        """
         heading, speed, moving = self._commands()  # S1
         turn = wrap_degrees(heading - self.command_heading)
         self.command_heading = np.where(moving, heading, self.command_heading)
@@ -314,8 +319,8 @@ class SugarMapModel(SwarmModel):
         return np.mod(heading, 360.0), speed, moving
 
     def _planner_cells(self) -> list[tuple[int, int]]:
-        """Where the planner believes each explorer is (P1): the mean particle or the
-        command-integrated pose, as a cell of the estimate grid.
+        """Where the planner believes each explorer is (Fig. 4's current cell): the mean particle or
+        the command-integrated pose, as a cell of the estimate grid.
         """
         pose = self.params.resolved("planner_pose")
         points = self.filter.mean_positions() if pose == "particles" else self.presumed
@@ -323,7 +328,9 @@ class SugarMapModel(SwarmModel):
         return [(int(x), int(y)) for x, y in zip(ix, iy, strict=True)]
 
     def _execute(self, heading, turn, speed, moving) -> None:
-        """The commands with actuation noise (spec §3.3) and the bump model."""
+        """The commands with actuation noise (README "Choices": actuation noise) and the bump
+        model.
+        """
         p = self.params
         n = len(self.pos)
         n_phi = self._noise(p.turn_noise, n) * np.abs(turn)
@@ -374,7 +381,7 @@ class SugarMapModel(SwarmModel):
         for e in range(len(self.pos)):
             if not self.active[e]:
                 continue
-            if not visible[e].any():  # no anchor in range: stop exploring (spec §5.4)
+            if not visible[e].any():  # no anchor in range: stop (README "Choices": stop rule)
                 self.active[e] = False
                 self.explorer_robots[e].set_state("stopped")
                 self.recorder.log("stopped", int(self.explorer_ids[e]))
@@ -396,10 +403,11 @@ class SugarMapModel(SwarmModel):
 
         An anchor: nothing else changes by rule. The explorers no longer hear it, so its
         dimension of every new signature is missing (NaN) and eq. 11 compares signatures on
-        the anchors they have in common (spec §3.5.3); the signatures stored before keep its
-        value, which no longer counts. With no anchor left the explorers stop (spec §5.4).
-        An anchor that fails while others still disperse (in flight it falls where it is) no
-        longer answers their radio checks, so by Fig. 3's rule they retrace until InitCutoff.
+        the anchors they have in common (README "Choices": eq. 11's normaliser); the signatures
+        stored before keep its value, which no longer counts. With no anchor left the explorers stop
+        (README "Choices": stop rule). An anchor that fails while others still disperse (in flight
+        it falls where it is) no longer answers their radio checks, so by Fig. 3's rule they retrace
+        until InitCutoff.
         An explorer: it stops where it is; its NodeMap keeps what its particles believed it
         covered, so the GlobalMap still holds its past coverage.
         """

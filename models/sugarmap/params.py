@@ -4,7 +4,7 @@ Source: Purohit, Sun, Zhang (2013), "SugarMap: Location-less Coverage for Micro-
 Swarms", IPSN'13. The paper publishes the cell size D = 0.5 m, speeds 0.25-0.45 m/s, the
 1 s time step, the actuation noise (turn 20 %, velocity 15 %), SIG_TH = 1.2 (in its lab's
 units), COVER_TH = 0.95, a path-loss exponent of 3 and the experiments' swarm sizes; everything
-else is ours and marked so (the spec's readings, `docs` of the model's README).
+else is ours and marked so (the model's README, "Choices").
 """
 
 import math
@@ -47,13 +47,13 @@ class SugarMapParams(SwarmParams):
         algorithm: "sugarmap" (anchors, RToF signatures, particle filters, the planner of
             Fig. 4), "random_walk" or "omstc" (spanning-tree coverage with true positions, the
             paper's ideal reference), Sect. 4.2.
-        arena: a built-in arena ("open" 20 m x 20 m square, "open10" 10 m x 10 m (ours, for
-            claim C22), "circle", "ushape", "serpentine",
-            "corridor": Fig. 10's geometries as our spec reads them; "testbed" 5 m x 3 m,
-            Sect. 4.4) or a bitmap file of 0.5 m cells (dark = wall or obstacle).
+        arena: a built-in arena ("open" 20 m x 20 m square, "open10" 10 m x 10 m (ours, for claim
+            C22), "circle", "ushape", "serpentine", "corridor": Fig. 10's geometries as we read
+            them, README "Choices": arenas; "testbed" 5 m x 3 m, Sect. 4.4) or a bitmap file of 0.5
+            m cells (dark = wall or obstacle).
         entrance: the point (x, y) (m) where the swarm enters the arena; the nodes start on
             its cell and the free cells nearest to it. None: the lowest row's first free
-            cells, a corner as in the testbed (spec §9).
+            cells, a corner as in the testbed (README "Choices": start).
         n_explorers: explorers covering the arena (4 in Fig. 5).
         n_anchors: anchors dispersed before coverage (Figs. 6, 8 vary it); None: 6 (ours: the
             value Figs. 7 and 9 use). SugarMap only.
@@ -67,7 +67,8 @@ class SugarMapParams(SwarmParams):
             the paper's "larger sensor noise" comparisons).
         heading_model: "literal": the executed heading is the commanded absolute heading plus
             this tick's noise (eqs. 3 and 6 read literally); "accumulate": heading errors add
-            up from tick to tick (gyro-style). Truth and particles alike (spec A5).
+            up from tick to tick (gyro-style). Truth and particles alike (README "Choices": heading
+            errors).
         radio_range: R, the nominal radio range (m): a link at R is up with probability 1/2
             (ours: 30 m, so every node stays in range as the paper's evaluation assumes).
         path_loss_exponent: n of the log-normal shadowing link model, Sect. 4.1.
@@ -122,9 +123,9 @@ class SugarMapParams(SwarmParams):
     algorithm: str = param("sugarmap", choices=ALGORITHMS)
     arena: str | Path = "open"
     entrance: tuple[float, float] | None = None
-    n_explorers: int = param(4, low=1, high=100, integer=True)
-    n_anchors: int | None = param(None, low=1, high=100, integer=True)
-    n_particles: int | None = param(None, low=1, high=10_000, integer=True)
+    n_explorers: int = param(4, low=1, high=100, integer=True, shown=(1, 8))
+    n_anchors: int | None = param(None, low=1, high=100, integer=True, shown=(1, 12))
+    n_particles: int | None = param(None, low=1, high=10_000, integer=True, shown=(1, 100))
     horizon: float = param(3000.0, low=0.0, low_open=True)
     speed: float = param(0.35, low=0.0, high=0.45, low_open=True)
     turn_noise: float = param(0.20, low=0.0, high=1.0)

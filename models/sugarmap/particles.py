@@ -3,7 +3,7 @@
 A particle is one hypothesis of an explorer's whole coverage path: its position and heading,
 its LocalMap (the cells it believes covered, eq. 4) and, for every signature the explorer
 stored, where the particle was at that moment (eq. 7 compares a particle's position now with its
-own past, so that history must travel with it). Each tick (spec §5.3):
+own past, so that history must travel with it). Each tick (Sect. 3.3):
 
 - F1 predict (eqs. 3-6): every particle executes the explorer's command with its own draw of the
   actuation noise and marks its new cell;
@@ -15,8 +15,8 @@ own past, so that history must travel with it). Each tick (spec §5.3):
   over the explorers (eq. 10).
 
 Everything over (explorers x particles) is one numpy operation; Python loops run over explorers
-only. Particles know no walls: the brain has no map (spec A25). Symbols as in spec §0: N
-particles, N_a anchors, n_e explorers, i particle, e explorer, j stored signature.
+only. Particles know no walls: the brain has no map (README "Choices": particles and walls).
+Symbols: N particles, N_a anchors, n_e explorers, i particle, e explorer, j stored signature.
 """
 
 from collections.abc import Callable
@@ -46,7 +46,7 @@ _MAX_DRAW_ROUNDS = 1000
 class MapGrid:
     """The brain's estimate grid: square cells of side ``cell`` (m, the paper's D); cell
     (ix, iy) spans ``[origin_x + ix cell, origin_x + (ix + 1) cell)`` and likewise in y; row
-    index iy grows north (spec §3.1).
+    index iy grows north (README "Choices": heading frame).
 
     Attributes:
         origin: the south-west corner of cell (0, 0) in the brain frame (m).
@@ -68,8 +68,9 @@ class MapGrid:
     def around(cls, width: float, height: float, cell: float, margin: int) -> "MapGrid":
         """A grid covering [0, width] x [0, height] m plus ``margin`` cells on every side.
 
-        The paper's brain places the swarm "at the center of an infinite space" [P Sect. 4.1];
-        the margin stands in for that space where particles drift out of the arena (spec §2.2).
+        The paper's brain places the swarm "at the center of an infinite space" [Sect. 4.1];
+        the margin stands in for that space where particles drift out of the arena (README
+        "Choices": estimate map).
         """
         check_range("width", width, 0.0, low_open=True)
         check_range("height", height, 0.0, low_open=True)
@@ -118,11 +119,12 @@ def _eq11(a: np.ndarray, b: np.ndarray, norm: str) -> np.ndarray:
 def signature_distance(
     signature: np.ndarray, stored: np.ndarray, norm: str = "count"
 ) -> np.ndarray:
-    """Eq. 11, the distance of one signature to each stored one [P Sect. 4.3.6].
+    """Eq. 11, the distance of one signature to each stored one [Sect. 4.3.6].
 
     ``f = ||s - s_j||`` over the anchors visible in both, divided by their number ("count",
-    the paper's formula, so f falls like 1/sqrt(N_a) for equal per-anchor differences, spec
-    A11) or by its square root ("rms"); +inf where no anchor is in common (spec §3.5.3).
+    the paper's formula, so f falls like 1/sqrt(N_a) for equal per-anchor differences,
+    README "Choices": eq. 11's normaliser) or by its square root ("rms"); +inf where no anchor is in
+    common.
 
     Args:
         signature: ``(N_a,)`` RToF values; NaN where the anchor was not visible.
@@ -145,12 +147,12 @@ def signature_distance(
 
 
 def eq8_weights(delta: np.ndarray) -> np.ndarray:
-    """Eq. 8, normalised: ``w_i = (sum_l delta_l - delta_i) / sum_l delta_l`` [P Sect. 3.3.2].
+    """Eq. 8, normalised: ``w_i = (sum_l delta_l - delta_i) / sum_l delta_l`` [Sect. 3.3.2].
 
-    The raw weights sum to N - 1, so they are divided by N - 1. When every delta is 0 (0/0) or
-    N = 1 (w = 0) the weights are uniform (spec A9). A smaller delta never gets a smaller
-    weight, but the rule is flat: one perfect particle among nine equal ones weighs only 9/8
-    of the others.
+    The raw weights sum to N - 1, so they are divided by N - 1. When every delta is 0 (0/0) or N = 1
+    (w = 0) the weights are uniform (README "Choices": eq. 8's weights). A smaller delta never gets
+    a smaller weight, but the rule is flat: one perfect particle among nine equal ones weighs only
+    9/8 of the others.
 
     Args:
         delta: ``(N,)`` eq. 7 distances (m), each >= 0.
@@ -174,7 +176,8 @@ def _eq8(delta: np.ndarray) -> np.ndarray:
 
 
 def _gauss_weights(delta: np.ndarray, sigma_m: float) -> np.ndarray:
-    """The Gaussian option for eq. 8, ``exp(-delta^2 / 2 sigma_m^2)`` normalised (spec A9).
+    """The Gaussian option for eq. 8, ``exp(-delta^2 / 2 sigma_m^2)`` normalised (README "Choices":
+    eq. 8's weights).
 
     Computed relative to the smallest delta, which leaves the normalised weights unchanged but
     keeps them from all underflowing to 0 when every particle is many sigma_m away.
@@ -188,7 +191,8 @@ def global_map(node_maps: np.ndarray) -> np.ndarray:
     each cell, taking the explorers as independent.
 
     Args:
-        node_maps: ``(n_e, H, W)`` NodeMaps in [0, 1] (explorers only, spec A46).
+        node_maps: ``(n_e, H, W)`` NodeMaps in [0, 1] (explorers only, README "Choices":
+            eq. 10's n).
 
     Returns:
         ``(H, W)`` GlobalMap.
@@ -206,23 +210,27 @@ class ParticleFilter:
     Args:
         starts: ``(n_e, 2)`` each explorer's known start position (m, brain frame). F0: every
             particle starts there facing north (phi = 0), with weight 1/N, its start cell
-            marked in its LocalMap, and no signature stored [P Sect. 3.3.1, spec A18].
+            marked in its LocalMap, and no signature stored [Sect. 3.3.1; README "Choices": initial
+            particles].
         n_particles: N per explorer.
         n_anchors: N_a, the length of a signature.
         grid: the estimate grid of the LocalMaps.
         sig_th: SIG_TH, the eq. 11 distance below which a signature matches a stored one.
         heading_model: "literal" (H-lit, eq. 6 as printed: the commanded absolute heading plus
             fresh noise, errors do not accumulate) or "accumulate" (H-acc: the particle's own
-            heading plus the commanded turn plus noise, gyro-style) (spec §3.3, A5).
-        turn_noise: SD of n_phi as a share of the commanded turn |Delta_k| (0.20 [P 4.3.7]).
-        speed_noise: SD of n_v as a share of the commanded speed v_k (0.15 [P 4.3.7]).
-        weights: "eq8" (eq. 8 normalised) or "gauss" (exp(-delta^2 / 2 sigma_m^2)) (spec A9).
-        sigma_m: the Gaussian weights' length (m; the spec suggests D).
+            heading plus the commanded turn plus noise, gyro-style) (README "Choices": heading
+            errors).
+        turn_noise: SD of n_phi as a share of the commanded turn |Delta_k| (0.20, Sect. 4.3.7).
+        speed_noise: SD of n_v as a share of the commanded speed v_k (0.15, Sect. 4.3.7).
+        weights: "eq8" (eq. 8 normalised) or "gauss" (exp(-delta^2 / 2 sigma_m^2)) (README
+            "Choices": eq. 8's weights).
+        sigma_m: the Gaussian weights' length (m; ours: D).
         resample: "on_match" (only after a match) or "every_tick" (also uniformly without
-            one, as the generic filter of Sect. 3.3.1 does) (spec A16).
+            one, as the generic filter of Sect. 3.3.1 does) (README "Choices": resampling).
         min_match_age: stored signatures younger than this (s) cannot match, so a match means a
-            loop closure rather than the last few ticks (spec A10; 0 = off).
-        sig_norm: eq. 11's normaliser, "count" (literal) or "rms" (spec A11).
+            loop closure rather than the last few ticks (README "Choices": match; 0 = off).
+        sig_norm: eq. 11's normaliser, "count" (literal) or "rms" (README "Choices": eq. 11's
+            normaliser).
 
     Attributes:
         pos: ``(n_e, N, 2)`` particle positions (m, brain frame).
@@ -351,7 +359,8 @@ class ParticleFilter:
             rng: the model's generator.
             heading: ``(n_e,)`` commanded absolute heading phi_k (deg clockwise from north).
             turn: ``(n_e,)`` commanded turn Delta_k (deg; wrapped here to (-180, 180], so a
-                reversal has the 36 deg SD of spec A8 whatever the caller's convention).
+                reversal has the 36 deg SD of README "Choices": actuation noise, whatever the
+                caller's convention).
             speed: ``(n_e,)`` commanded speed v_k (m/s, >= 0).
             moved: ``(n_e,)`` bool; False where the explorer reported blocked or is inactive:
                 no translation this tick, but headings still update.
@@ -391,13 +400,13 @@ class ParticleFilter:
     def correct(
         self, rng: np.random.Generator, explorer: int, signature: np.ndarray, now: float
     ) -> Match:
-        """F2 for one explorer with this tick's signature (spec §5.3).
+        """F2 for one explorer with this tick's signature (Sect. 3.3, eqs. 7, 8, 11).
 
-        The nearest stored signature at least ``min_match_age`` old (spec A14) matches if its
-        eq. 11 distance is below SIG_TH. Then each particle's eq. 7 distance
-        ``delta_i = ||pos_i - Store_i[j]||`` sets its weight (eq. 8 or Gaussian) and the
-        particles are resampled with replacement; the matched signature is not stored (spec
-        A15). Without a match the signature joins S with every particle's position (and with
+        The nearest stored signature at least ``min_match_age`` old (README "Choices": match)
+        matches if its eq. 11 distance is below SIG_TH. Then each particle's eq. 7 distance
+        ``delta_i = ||pos_i - Store_i[j]||`` sets its weight (eq. 8 or Gaussian) and the particles
+        are resampled with replacement; the matched signature is not stored (README "Choices":
+        match). Without a match the signature joins S with every particle's position (and with
         ``resample="every_tick"`` the particles are resampled uniformly).
 
         Args:
@@ -436,8 +445,8 @@ class ParticleFilter:
         return int(explorer)
 
     def _nearest(self, e: int, signature: np.ndarray, now: float) -> tuple[int, float]:
-        """``(j, f)``: the nearest stored signature old enough to match (spec A14, A10) and
-        its eq. 11 distance; ``(-1, inf)`` when there is none.
+        """``(j, f)``: the nearest stored signature old enough to match (README "Choices": match)
+        and its eq. 11 distance; ``(-1, inf)`` when there is none.
         """
         s = int(self.n_stored[e])
         if s == 0:
@@ -456,8 +465,9 @@ class ParticleFilter:
             self.weights[e] = _gauss_weights(delta, self.sigma_m)
 
     def _resample(self, rng: np.random.Generator, e: int) -> None:
-        """Multinomial resampling with replacement [P Sect. 3.3.2]: a particle's position,
-        heading, LocalMap and Store travel together (spec A17); the weights are reset to 1/N.
+        """Multinomial resampling with replacement [Sect. 3.3.2]: a particle's position,
+        heading, LocalMap and Store travel together (README "Choices": resampling); the weights are
+        reset to 1/N.
         """
         n = self.n_particles
         # N independent draws from the weights by inverse CDF: what Generator.choice(n, n,
@@ -516,7 +526,7 @@ def calibrate_sig_th(
     *,
     is_free: Callable[[np.ndarray], np.ndarray],
 ) -> float:
-    """SIG_TH by the paper's procedure [P Sect. 4.3.6], made precise in spec §3.5.3.
+    """SIG_TH by the paper's procedure [Sect. 4.3.6], as README "Choices": SIG_TH states it.
 
     At ``locations`` random navigable places, draw ``per_location`` points uniformly in a disc
     of ``radius`` m around each (points that are not navigable are dropped and more are drawn

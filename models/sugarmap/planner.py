@@ -1,21 +1,23 @@
-"""The coverage path planner of Fig. 4 (Purohit et al. Sect. 3.2; spec §5.2, steps P1-P18).
+"""The coverage path planner of Fig. 4 (Purohit et al. Sect. 3.2); P1-P18 in the
+code number the flowchart's steps as we read them.
 
 A depth-first, spanning-tree planner on the brain's grid of D-cells, one instance per explorer,
-run at the base station (spec A48). It reads the GlobalMap ``G`` (eq. 10): a neighbour counts as
-"not covered" while ``G < COVER_TH`` (Sect. 3.2, 4.3.6). Among the uncovered N/E/S/W neighbours
-it picks one at random, "the probability of picking a cell is inverse of its confidence of
-coverage" (read as ``1 - G + eps``, spec A20; option ``1 / (G + eps)``), makes it a child in its
-tree and heads there. When every neighbour is covered or blocked it backtracks:
+run at the base station (README "Choices": where the planner runs). It reads the GlobalMap ``G``
+(eq. 10): a neighbour counts as "not covered" while ``G < COVER_TH`` (Sect. 3.2, 4.3.6). Among the
+uncovered N/E/S/W neighbours it picks one at random, "the probability of picking a cell is inverse
+of its confidence of coverage" (read as ``1 - G + eps``, README "Choices": next-cell weight; option
+``1 / (G + eps)``), makes it a child in its tree and heads there. When every neighbour is covered or
+blocked it backtracks:
 
-- ``"soft"`` (default, spec A21): "increments the probability of picking the last covered
-  cell", read as any unblocked neighbour with the tree parent's weight raised by ``beta``
-  (A22: the last covered cell is the tree parent);
+- ``"soft"`` (default, README "Choices": backtracking): "increments the probability of picking the
+  last covered cell", read as any unblocked neighbour with the tree parent's weight raised by
+  ``beta`` (the last covered cell read as the tree parent);
 - ``"hard"``: the idealised DFS, straight back to the tree parent; at the root with nothing
-  left the explorer idles and re-checks every tick (COVER_TH is "an exit condition", A26).
+  left the explorer idles and re-checks every tick (COVER_TH is "an exit condition").
 
 The explorer has no range sensor, so a cell is known to be blocked only by bumping into it
-(spec §3.3, A24); the mark lives in the brain's frame, which drifts from the true one, so it
-expires after ``blocked_ttl`` s. Neighbours outside the estimate grid count as blocked.
+(README "Choices": walls); the mark lives in the brain's frame, which drifts from the true one, so
+it expires after ``blocked_ttl`` s. Neighbours outside the estimate grid count as blocked.
 """
 
 import numpy as np
@@ -26,7 +28,8 @@ __all__ = ["CoveragePlanner", "HEADINGS", "heading_to"]
 
 Cell = tuple[int, int]
 
-#: Compass heading (deg, clockwise from north, spec §3.1) of each 4-neighbour step (dx, dy).
+#: Compass heading (deg, clockwise from north, README "Choices": heading frame) of each 4-neighbour
+#: step (dx, dy).
 HEADINGS = {(0, 1): 0.0, (1, 0): 90.0, (0, -1): 180.0, (-1, 0): 270.0}
 
 
@@ -76,11 +79,12 @@ class CoveragePlanner:
         root: the explorer's start cell ``(ix, iy)`` in the estimate grid.
         cover_th: COVER_TH in (0, 1]: a cell with ``G >= cover_th`` counts as covered; 0.95
             (Sect. 4.3.6).
-        backtrack: ``"soft"`` or ``"hard"`` (see the module docstring; spec A21).
-        beta: the tree parent's weight bonus under soft backtracking (>= 0; spec §2.2: 1).
-        blocked_ttl: seconds a bumped cell stays blocked (> 0; spec §2.2: 30).
+        backtrack: ``"soft"`` or ``"hard"`` (see the module docstring; README "Choices":
+            backtracking).
+        beta: the tree parent's weight bonus under soft backtracking (>= 0; ours: 1).
+        blocked_ttl: seconds a bumped cell stays blocked (> 0; ours: 30, README "Choices": walls).
         pick: a candidate's weight: ``"one_minus"`` ``(1 - G) + eps`` or ``"inverse"``
-            ``1 / (G + eps)`` (spec A20).
+            ``1 / (G + eps)`` (README "Choices": next-cell weight).
         eps: keeps every weight positive and finite (> 0).
 
     Attributes:

@@ -1,6 +1,6 @@
 """What Purohit et al. (2013) publish about SugarMap: the one number (85 % of the testbed in
-3 minutes), every checkable claim (spec §8, C01-C27) with its test, and the figure layout
-(coverage against time, mean +- SD over 10 runs, as Figs. 5-9, 11 and 15).
+3 minutes), every checkable claim (C01-C27, each with the paper's section) with its test, and the
+figure layout (coverage against time, mean +- SD over 10 runs, as Figs. 5-9, 11 and 15).
 
 The paper's plots carry no values in its text: every other result is an ordering or a shape,
 so the claims, not numbers, are what a reproduction is judged on.
@@ -122,7 +122,7 @@ _BY_CONSTRUCTION = {
 #: C18 restates the testbed record: one rule (its band) in one place.
 _TESTS = {**TESTS, "C18": level_test(TESTBED)}
 
-#: Every claim of spec §8 with its test (or why it has none).
+#: Every checkable claim of the paper with its test (or why it has none).
 CLAIMS = [
     Claim(
         i,

@@ -1,4 +1,5 @@
-"""Round-trip time-of-flight signatures in metre-equivalents (our reading, spec §3.5.2).
+"""Round-trip time-of-flight signatures in metre-equivalents (our reading, README "Choices": RToF
+model).
 
 The paper gives no RToF model, unit or noise: only that single values vary a lot while the
 combined vector (the signature) is stable and location-specific (Sect. 3.1, 4.4, Fig. 14). We

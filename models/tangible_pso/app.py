@@ -6,10 +6,13 @@ the best cost against time. One Mesa step is one transition's flight or more.
 Serve it with ``abm viz tangible-pso`` (or ``solara run models.tangible_pso.app``).
 """
 
-from abm.viz.controls import slider
+from abm.viz.controls import param_slider, seed_slider
 from abm.viz.page import make_page
 from models.tangible_pso.model import TangiblePSOModel
 from models.tangible_pso.scenario import SCENARIOS
+
+#: The model's parameters: every slider's bounds come from them.
+P = TangiblePSOModel.Params
 
 __all__ = ["MODEL_PARAMS", "page"]
 
@@ -17,12 +20,12 @@ __all__ = ["MODEL_PARAMS", "page"]
 MODEL_PARAMS = {
     "scenario": {"type": "Select", "label": "scenario", "value": "nofly",
                  "values": list(SCENARIOS)},
-    "n_mavs": slider("MAVs n_r", 3, 1, 8, 1),
-    "neighbours": slider("required neighbours k", 1, 0, 5, 1),
+    "n_mavs": param_slider(P, "n_mavs", "MAVs n_r"),
+    "neighbours": param_slider(P, "neighbours", "required neighbours k"),
     "motion_planning": {"type": "Checkbox", "label": "motion planning", "value": True},
-    "particles": slider("particles", 40, 2, 80, 1),
-    "iterations": slider("iterations", 70, 10, 150, 1),
-    "seed": slider("seed", 1, 0, 100, 1),
+    "particles": param_slider(P, "particles", "particles"),
+    "iterations": param_slider(P, "iterations", "iterations"),
+    "seed": seed_slider(),
 }  # fmt: skip
 
 page = make_page(

@@ -1,4 +1,4 @@
-"""The tests of the tangible-PSO claims (spec §5) on a sweep's tidy run rows.
+"""The tests of the tangible-PSO claims (``published.CLAIMS``) on a sweep's tidy run rows.
 
 Each function takes the runs (one row per run: parameters and summary) and the time series
 (unused) and returns a :class:`abm.published.Verdict`, or None when the runs lack the set-up.

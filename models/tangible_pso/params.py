@@ -5,7 +5,7 @@ deployment for cooperative surveillance by micro-aerial vehicles", J. Intell. Ro
 The paper publishes the PSO settings (c1 = 2.5, c2 = 2.0, u_max = inf, w = 1, Sect. 7), the
 population sizes of its experiments, the 1.2 m minimum distance (Sect. 7.2) and the cost of
 eq. 1; every geometric value and every reading of a step it describes in words is ours
-(spec ``tangible_pso.md`` §6) and marked so.
+(the model's README, "What we had to choose") and marked so.
 """
 
 import math
@@ -44,7 +44,7 @@ class TangiblePSOParams(SwarmParams):
             decrease.
         u_max: per-component velocity limit (m; inf, Sect. 7).
         initial_speed: initial velocities are U[-initial_speed, initial_speed] per component
-            (m; ours: 15, half the side of Table 1's area. The paper does not say; the spec's
+            (m; ours: 15, half the side of Table 1's area. The paper does not say; our first
             reading of 1 m leaves the whole population oscillating around the depot, where
             the cost of eq. 1 is flat, so no run improves on its start: see the README).
         initial_velocity: "component": every coordinate of every MAV draws its own initial
@@ -81,8 +81,9 @@ class TangiblePSOParams(SwarmParams):
             iterations, at least this share of the particles had an MAV stopped by a no-fly
             zone (ours: the reading of "the movement of PSO particles was stopped due to the
             non-fly zone", Sect. 7.1).
-        frozen_move: a particle "moved" in an iteration when one of its MAVs moved more than
-            this (m; ours: 1 cm), for the spec's alternative deadlock reading ``frozen``.
+        frozen_move: a particle "moved" in an iteration when one of its MAVs moved more than this
+            (m; ours: 1 cm), for the alternative deadlock reading ``frozen`` (README "What we had to
+            choose": deadlock run).
         deploy: after the optimisation the real swarm (n_r more robots) flies the best
             particle's realised transitions to b_g (Sects. 5-6; ours: the paper plans the
             deployment but does not fly it in simulation). Needed for MAV failures
@@ -92,11 +93,11 @@ class TangiblePSOParams(SwarmParams):
 
     scenario: str = param("nofly")
     depot: tuple[float, float] | None = param(None)
-    n_mavs: int = param(3, low=1, high=50, integer=True)
-    neighbours: int = param(1, low=0, integer=True)
+    n_mavs: int = param(3, low=1, high=50, integer=True, shown=(1, 8))
+    neighbours: int = param(1, low=0, integer=True, shown=(0, 5))
     motion_planning: bool = param(True)
-    particles: int = param(40, low=1, high=2000, integer=True)
-    iterations: int = param(70, low=1, high=10000, integer=True)
+    particles: int = param(40, low=1, high=2000, integer=True, shown=(2, 80))
+    iterations: int = param(70, low=1, high=10000, integer=True, shown=(10, 150))
     c1: float = param(2.5, low=0.0)
     c2: float = param(2.0, low=0.0)
     w_start: float = param(1.0, low=0.0)

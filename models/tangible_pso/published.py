@@ -1,6 +1,6 @@
 """What Saska et al. (2016) publish about tangible PSO: Table 1 (collisions, deadlocks and
 average final cost with and without motion planning at k = 0, 1, 2 required neighbours), the
-goal-swapping statistic, Fig. 9's run, and the checkable claims (spec §5) with their tests.
+goal-swapping statistic, Fig. 9's run, and the checkable claims (C1-C6, below) with their tests.
 
 The paper's costs are in its own (unstated) map units; ours are in 1 m cells with A_max = 1,
 so the cost levels are shown beside each other and the ratios between rows are what compare.
@@ -113,7 +113,7 @@ _BY_CONSTRUCTION = {"C3": BY_PLANNING}
 #: C4 judged against the paper's own share.
 _TESTS = {**TESTS, "C4": partial(c4, paper=SWAP_RESOLVED_PCT)}
 
-#: Every claim of spec §5 with its test (or why it has none).
+#: Every checkable claim of the paper with its test (or why it has none).
 CLAIMS = [
     Claim(
         i,

@@ -3,8 +3,8 @@
 A scenario is a small TOML file (``scenarios/<name>.toml``, or any path): ``size`` (m), ``depot``
 (x, y in m), ``a_max`` (A_max), ``[[zones]]`` with polygon ``vertices`` (m) and either
 ``[[aoi]]`` discs (``centre``, ``radius`` in m, ``value``) or a full ``aoi_map`` (rows of A,
-row 0 south, 1 m cells). The paper publishes no geometry; the shipped maps are the spec's
-readings of Table 1 ("nofly") and Fig. 9 ("open").
+row 0 south, 1 m cells). The paper publishes no geometry; the shipped maps are our
+readings of Table 1 (README "What we had to choose": maps) ("nofly") and Fig. 9 ("open").
 """
 
 import tomllib

@@ -25,7 +25,7 @@ import numpy as np
 from scipy import ndimage
 
 from abm.errors import ConfigError, check_choice, check_range
-from abm.worlds.world import COMPLEXITIES, World, as_generator, world_from_cells
+from models.environments.world import COMPLEXITIES, World, as_generator, world_from_cells
 
 __all__ = ["OBSTACLES", "ROOM_CELLS", "open_world", "room_layouts"]
 

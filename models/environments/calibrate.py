@@ -1,15 +1,17 @@
 """Calibrate the corridor branching constants against the paper's branch counts.
 
-Run ``python -m abm.worlds.calibrate`` (a few minutes on two cores). For every ``min_gap`` it
+Run ``python -m models.environments.calibrate`` (a few minutes on two cores). For every
+``min_gap`` it
 finds by bisection the ``p_branch`` (to 0.01) whose mean branch count over 40-cell worlds is
 nearest the paper's, then keeps the pair that best matches mean and standard deviation,
-re-measured on more worlds. The result is copied by hand into :data:`abm.worlds.corridor.BRANCHING`.
+re-measured on more worlds. The result is copied by hand into
+:data:`models.environments.corridor.BRANCHING`.
 """
 
 import numpy as np
 
 from abm.pools import process_pool
-from abm.worlds.corridor import branch_count, grow_corridor
+from models.environments.corridor import branch_count, grow_corridor
 
 __all__ = ["PAPER_BRANCHES", "branch_stats", "calibrate", "main"]
 

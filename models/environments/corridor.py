@@ -27,7 +27,7 @@ corridor is complete (rare) the growth starts afresh from the same generator.
 import numpy as np
 
 from abm.errors import check_choice, check_range
-from abm.worlds.world import COMPLEXITIES, World, as_generator, world_from_cells
+from models.environments.world import COMPLEXITIES, World, as_generator, world_from_cells
 
 __all__ = ["BRANCHING", "MIN_RUN", "P_TURN", "branch_count", "corridor_world", "grow_corridor"]
 
@@ -40,7 +40,8 @@ MIN_RUN = 2
 
 #: ``complexity -> (p_branch, min_gap)``: probability per grown cell that it becomes a junction,
 #: and the cells an arm must grow after a junction before it may branch again. Found with
-#: ``python -m abm.worlds.calibrate``: for each ``min_gap`` in 1..12, bisection on ``p_branch``
+#: ``python -m models.environments.calibrate``: for each ``min_gap`` in 1..12, bisection on
+#: ``p_branch``
 #: (to 0.01) for the paper's mean branch count of 40-cell corridors, then the pair minimising
 #: ``4 * (relative mean error)^2 + (relative sd error)^2`` over 8000 worlds. Measured there:
 #: low 3.52 (sd 1.20), medium 5.84 (1.08), high 9.53 (1.57); paper 3.56 (1.23), 5.82 (1.07),

@@ -5,7 +5,7 @@ steps from the base always meets walls where it expects them. Real floor plans d
 and doors of 1-5 m, rooms of different sizes, walls at any offset from the base, pillars,
 L-shaped halls, diagonal walls drawn as staircases of pixels. These plans exercise a model on
 such places; each builder returns the boolean free grid (row 0 = south, True = free) with a
-one-pixel outer wall, and :data:`abm.worlds.MAPS` registers them with a start point.
+one-pixel outer wall, and :data:`models.environments.MAPS` registers them with a start point.
 """
 
 import numpy as np

@@ -5,10 +5,10 @@ import math
 import numpy as np
 
 from abm.errors import ConfigError, check_choice, check_range
-from abm.worlds.corridor import corridor_world
-from abm.worlds.mixed import MIXED_BRANCHING, MIXED_CORRIDOR_CELLS, ROOM_SIDE, mixed_world
-from abm.worlds.open_room import OBSTACLES, ROOM_CELLS, open_world
-from abm.worlds.world import COMPLEXITIES, WORLD_KINDS, World
+from models.environments.corridor import corridor_world
+from models.environments.mixed import MIXED_BRANCHING, MIXED_CORRIDOR_CELLS, ROOM_SIDE, mixed_world
+from models.environments.open_room import OBSTACLES, ROOM_CELLS, open_world
+from models.environments.world import COMPLEXITIES, WORLD_KINDS, World
 
 __all__ = ["make_world"]
 

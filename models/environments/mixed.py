@@ -5,7 +5,8 @@ cells, so approximately half the environment being corridor and half open space.
 complexity corridor branching was used to generate the corridors."
 
 Construction: room A sits at the origin; a doorway cell is chosen just outside a random cell of a
-random side of it, and a medium-branching corridor tree (:func:`~abm.worlds.grow_corridor`) of 22
+random side of it, and a medium-branching corridor tree
+(:func:`~models.environments.grow_corridor`) of 22
 cells grows from that doorway, never touching room A elsewhere. Room B is then attached beyond a
 random dead end of the corridor (or, if no dead end has room, beside any corridor cell, which
 becomes a junction), in line with it or offset by one cell sideways. Each room touches the
@@ -16,8 +17,8 @@ A layout with nowhere to put room B (rare) is redrawn from the same generator.
 import numpy as np
 
 from abm.errors import check_range
-from abm.worlds.corridor import branch_count, grow_corridor
-from abm.worlds.world import World, as_generator, world_from_cells
+from models.environments.corridor import branch_count, grow_corridor
+from models.environments.world import World, as_generator, world_from_cells
 
 __all__ = ["MIXED_BRANCHING", "MIXED_CORRIDOR_CELLS", "ROOM_SIDE", "mixed_world"]
 

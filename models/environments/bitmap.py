@@ -5,8 +5,9 @@ and measure a map's complexity by the entropy of its binary image,
 ``H = -sum_k P_k log2 P_k`` over the two grey levels (wall, free). The built-in maps are
 reconstructions of the paper's Table 1 maps (drawn from its description: the images are not
 published) plus a few more of other entropy and size, and floor plans of ordinary buildings
-(:mod:`abm.worlds.floorplans`), generated in code so they are exact and reproducible;
-:func:`write_builtin_maps` writes them as PNGs (the copies shipped in ``abm/worlds/maps/``).
+(:mod:`models.environments.floorplans`), generated in code so they are exact and reproducible;
+:func:`write_builtin_maps` writes them as PNGs (the copies shipped in
+``models/environments/maps/``).
 """
 
 import hashlib
@@ -19,7 +20,7 @@ import numpy as np
 from abm.arena import Arena, MapParts, map_parts
 from abm.errors import ConfigError, MapError
 from abm.memory import check_map_memory
-from abm.worlds.floorplans import FLOOR_PLANS
+from models.environments.floorplans import FLOOR_PLANS
 
 __all__ = [
     "MAPS",
@@ -255,7 +256,8 @@ MAPS: dict[str, MapInfo] = {
         MapInfo("pillars", "100 x 100 m hall with a grid of 4 x 4 m pillars", _pillars),
         MapInfo("lshape", "L-shaped hall in a 100 x 100 m square", _lshape),
         MapInfo("wide", "100 x 150 m hall with two partial walls", _wide),
-        # Floor plans of ordinary buildings (abm.worlds.floorplans), walls off any 3 m lattice.
+        # Floor plans of ordinary buildings (models.environments.floorplans), walls off any
+        # 3 m lattice.
         *(
             MapInfo(name, title, build, start=start)
             for name, (build, start, title) in FLOOR_PLANS.items()

@@ -38,7 +38,7 @@ class World:
         complexity: ``"low"``, ``"medium"`` or ``"high"``.
         cells: ``(k, 2)`` int array of the free cells' ``(ix, iy)`` in the arena grid, sorted by
             ``iy`` then ``ix``; read-only.
-        branches: branch count of the corridor cells (see :func:`abm.worlds.branch_count`);
+        branches: branch count of the corridor cells (see :func:`models.environments.branch_count`);
             None for open rooms.
 
     """
