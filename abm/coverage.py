@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from abm.arena import Arena
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
 from abm.errors import ConfigError, check_choice, check_range
 
 __all__ = ["MAX_PIXELS", "CoverageRaster", "raster_bytes"]

@@ -16,9 +16,9 @@ import numpy as np
 from numba import njit
 
 from abm import portable
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
+from abm.disc_sight import cached_disc_visibility
 from abm.errors import ConfigError, check_range
-from abm.visibility import cached_disc_visibility
 
 __all__ = ["PheromoneField", "disc_offsets", "field_bytes"]
 
@@ -221,7 +221,7 @@ class PheromoneField:
             intensity: one value or one per point (C_dw, C_db).
             time: deposit time (s); the field is first decayed to it.
             line_of_sight: only on the pixels the point's pixel sees (the mask's False pixels
-                are walls, :mod:`abm.visibility`); otherwise on the whole disc within the mask.
+                are walls, :mod:`abm.disc_sight`); otherwise on the whole disc within the mask.
 
         """
         if time is not None:
@@ -284,7 +284,7 @@ class PheromoneField:
         reading as the least marked place around and pulling robots into walls.
 
         ``line_of_sight`` (implies ``relative``): read only the pixels the robot's pixel sees,
-        with the mask's False pixels as walls (:mod:`abm.visibility`), so pheromone behind a
+        with the mask's False pixels as walls (:mod:`abm.disc_sight`), so pheromone behind a
         wall neither pulls nor pushes.
         """
         check_range("falloff", falloff, 0.0)

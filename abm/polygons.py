@@ -2,7 +2,7 @@
 vectorised over many points or segments at once.
 
 A polygon is an ``(m, 2)`` array of vertices (m) in either orientation; several polygons are
-a list of them. These are the no-fly zones of a planner (:mod:`abm.visgraph`) or any model
+a list of them. These are the no-fly zones of a planner (:mod:`abm.visibility_graph`) or any model
 whose obstacles are shapes rather than grid cells. "Inside" is the open interior: points on an
 edge are outside, so a path may run along an edge.
 """

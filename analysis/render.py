@@ -1,6 +1,6 @@
 """Pictures of a saved run, rebuilt from its recorded files without re-running the model.
 
-At time t the picture shows what the run folder (see :mod:`analysis.runio`) records, for any
+At time t the picture shows what the run folder (see :mod:`analysis.run_folder`) records, for any
 model:
 
 - walls: the saved arena grid;
@@ -22,8 +22,10 @@ with a cursor at t.
 
 import shutil
 import subprocess
+from collections.abc import Iterator
 from pathlib import Path
 
+import matplotlib.image
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -32,9 +34,18 @@ from tqdm import tqdm
 
 from abm.errors import ABMError, ConfigError
 from abm.viz.scene import COVERED_COLOUR, Scene, SceneView
-from analysis.runio import SavedRun
+from analysis.blit import FrameBlitter
+from analysis.gif import write_gif
+from analysis.run_folder import SavedRun
 
-__all__ = ["RunReplay", "RunFigure", "render_animation", "render_snapshots", "snapshot_times"]
+__all__ = [
+    "RunFigure",
+    "RunReplay",
+    "animation_frames",
+    "render_animation",
+    "render_snapshots",
+    "snapshot_times",
+]
 
 
 class RunReplay:
@@ -175,6 +186,10 @@ class RunFigure:
             ax.grid(alpha=0.3)
             self._cursors.append(ax.axvline(0.0, color="black", lw=1.2, ls="--"))
         self._legend = None
+        self._title = None
+        #: whether the layout is kept (set at the first frame drawn)
+        self.laid_out = False
+        self._blitter = FrameBlitter(self.fig, self._changing)
 
     def _headline(self, time: float) -> str:
         meta = self.run.meta
@@ -197,17 +212,48 @@ class RunFigure:
             frameon=False,
             fontsize=9,
         )
-        self.fig.suptitle(self._headline(time), fontsize=11)
+        self._title = self.fig.suptitle(self._headline(time), fontsize=11)
+
+    def _changing(self) -> list:
+        """What :meth:`draw` changes: the scene's artists, the cursors, the legend, the title."""
+        parts = [*self.view.changing_artists(), *self._cursors, self._legend, self._title]
+        return [artist for artist in parts if artist is not None]
+
+    def rgba(self) -> np.ndarray:
+        """The figure as an ``(h, w, 4)`` uint8 view of the canvas, valid until the next
+        frame; the first call lays the figure out (constrained layout) and keeps that layout.
+
+        Only what :meth:`draw` changes is drawn again (see :class:`analysis.blit.FrameBlitter`),
+        which gives the pixels of a full draw.
+        """
+        image = self._blitter.render()
+        self.freeze_layout()
+        return image
 
     def rgb(self) -> np.ndarray:
-        """The figure as an ``(h, w, 3)`` uint8 image."""
-        self.fig.canvas.draw()
-        self.freeze_layout()
-        return np.asarray(self.fig.canvas.buffer_rgba())[..., :3].copy()
+        """The figure as an ``(h, w, 3)`` uint8 image (see :meth:`rgba`)."""
+        return self.rgba()[..., :3].copy()
+
+    def layout_key(self) -> tuple[float, float]:
+        """Heights (pixels) of the legend and the title: all constrained layout reads of them."""
+        renderer = self.fig.canvas.get_renderer()
+        return (
+            self._legend.get_tightbbox(renderer).height,
+            self._title.get_tightbbox(renderer).height,
+        )
+
+    def title_height(self) -> float:
+        """Where the title stands (figure fraction; constrained layout moves it)."""
+        return float(self._title.get_position()[1])
+
+    def set_title_height(self, y: float) -> None:
+        """Put the title at ``y`` (figure fraction), where a layout once put it."""
+        self._title.set_y(y)
 
     def freeze_layout(self) -> None:
         """Keep the current layout for later frames (constrained layout is slow to redo)."""
         self.fig.set_layout_engine("none")
+        self.laid_out = True
 
 
 def snapshot_times(run: SavedRun, n: int = 4) -> list[float]:
@@ -228,23 +274,80 @@ def _check_times(run: SavedRun, times) -> list[float]:
     return times
 
 
+class _SnapshotFigures:
+    """Figures for snapshots at one dpi, each laid out as ``savefig`` lays out a new figure.
+
+    Constrained layout reaches its result in steps, from where the axes stand: a figure
+    saved again and again drifts by a fraction of a pixel. So each snapshot is drawn as on a
+    new figure (what ``savefig`` of a new :class:`RunFigure` gives, pixel for pixel), and a
+    figure is kept for every layout met: the layout depends on the frame only through the
+    heights of the legend and of the title (constrained layout reserves their heights and
+    nothing else of them, and puts the title at a height of its own), so a snapshot whose
+    legend and title are as tall as an earlier one's is drawn on that figure, with the title
+    where the layout put it, redrawing only what changed.
+    """
+
+    def __init__(self, run: SavedRun, dpi: int) -> None:
+        self.run = run
+        self.dpi = dpi
+        self._figures: dict[tuple[float, float], tuple[RunFigure, float]] = {}
+        self._probe: RunFigure | None = None
+
+    def rgba(self, time: float) -> np.ndarray:
+        """The snapshot at ``time`` (s) as an ``(h, w, 4)`` view, valid until the next one."""
+        probe = self._probe
+        if probe is None or probe.laid_out:
+            probe = self._new_figure()
+        probe.draw(time)
+        key = probe.layout_key()
+        if key not in self._figures:  # a layout not met yet: the probe is a new figure
+            image = probe.rgba()
+            self._figures[key] = (probe, probe.title_height())
+            self._probe = None
+            return image
+        figure, title_y = self._figures[key]
+        self._probe = probe  # kept for the next snapshot
+        figure.draw(time)
+        figure.set_title_height(title_y)
+        return figure.rgba()
+
+    def _new_figure(self) -> "RunFigure":
+        figure = RunFigure(self.run)
+        figure.fig.set_dpi(self.dpi)
+        return figure
+
+
 def render_snapshots(
     run: SavedRun, times, out_dir: str | Path, dpi: int = 110, progress: bool = False
 ) -> list[Path]:
-    """Save one PNG per time (s) as ``out_dir/snapshot_<t>s.png`` (t rounded); return the paths."""
+    """Save one PNG per time (s) as ``out_dir/snapshot_<t>s.png`` (t rounded); return the paths.
+
+    Each PNG is what ``savefig`` writes for a new figure of that snapshot.
+    """
     times = _check_times(run, times)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    figure = RunFigure(run)
+    figures = _SnapshotFigures(run, dpi)
     paths = []
     for time in tqdm(sorted(times), desc="snapshots", unit="png", disable=not progress):
-        figure.draw(time)
         path = out / f"snapshot_{round(time):05d}s.png"
         if path in paths:
             path = out / f"snapshot_{round(time):05d}s_{len(paths)}.png"
-        figure.fig.savefig(path, dpi=dpi)
+        # as savefig writes it (FigureCanvasAgg.print_png)
+        matplotlib.image.imsave(path, figures.rgba(time), format="png", origin="upper", dpi=dpi)
         paths.append(path)
     return paths
+
+
+def animation_frames(run: SavedRun, frames: int, dpi: int = 80) -> Iterator[np.ndarray]:
+    """The ``(h, w, 3)`` uint8 frames of an animation: ``frames`` times evenly spaced over the
+    run, on one figure laid out at the first frame.
+    """
+    figure = RunFigure(run)
+    figure.fig.set_dpi(dpi)
+    for time in np.linspace(0.0, run.end_time, frames):
+        figure.draw(float(time))
+        yield figure.rgb()
 
 
 def render_animation(
@@ -278,20 +381,17 @@ def render_animation(
     if kind == ".mp4" and ffmpeg is None:
         raise ABMError("MP4 needs ffmpeg on PATH (apt-get install -y ffmpeg); write a .gif instead")
     path.parent.mkdir(parents=True, exist_ok=True)
-    figure = RunFigure(run)
-    figure.fig.set_dpi(dpi)
-    images = []
-    for time in tqdm(
-        np.linspace(0.0, run.end_time, frames), desc="frames", unit="frame", disable=not progress
-    ):
-        figure.draw(float(time))
-        images.append(figure.rgb())
+    images = tqdm(
+        animation_frames(run, frames, dpi),
+        total=frames,
+        desc="frames",
+        unit="frame",
+        disable=not progress,
+    )
     if kind == ".gif":
-        import imageio.v3 as iio
-
-        iio.imwrite(path, np.stack(images), duration=1000.0 / fps, loop=0)
+        write_gif(images, path, fps)
     else:
-        _write_mp4(ffmpeg, images, path, fps)
+        _write_mp4(ffmpeg, list(images), path, fps)
     return path
 
 

@@ -39,6 +39,8 @@ from analysis.compare import (
 )
 from analysis.figures import label, save_curves, save_figures
 from analysis.html import image_data, render_page, table
+from analysis.sensitivity_report import design_block
+from analysis.sensitivity_report import write_csv as write_sensitivity
 from analysis.statistics_table import anova_items, pearson_rows, statistics_frame, tests_on_page
 from analysis.statistics_table import write_csv as write_statistics
 from analysis.sweep import load_results, read_manifest, swept_keys
@@ -176,6 +178,7 @@ def write_report(
         statistics=statistics,
     )
     comparison_csv(comparison, judged).to_csv(path.with_name("comparison.csv"), index=False)
+    write_sensitivity(blocks, path.with_name("sensitivity.csv"))
     return path
 
 
@@ -206,7 +209,11 @@ def _tally(comparison: pd.DataFrame | None, claims: list[dict] | None) -> list[s
 
 
 def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> dict:
-    """One sweep's figures, curves, statistics and failures."""
+    """One sweep's figures, curves, statistics and failures (a design sweep: its sensitivity)."""
+    if sweep.manifest.get("design"):
+        title = f"{sweep.name}: {sweep.manifest.get('description', '')}" if titled else ""
+        return design_block(sweep.name, sweep.manifest, sweep.runs, cls,
+                            sweep.folder / "figures", title)  # fmt: skip
     runs = stats.ok_runs(sweep.runs)
     failed = sweep.runs[sweep.runs["status"] == "failed"] if "status" in sweep.runs else runs[:0]
     layout = layout_for(None if cls is None else cls.REPORT, sweep.manifest, runs)

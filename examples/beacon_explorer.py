@@ -12,7 +12,7 @@ from pathlib import Path
 from abm.draw import save_swarm_png
 from analysis.cli.run import format_summary
 from analysis.render import render_animation
-from analysis.runio import load_run, save_run
+from analysis.run_folder import load_run, save_run
 from models.beacon_explorer import BeaconExplorerModel
 
 WORLD = "corridor"  # corridor | open | mixed

@@ -26,8 +26,12 @@ def _app(name: str, monkeypatch) -> types.ModuleType:
     page = types.ModuleType("abm.viz.page")
     page.make_page = lambda *args, **kwargs: None
     monkeypatch.setitem(sys.modules, "abm.viz.page", page)
-    monkeypatch.delitem(sys.modules, f"models.{name}.app", raising=False)
-    return importlib.import_module(f"models.{name}.app")
+    key = f"models.{name}.app"
+    # setitem records the real module (or its absence) for teardown: the stubbed import must
+    # not outlive the test, or the live page would find an app without its page
+    monkeypatch.setitem(sys.modules, key, types.ModuleType(key))
+    del sys.modules[key]
+    return importlib.import_module(key)
 
 
 def _sliders(app: types.ModuleType) -> dict[str, dict]:

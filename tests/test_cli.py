@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from analysis.cli import VERB_MODULES, _load_verbs, main
-from analysis.runio import RUN_FILES, save_run
+from analysis.run_folder import RUN_FILES, save_run
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -48,7 +48,7 @@ def test_run_saves_what_render_needs(tmp_path, capsys):
     written = _wrote(capsys.readouterr().out)
     assert written and all(path.exists() for path in written)
     missing = [name for name in RUN_FILES if not (out / name).is_file()]
-    assert not missing, f"abm run must call analysis.runio.save_run; missing {missing}"
+    assert not missing, f"abm run must call analysis.run_folder.save_run; missing {missing}"
 
 
 @pytest.fixture(scope="module")

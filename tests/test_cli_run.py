@@ -19,7 +19,7 @@ import pytest
 
 from abm.errors import ConfigError, OutputError
 from analysis.cli import main
-from analysis.runio import RUN_FILES, load_run, save_run
+from analysis.run_folder import RUN_FILES, load_run, save_run
 
 ROOT = Path(__file__).resolve().parents[1]
 TINY = ["run", "tiny", "--time-limit", "20"]

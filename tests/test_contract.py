@@ -16,7 +16,7 @@ from abm.errors import ConfigError, ContractError
 from abm.model import SwarmModel
 from abm.params import SwarmParams, field_help, param
 from analysis.cli import main
-from analysis.runio import load_run
+from analysis.run_folder import load_run
 
 #: A short run of every model (s of simulated time): stigmergy launches its first wanders.
 SHORT = 120.0

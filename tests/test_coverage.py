@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from abm.arena import Arena
 from abm.coverage import CoverageRaster
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
 from abm.errors import ConfigError
 from models.environments import builtin_map
 

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 
 from abm.errors import SEED_MAX
 from analysis.cli import main
-from analysis.runio import load_run
+from analysis.run_folder import load_run
 
 TINY = ["run", "tiny", "--time-limit", "2", "--no-progress"]
 

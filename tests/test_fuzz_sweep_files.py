@@ -43,6 +43,8 @@ def toml_value(value) -> str:
         return str(value)
     if isinstance(value, str):
         return json.dumps(value)
+    if isinstance(value, dict):  # an inline table (a design's parameters)
+        return "{" + ", ".join(f"{json.dumps(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
     return "[" + ", ".join(toml_value(v) for v in value) + "]"
 
 
@@ -83,6 +85,21 @@ GRID = st.dictionaries(KEYS, VALUES, max_size=5)
 #: Targets whose import would print (``this``), open a browser (``antigravity``) or fail.
 TARGETS = ["this:X", "antigravity:X", "no.such.module:X", "models.beacon_explorer:Nope", ":X",
            "x:", "models.beacon_explorer:BeaconExplorerModel", "os.path:join.x"]  # fmt: skip
+#: A ``[design]`` table: kinds, sizes, seeds and parameters (ranges, choices, junk).
+DESIGN = st.fixed_dictionaries(
+    {},
+    optional={
+        "kind": st.one_of(st.sampled_from(["sobol", "morris", "lhs"]), SCALARS),
+        "n": st.one_of(st.integers(0, 40), SCALARS),
+        "seed": SCALARS,
+        "parameters": st.one_of(
+            st.dictionaries(KEYS, st.one_of(VALUES, st.fixed_dictionaries({"choices": VALUES})),
+                            max_size=4),
+            SCALARS,
+        ),
+        "levels": SCALARS,
+    },
+)  # fmt: skip
 DOCS = st.fixed_dictionaries(
     {},
     optional={
@@ -94,6 +111,7 @@ DOCS = st.fixed_dictionaries(
         "time_series": SCALARS,
         "grid": st.one_of(GRID, SCALARS),
         "points": st.one_of(st.lists(GRID, max_size=3), SCALARS),
+        "design": st.one_of(DESIGN, SCALARS),
         **{k: SCALARS for k in ("replication", "grids", "models")},
     },
 )

@@ -3,7 +3,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
 from abm.errors import ConfigError
 from abm.pheromone import PheromoneField
 

@@ -1,4 +1,4 @@
-"""abm.polygons and abm.visgraph: inside tests, blocking, pushing out, and shortest paths
+"""abm.polygons and abm.visibility_graph: inside tests, blocking, pushing out, and shortest paths
 around polygonal obstacles.
 """
 
@@ -16,7 +16,7 @@ from abm.polygons import (
     push_outside,
     segments_blocked,
 )
-from abm.visgraph import VisibilityPlanner
+from abm.visibility_graph import VisibilityPlanner
 
 SQUARE = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 

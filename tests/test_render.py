@@ -1,4 +1,4 @@
-"""Saving a run and drawing it again from its files (analysis.runio, analysis.render)."""
+"""Saving a run and drawing it again from its files (analysis.run_folder, analysis.render)."""
 
 import json
 import shutil
@@ -19,7 +19,7 @@ from analysis.render import (
     render_snapshots,
     snapshot_times,
 )
-from analysis.runio import RUN_FILES, RunFolderError, load_run, save_run
+from analysis.run_folder import RUN_FILES, RunFolderError, load_run, save_run
 from models.beacon_explorer import BeaconExplorerModel
 from models.flocking import FlockingModel
 from models.hierarchy import HierarchyModel

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from abm.errors import ConfigError
 from abm.polygons import inside_any
-from abm.visgraph import VisibilityPlanner
+from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso import TangiblePSOModel
 from models.tangible_pso.cost import CoverageCost
 from models.tangible_pso.feasibility import follow, localised

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
+from abm.disc_sight import disc_parents, disc_visibility, visible_rows
 from abm.errors import ConfigError
-from abm.visibility import disc_parents, disc_visibility, visible_rows
 from models.environments import builtin_map
 
 

@@ -211,6 +211,13 @@ class SceneView:
                     zorder=5.5,  # over the beacons they start from, under the explorers
                 )
 
+    def changing_artists(self) -> list:
+        """The artists :meth:`update` changes; the rest of the view (walls, axes) stays as
+        built, so a renderer may draw it once for many scenes.
+        """
+        artists = [*self._robots.values(), self._links, *self._layers.values()]
+        return artists + [a for a in (self._cover, self._quiver) if a is not None]
+
     def _draw_layers(self, layers: list[Layer]) -> None:
         """Extra point clouds and rasters, each artist made once and then updated; a layer
         drawn before but absent from this scene is hidden and leaves the legend.

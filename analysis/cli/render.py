@@ -51,7 +51,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args: argparse.Namespace) -> int:
     """Load the run folder, draw, print every path written."""
     from analysis.render import render_animation, render_snapshots, snapshot_times
-    from analysis.runio import load_run
+    from analysis.run_folder import load_run
 
     if args.mp4 and shutil.which("ffmpeg") is None:
         raise ABMError("--mp4 needs ffmpeg on PATH (apt-get install -y ffmpeg); use the GIF")
@@ -76,7 +76,7 @@ def main(args: argparse.Namespace) -> int:
 def _newest_run() -> Path:
     """The newest run folder in ``out/runs`` (where ``abm run`` saves runs by default)."""
     from analysis.cli.run import RUNS
-    from analysis.runio import runs_in
+    from analysis.run_folder import runs_in
 
     runs = runs_in(RUNS)
     if not runs:

@@ -76,7 +76,7 @@ def main(args: argparse.Namespace) -> int:
     from abm.registry import model_class, model_names, name_of
     from analysis.cli.flags import given_params
     from analysis.cli.progress import RunProgress
-    from analysis.runio import check_run_target
+    from analysis.run_folder import check_run_target
 
     if args.model is None:
         raise ConfigError(
@@ -221,7 +221,7 @@ def save_or_rescue(model, out: Path, again: str) -> list:
     temporary folder instead and say both, so the finished simulation is not lost.
 
     The data written to ``out`` is removed on failure (no half-written run folder, its space
-    given back; see :func:`analysis.runio.save_run`).
+    given back; see :func:`analysis.run_folder.save_run`).
 
     Raises:
         OutputError: always when ``out`` failed: naming the file that could not be written,
@@ -231,7 +231,7 @@ def save_or_rescue(model, out: Path, again: str) -> list:
     """
     from abm.errors import OutputError
     from analysis.cli import one_line
-    from analysis.runio import save_run
+    from analysis.run_folder import save_run
 
     try:
         return save_run(model, out)

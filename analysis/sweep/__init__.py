@@ -7,6 +7,7 @@ handed to an executor (:mod:`analysis.sweep.executors`); each finished run is wr
 raises becomes a recorded failure. The modules, by job:
 
 - :mod:`~analysis.sweep.spec`: the :class:`Sweep`, grid validation, sweep files (TOML);
+- :mod:`~analysis.sweep.design`: sensitivity designs (SALib samples as the sweep's points);
 - :mod:`~analysis.sweep.seeding`: run identities and per-run seeds (``SeedSequence``);
 - :mod:`~analysis.sweep.storage`: the dataset folder (Parquet);
 - :mod:`~analysis.sweep.integrity` and :mod:`~analysis.sweep.membership`: every file in it

@@ -4,8 +4,9 @@ A sweep folder's plan is what its ``sweep.json`` records: the grid (every value 
 in any sweep run there), the points, the replications and the sweep seed. A row belongs when
 its parameters are plan values, its ``run_id`` is the one :func:`~analysis.sweep.seeding.run_id`
 gives those parameters and its replication, and its ``seed`` is the one
-:func:`~analysis.sweep.seeding.spawned_seed` gives them. Listing a 1e6-run plan takes minutes;
-matching a row takes ~0.1 ms.
+:func:`~analysis.sweep.seeding.spawned_seed` gives them (in a design sweep, the
+:func:`~analysis.sweep.seeding.common_seed` of its replication). Listing a 1e6-run plan takes
+minutes; matching a row takes ~0.1 ms.
 """
 
 import json
@@ -14,7 +15,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from analysis.sweep.integrity import CorruptResultError
-from analysis.sweep.seeding import run_id, spawned_seed
+from analysis.sweep.seeding import common_seed, run_id, spawned_seed
 from analysis.sweep.spec import Sweep
 
 __all__ = ["PlanIndex"]
@@ -31,6 +32,7 @@ class PlanIndex:
         self.points: list[dict] = list(manifest.get("points") or [])
         self.replications = int(manifest.get("replications", 1))
         self.seed = int(manifest.get("seed", 0))
+        self.common = bool(manifest.get("design"))  # a design's runs share seeds per rep
 
     @classmethod
     def of(cls, sweep: Sweep) -> "PlanIndex":
@@ -62,7 +64,10 @@ class PlanIndex:
                 f"the plan gives its parameters (replication {rep}) run id "
                 f"{run_id({**params, **self._points(row)[0]}, rep)}, not {rid}",
             )
-        seed = spawned_seed(self.seed, full, rep)[0]
+        if self.common:
+            seed = common_seed(self.seed, rep)[0]
+        else:
+            seed = spawned_seed(self.seed, full, rep)[0]
         if _plain(row.get("seed")) != seed:
             raise CorruptResultError(
                 "wrong-seed", f"seed {_plain(row.get('seed'))!r}, the plan gives run {rid} {seed}"

@@ -5,6 +5,12 @@ recognises (and skips) runs already on disk. The per-run seed is drawn from
 ``numpy.random.SeedSequence(seed)`` with the spawn key ``(condition key, replication)``:
 independent streams, the same for a run whatever executor runs it, unchanged when the grid
 grows.
+
+A sweep with a sensitivity design uses common random numbers instead: replication ``rep`` of
+every design point runs with the same seed (spawn key ``(2**32, rep)``, outside the range of
+condition keys). Two design points then differ only by their parameters, not by a fresh
+random environment each (a new corridor map, new noise), which would add the model's whole
+run-to-run spread to every elementary effect and every variance share.
 """
 
 import hashlib
@@ -16,7 +22,11 @@ import numpy as np
 from analysis.runner import RunSpec
 from analysis.sweep.spec import Sweep
 
-__all__ = ["iter_plan", "plan", "run_id", "spawned_seed"]
+__all__ = ["COMMON_KEY", "common_seed", "iter_plan", "plan", "run_id", "spawned_seed"]
+
+#: First spawn-key entry of a design sweep's common seeds: 2**32 is no condition key (those
+#: are 32-bit hashes), so a common seed never repeats a grid run's seed.
+COMMON_KEY = 2**32
 
 
 def _condition_key(params: Mapping) -> str:
@@ -37,6 +47,15 @@ def spawned_seed(sweep_seed: int, params: Mapping, rep: int) -> tuple[int, tuple
     return int(child.generate_state(1, np.uint64)[0] >> np.uint64(1)), key
 
 
+def common_seed(sweep_seed: int, rep: int) -> tuple[int, tuple[int, int]]:
+    """The seed of replication ``rep`` of every point of a design sweep (common random
+    numbers): ``SeedSequence(sweep_seed)`` spawned at ``(COMMON_KEY, rep)``.
+    """
+    key = (COMMON_KEY, int(rep))
+    child = np.random.SeedSequence(sweep_seed, spawn_key=key)
+    return int(child.generate_state(1, np.uint64)[0] >> np.uint64(1)), key
+
+
 def plan(sweep: Sweep) -> list[RunSpec]:
     """Every run of the sweep, grid point by grid point, replications innermost."""
     return list(iter_plan(sweep))
@@ -49,5 +68,8 @@ def iter_plan(sweep: Sweep) -> Iterator[RunSpec]:
     target = sweep.target
     for params in sweep.iter_conditions():
         for rep in range(sweep.replications):
-            seed, key = spawned_seed(sweep.seed, params, rep)
+            if sweep.design is not None:
+                seed, key = common_seed(sweep.seed, rep)
+            else:
+                seed, key = spawned_seed(sweep.seed, params, rep)
             yield RunSpec(target, params, rep, seed, key, run_id(params, rep), sweep.time_series)

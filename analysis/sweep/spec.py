@@ -4,10 +4,13 @@ Every grid key is a field of the model's params (so every parameter is sweepable
 against its type and range before any run starts; ``seed`` is not a key (per-run seeds are
 spawned from the sweep seed). Besides the Cartesian ``grid``, a sweep may list ``points``:
 parameter sets taken together (e.g. a 10-node swarm split 2 + 8, 3 + 7, ...); every grid point
-is combined with every point.
+is combined with every point. A sweep may instead hold a ``design`` (a Sobol', Morris or Latin
+hypercube sample drawn with SALib, :mod:`analysis.sweep.design`): its rows become the points,
+and the grid then only fixes settings (one value per key).
 """
 
 import itertools
+import json
 import math
 import re
 import tomllib
@@ -20,6 +23,7 @@ import numpy as np
 from abm.errors import ConfigError, check_seed
 from abm.params import check_value, param_fields, refuse_fault_keyword
 from abm.registry import model_class, name_of, target_of
+from analysis.sweep.design import Design, check_design
 
 __all__ = [
     "MAX_RUNS",
@@ -41,6 +45,7 @@ TOML_KEYS = (
     "time_series",
     "grid",
     "points",
+    "design",
 )
 _RESERVED = ("seed", "rng")
 
@@ -68,6 +73,9 @@ class Sweep:
             folder is ``out/sweeps/<name>``.
         time_series: also keep each run's state counts over time.
         description: free text, shown in reports.
+        design: a sensitivity design (a ``[design]`` table or a :class:`Design`); its sample
+            rows become the points (``points`` must then be empty, and every grid key take
+            one value).
 
     """
 
@@ -79,6 +87,7 @@ class Sweep:
     time_series: bool = False
     description: str = ""
     points: Sequence[Mapping[str, object]] = ()
+    design: Design | Mapping | None = None
     model_cls: type = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -89,6 +98,8 @@ class Sweep:
         check_seed(self.seed, allow_none=False)
         if not isinstance(self.time_series, bool):
             raise ConfigError(f"time_series must be true or false, got {self.time_series!r}")
+        if self.design is not None:
+            self._sample_design(cls)
         points = check_points(cls, self.points, self.grid)
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "grid", check_grid(cls, self.grid, allow_empty=bool(points)))
@@ -97,6 +108,23 @@ class Sweep:
                 f"the sweep has {self.n_runs:.3g} runs (grid points x points x replications); "
                 f"at most {MAX_RUNS:.0e} in one sweep: split it into several"
             )
+
+    def _sample_design(self, cls: type) -> None:
+        """Check the design and make its sample rows the sweep's points (repeated rows once)."""
+        if self.points:
+            raise ConfigError("a sweep with a [design] takes no [[points]]: the design gives them")
+        if not isinstance(self.grid, Mapping):
+            raise ConfigError(f"grid must be a table ([grid]), got {self.grid!r}")
+        for key, values in self.grid.items():
+            if not isinstance(values, str) and isinstance(values, Sequence) and len(values) != 1:
+                raise ConfigError(
+                    f"grid key {key!r} takes {len(values)} values; with a [design] every grid "
+                    "key takes one value (a fixed setting): vary it in the design instead"
+                )
+        design = check_design(cls, self.design, self.seed, fixed=self.grid)
+        unique = {json.dumps(row, sort_keys=True): row for row in design.rows()}
+        object.__setattr__(self, "design", design)
+        object.__setattr__(self, "points", tuple(unique.values()))
 
     @property
     def target(self) -> str:
@@ -141,6 +169,7 @@ class Sweep:
             "time_series": self.time_series,
             "grid": {k: list(v) for k, v in self.grid.items()},
             "points": [dict(p) for p in self.points],
+            **({"design": self.design.manifest()} if self.design is not None else {}),
         }
 
 
@@ -246,8 +275,8 @@ def load_sweep(path: str | Path, replications: int | None = None, seed: int | No
         )
     if "model" not in data:
         raise ConfigError(f"{path}: missing key 'model'")
-    if "grid" not in data and "points" not in data:
-        raise ConfigError(f"{path}: missing key 'grid' (or 'points')")
+    if "grid" not in data and "points" not in data and "design" not in data:
+        raise ConfigError(f"{path}: missing key 'grid' (or 'points', or 'design')")
     data.setdefault("grid", {})
     if not isinstance(data["grid"], dict):
         raise ConfigError(f"{path}: 'grid' must be a table ([grid]), got {data['grid']!r}")
@@ -261,6 +290,7 @@ def load_sweep(path: str | Path, replications: int | None = None, seed: int | No
             time_series=data.get("time_series", False),
             description=data.get("description", ""),
             points=data.get("points", ()),
+            design=data.get("design"),
         )
     except ConfigError as exc:
         raise ConfigError(f"{path}: {exc}") from exc

@@ -194,6 +194,13 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
                     f"{out} holds a sweep with {key} {old.get(key)!r}, this one has "
                     f"{manifest[key]!r}: choose another output folder"
                 )
+        if _plain_json(old.get("design")) != _plain_json(manifest.get("design")) or (
+            "design" in manifest and _plain_json(old["points"]) != _plain_json(manifest["points"])
+        ):
+            raise SweepError(
+                f"{out} holds a sweep with another design (or a sample SALib drew otherwise): "
+                "a design's sample is its plan; choose another output folder"
+            )
         if _keys(old) != _keys(manifest):
             raise SweepError(
                 f"{out} holds a sweep over {', '.join(sorted(_keys(old))) or 'no keys'}, this one "
@@ -289,3 +296,8 @@ def swept_keys(manifest: dict, runs: pd.DataFrame) -> list[str]:
 def _as_text(column: pd.Series) -> pd.Series:
     """Each value as text, a missing one as "None"/"nan" (``astype(str)`` keeps NA missing)."""
     return column.astype(object).map(str)
+
+
+def _plain_json(value: object) -> object:
+    """``value`` as JSON reads it back (tuples as lists), to compare a manifest with a plan."""
+    return json.loads(json.dumps(value, default=str))

@@ -25,7 +25,7 @@ from scipy import ndimage
 
 from abm import neighbours, portable
 from abm.arena import Arena
-from abm.discs import disc_offsets
+from abm.disc_cells import disc_offsets
 from abm.errors import check_range
 from abm.pheromone import PheromoneField
 from abm.physics import Physics

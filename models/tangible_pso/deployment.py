@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from abm.visgraph import VisibilityPlanner
+from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso.feasibility import follow
 from models.tangible_pso.transition import plan_paths
 

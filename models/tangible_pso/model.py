@@ -31,7 +31,7 @@ from abm.polygons import inside_any, offset_polygon, padded
 from abm.pso import inertia_weight, update_bests, velocity_update
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
-from abm.visgraph import VisibilityPlanner
+from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso import published
 from models.tangible_pso.cost import CoverageCost
 from models.tangible_pso.deployment import Leg, replanned_leg

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from abm.polygons import push_outside
-from abm.visgraph import VisibilityPlanner
+from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso.feasibility import path_conflicts
 
 __all__ = ["Plans", "plan_paths", "shift_proposals"]

@@ -1,0 +1,27 @@
+"""Communication between robots, one concept per module.
+
+- :mod:`~abm.comms.network`: :class:`CommNetwork`, the graph of who can talk to whom and
+  message delivery as SimPy events (latency, loss, link faults and loss bursts);
+- :mod:`~abm.comms.radio`: :class:`Shadowing`, a log-normal shadowing radio in place of the
+  default disc with line of sight;
+- :mod:`~abm.comms.policies`: :class:`LinkPolicy` and two of them, :class:`TreeLinks` (a rooted
+  tree's parent/child edges) and :class:`RingLinks`, which say which links may carry messages;
+- :mod:`~abm.comms.messages`: :class:`MessageLog`, every transmission, one row per hop;
+- :mod:`~abm.comms.flood`: :class:`GradientFlood`, hop-count gradients kept by message floods.
+"""
+
+from abm.comms.flood import GradientFlood
+from abm.comms.messages import MessageLog
+from abm.comms.network import CommNetwork
+from abm.comms.policies import LinkPolicy, RingLinks, TreeLinks
+from abm.comms.radio import Shadowing
+
+__all__ = [
+    "CommNetwork",
+    "GradientFlood",
+    "LinkPolicy",
+    "MessageLog",
+    "RingLinks",
+    "Shadowing",
+    "TreeLinks",
+]
