@@ -1,14 +1,19 @@
 """Sweeps: planning, validation before any run, executors agree, failures and restarts."""
 
+import json
 import os
+import re
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 import pandas as pd
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from abm.errors import ConfigError
 from analysis.sweep import Sweep, SweepError, execute, load_results, load_sweep, plan, run_sweep
@@ -230,3 +235,64 @@ def test_points_are_taken_together_and_combined_with_the_grid(tmp_path):
         path.write_text(text)
         with pytest.raises(ConfigError, match=match):
             load_sweep(path)
+
+
+ONE_RUN = (
+    'model = "beacon-explorer"\nseed = 7\nreplications = 1\n[grid]\nworld = ["corridor"]\n'
+    'complexity = ["high"]\nlaunch_period = [24.0]\ntime_limit = [30.0]\n'
+)
+
+
+@given(seed=st.integers(0, 2**63 - 1), replications=st.one_of(st.none(), st.integers(1, 3)))
+@settings(max_examples=25, deadline=None)
+def test_a_seed_given_to_load_sweep_is_the_files_seed_changed(seed, replications):
+    """``--seed N`` (``load_sweep(seed=N)``) must plan exactly what the file with ``seed = N``
+    plans, and write the same ``sweep.json``: a re-measure on a fresh seed is then the
+    repository's file plus one option, not an edited copy.
+    """
+    overridden = load_sweep(SMOKE, replications=replications, seed=seed)
+    with tempfile.TemporaryDirectory() as folder:
+        copy = Path(folder) / "smoke.toml"
+        copy.write_text(re.sub(r"(?m)^seed = \d+$", f"seed = {seed}", SMOKE.read_text()))
+        edited = load_sweep(copy, replications=replications)
+    assert overridden.seed == seed
+    assert overridden.manifest() == edited.manifest()
+    assert plan(overridden) == plan(edited)
+
+
+def test_cli_seed_runs_that_seed_and_a_resume_with_another_is_refused_in_one_line(tmp_path, capsys):
+    from analysis.cli import main
+
+    path = tmp_path / "one.toml"
+    path.write_text(ONE_RUN)
+    out = tmp_path / "out"
+    common = ["sweep", str(path), "--executor", "serial", "--out", str(out)]
+    assert main([*common, "--seed", "810600"]) == 0
+    capsys.readouterr()
+    assert json.loads((out / "sweep.json").read_text())["seed"] == 810600
+    df = load_results(out)
+    wanted = plan(load_sweep(path, seed=810600))
+    assert list(df["seed"]) == [run.seed for run in wanted]
+    assert [run.seed for run in wanted] != [run.seed for run in plan(load_sweep(path))]
+    kept = {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.parquet")}
+
+    for other in (["--seed", "810601"], []):  # another --seed, and the file's own seed 7
+        assert main([*common, *other]) == 2
+        err = capsys.readouterr().err
+        refusal = [line for line in err.splitlines() if line.startswith("abm sweep: error:")]
+        assert len(refusal) == 1 and "Traceback" not in err, err
+        assert "seed 810600" in refusal[0] and ("810601" if other else "has 7") in refusal[0]
+    assert {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.parquet")} == kept
+    assert main([*common, "--seed", "810600"]) == 0  # the same seed resumes (nothing to run)
+    assert len(load_results(out)) == 1
+
+
+@pytest.mark.parametrize("text", ["-1", "abc", str(2**63), "1.5"])
+def test_a_bad_seed_option_is_one_line_before_any_folder(tmp_path, capsys, text):
+    from analysis.cli import main
+
+    out = tmp_path / "out"
+    assert main(["sweep", str(SMOKE), "--seed", text, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--seed" in err[0] and "[0, 2**63 - 1]" in err[0], err
+    assert not out.exists()

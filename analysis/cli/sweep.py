@@ -33,8 +33,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--replications", type=int, default=None, help="override the file's replications"
     )
     parser.add_argument(
+        "--seed",
+        type=_seed,
+        default=None,
+        help="override the file's sweep seed, an integer in [0, 2**63 - 1] (per-run seeds are "
+        "spawned from it; a folder holding runs of another seed is refused)",
+    )
+    parser.add_argument(
         "--no-retry", action="store_true", help="do not re-run runs recorded as failed"
     )
+
+
+def _seed(text: str) -> int:
+    """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
+    from abm.errors import ConfigError, parse_seed
+
+    try:
+        return parse_seed(text)
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def main(args: argparse.Namespace) -> int:
@@ -42,7 +59,7 @@ def main(args: argparse.Namespace) -> int:
     from analysis.sweep import execute, load_sweep
     from analysis.sweep.execute import DRY_BUILD_POINTS
 
-    sweep = load_sweep(args.file, replications=args.replications)
+    sweep = load_sweep(args.file, replications=args.replications, seed=args.seed)
     out = args.out if args.out is not None else Path("out/sweeps") / sweep.name
     print(
         f"sweep {sweep.name!r}: {sweep.n_runs} runs "

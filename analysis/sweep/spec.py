@@ -253,8 +253,13 @@ def check_grid(model_cls: type, grid: Mapping, allow_empty: bool = False) -> dic
     return checked
 
 
-def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
-    """Read and validate a sweep file (TOML); ``replications`` overrides the file's value.
+def load_sweep(path: str | Path, replications: int | None = None, seed: int | None = None) -> Sweep:
+    """Read and validate a sweep file (TOML); ``replications`` and ``seed`` override the file's
+    values.
+
+    An overridden seed is the sweep seed as if the file had said it (the same plan, the same
+    ``sweep.json``): a sweep re-measured on a fresh seed needs no edited copy of the file, and a
+    folder holding another seed's runs is refused as for any other change of plan.
 
     The file (UTF-8, as TOML requires) holds ``model``, ``seed``, ``replications``, optional
     ``name`` (default: the file's stem), ``description`` and ``time_series``, and a ``[grid]``
@@ -294,7 +299,7 @@ def load_sweep(path: str | Path, replications: int | None = None) -> Sweep:
             model=data["model"],
             grid=data["grid"],
             replications=data.get("replications", 1) if replications is None else replications,
-            seed=data.get("seed", 0),
+            seed=data.get("seed", 0) if seed is None else seed,
             name=data["name"] if "name" in data else _default_name(path),
             time_series=data.get("time_series", False),
             description=data.get("description", ""),
