@@ -88,6 +88,8 @@ def _injects(value: object) -> bool:
 
 
 def _equal(column: pd.Series, value) -> pd.Series:
+    if value is None:  # a setting left at None (e.g. "the default reading"): a missing value
+        return column.isna()
     if isinstance(value, bool) or not isinstance(value, int | float):
         return column == value
     numbers = pd.to_numeric(column, errors="coerce").astype(float)
@@ -95,6 +97,8 @@ def _equal(column: pd.Series, value) -> pd.Series:
 
 
 def _shown(value: object) -> str:
+    if value is None:
+        return "unset (the model's default reading)"
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 

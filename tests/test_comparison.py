@@ -292,3 +292,24 @@ def test_a_claim_that_holds_by_construction_is_never_a_finding(model, claim):
     for runs in (pso_runs(40, 70), corridor_results(), pd.DataFrame({"status": ["ok"]})):
         row = judge_claims(runs, None, [record], parameter_defaults(cls))[0]
         assert row["verdict"] == BY_CONSTRUCTION and row["why"] == record.by_construction
+
+
+def test_table1_is_not_compared_with_runs_of_another_landing_rule():
+    from models.stigmergy import StigmergyModel
+    from models.stigmergy.published import PUBLISHED as STIGMERGY
+
+    rows = []
+    for threshold in (None, 5.0):
+        for radius in (10.0, 20.0, 30.0, 40.0):
+            for seed in range(3):
+                rows.append({"map": "hall100", "pheromone_radius": radius, "time_limit": 15000.0,
+                             "link_threshold": threshold, "status": "ok", "seed": seed,
+                             "w": 10 + seed, "b": 12 + radius / 10 + seed})  # fmt: skip
+    runs = pd.DataFrame(rows)
+    defaults = parameter_defaults(StigmergyModel)
+    table1 = [r for r in STIGMERGY if r.source == "Table 1" and r.condition["map"] == "hall100"]
+    offset = compare_published(runs[runs["link_threshold"].notna()], table1, defaults)
+    assert set(offset["verdict"]) == {"not comparable"}
+    assert offset["reason"].str.contains("link threshold is 5 here").all()
+    paper = compare_published(runs[runs["link_threshold"].isna()], table1, defaults)
+    assert "not comparable" not in set(paper["verdict"])

@@ -102,7 +102,14 @@ def _table1_records() -> list[Published]:
                     Published(
                         f"map {map_id} ({name})",
                         quantity,
-                        {"map": name, "pheromone_radius": float(radius), "time_limit": LIMIT},
+                        {
+                            "map": name,
+                            "pheromone_radius": float(radius),
+                            "time_limit": LIMIT,
+                            # the landing rule these rows were measured with: l_i = C_rb, distance
+                            "link_threshold": None,
+                            "link_model": "distance",
+                        },
                         value,
                         "ordering",
                         metric,
