@@ -21,27 +21,11 @@ SHOWN = 10
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of ``abm explore``."""
+    """Options of ``abm explore``: a sweep file with a design, and where its runs execute."""
+    from analysis.cli.sweep import add_execution_options
+
     parser.add_argument("file", type=Path, help="sweep file with a [design] table")
-    parser.add_argument(
-        "--executor",
-        default="processes",
-        choices=("serial", "processes", "dask"),
-        help="where runs execute (default: local processes on all cores)",
-    )
-    parser.add_argument(
-        "--address", default=None, help="Dask scheduler address (default: a LocalCluster)"
-    )
-    parser.add_argument("--workers", type=int, default=None, help="local workers (default: cores)")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=None,
-        help="dataset folder: new, empty or this sweep's (default: out/sweeps/<name>)",
-    )
-    parser.add_argument(
-        "--no-retry", action="store_true", help="do not re-run runs recorded as failed"
-    )
+    add_execution_options(parser)
 
 
 def main(args: argparse.Namespace) -> int:

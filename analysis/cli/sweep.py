@@ -13,6 +13,23 @@ EXAMPLE = "abm sweep experiments/corridor.toml --executor processes"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm sweep``."""
     parser.add_argument("file", type=Path, help="sweep file, e.g. experiments/corridor.toml")
+    add_execution_options(parser)
+    parser.add_argument(
+        "--replications", type=int, default=None, help="override the file's replications"
+    )
+    parser.add_argument(
+        "--seed",
+        type=_seed,
+        default=None,
+        help="override the file's sweep seed, an integer in [0, 2**63 - 1] (per-run seeds are "
+        "spawned from it; a folder holding runs of another seed is refused)",
+    )
+
+
+def add_execution_options(parser: argparse.ArgumentParser) -> None:
+    """Where a sweep's runs execute and are kept: the options ``abm sweep`` and ``abm
+    explore`` share.
+    """
     parser.add_argument(
         "--executor",
         default="processes",
@@ -28,16 +45,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=Path,
         default=None,
         help="dataset folder: new, empty or this sweep's (default: out/sweeps/<name>)",
-    )
-    parser.add_argument(
-        "--replications", type=int, default=None, help="override the file's replications"
-    )
-    parser.add_argument(
-        "--seed",
-        type=_seed,
-        default=None,
-        help="override the file's sweep seed, an integer in [0, 2**63 - 1] (per-run seeds are "
-        "spawned from it; a folder holding runs of another seed is refused)",
     )
     parser.add_argument(
         "--no-retry", action="store_true", help="do not re-run runs recorded as failed"
