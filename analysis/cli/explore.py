@@ -9,7 +9,6 @@ sensitivity part ranks the parameters. ``abm sweep`` runs the same file without 
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 VERB = "explore"
@@ -31,8 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args: argparse.Namespace) -> int:
     """Load and check the file (before any run), run what is missing, report, print the ranking."""
     from abm.errors import ConfigError
+    from analysis.cli.sweep import run_sweep
     from analysis.report import write_report
-    from analysis.sweep import execute, load_sweep
+    from analysis.sweep import load_sweep
 
     sweep = load_sweep(args.file)
     if sweep.design is None:
@@ -48,18 +48,7 @@ def main(args: argparse.Namespace) -> int:
         f"{design.seed}, sweep seed {sweep.seed}, executor {args.executor}",
         file=sys.stderr,
     )
-    start = time.perf_counter()
-    df = execute(
-        sweep,
-        out,
-        executor=args.executor,
-        address=args.address,
-        workers=args.workers,
-        retry_failed=not args.no_retry,
-    )
-    wall = time.perf_counter() - start
-    n_failed = int((df["status"] == "failed").sum()) if len(df) else 0
-    print(f"{len(df) - n_failed} runs finished, {n_failed} failed, wall time {wall:.1f} s")
+    _, n_failed = run_sweep(sweep, out, args)
     path = write_report(out)
     _print_ranking(path.with_name("sensitivity.csv"), design.kind)
     print(f"wrote {out}")

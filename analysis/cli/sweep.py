@@ -51,6 +51,27 @@ def add_execution_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def run_sweep(sweep: object, out: Path, args: argparse.Namespace) -> tuple[object, int]:
+    """Run what is missing of ``sweep`` into ``out`` with the execution options, print the
+    tally and the wall time; the runs' table and how many failed.
+    """
+    from analysis.sweep import execute
+
+    start = time.perf_counter()
+    df = execute(
+        sweep,
+        out,
+        executor=args.executor,
+        address=args.address,
+        workers=args.workers,
+        retry_failed=not args.no_retry,
+    )
+    wall = time.perf_counter() - start
+    n_failed = int((df["status"] == "failed").sum()) if len(df) else 0
+    print(f"{len(df) - n_failed} runs finished, {n_failed} failed, wall time {wall:.1f} s")
+    return df, n_failed
+
+
 def _seed(text: str) -> int:
     """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
     from abm.errors import ConfigError, parse_seed
@@ -63,7 +84,7 @@ def _seed(text: str) -> int:
 
 def main(args: argparse.Namespace) -> int:
     """Load, validate (before any run), run what is missing, print where it wrote."""
-    from analysis.sweep import execute, load_sweep
+    from analysis.sweep import load_sweep
     from analysis.sweep.execute import DRY_BUILD_POINTS
 
     sweep = load_sweep(args.file, replications=args.replications, seed=args.seed)
@@ -80,18 +101,7 @@ def main(args: argparse.Namespace) -> int:
             "the others as their runs start (a bad combination is a recorded failure)",
             file=sys.stderr,
         )
-    start = time.perf_counter()
-    df = execute(
-        sweep,
-        out,
-        executor=args.executor,
-        address=args.address,
-        workers=args.workers,
-        retry_failed=not args.no_retry,
-    )
-    wall = time.perf_counter() - start
-    n_failed = int((df["status"] == "failed").sum()) if len(df) else 0
-    print(f"{len(df) - n_failed} runs finished, {n_failed} failed, wall time {wall:.1f} s")
+    df, n_failed = run_sweep(sweep, out, args)
     if n_failed:
         first = df.loc[df["status"] == "failed", "error"].iloc[0]
         print(f"first failure: {first} (details in {out / 'failed'})")
