@@ -22,9 +22,10 @@ SEEDS = range(1, 31)
 
 
 def summary(kwargs: dict) -> dict:
+    """The run's parameters beside its summary (a summary holds no parameter copies)."""
     params = {"trace_interval": None, **kwargs}
     seed = params.pop("seed")
-    return run_model("beacon-explorer", params, seed).summary
+    return {**kwargs, **run_model("beacon-explorer", params, seed).summary}
 
 
 def run_many(jobs: list[dict]) -> pd.DataFrame:
