@@ -422,8 +422,11 @@ class SwarmModel(mesa.Model):
         return self.recorder.positions()
 
     # ------------------------------------------------------------------ robots in the space
-    def _robot_added(self, robot_id: int) -> None:
-        """A robot joined the space as its last row."""
+    def joined_space(self, robot_id: int) -> None:
+        """An agent joined the space as its last row: :class:`~abm.robot.Robot` calls this
+        itself; an agent of another kind that takes a row of the space (a bird of a flock)
+        calls it from its constructor, so the id -> row table stays complete.
+        """
         row = len(self.space.active_agents) - 1
         if robot_id >= len(self._row_of):
             grown = np.full(max(2 * len(self._row_of), robot_id + 1), -1, dtype=np.int64)
@@ -431,8 +434,10 @@ class SwarmModel(mesa.Model):
             self._row_of = grown
         self._row_of[robot_id] = row
 
-    def _robots_reindexed(self) -> None:
-        """Rows shift when a robot leaves the space: rebuild the id -> row table."""
+    def left_space(self) -> None:
+        """Rows shift when an agent leaves the space: rebuild the id -> row table (called by
+        :meth:`Robot.remove <abm.robot.Robot.remove>` after the agent is gone).
+        """
         self._row_of[:] = -1
         for row, agent in enumerate(self.space.active_agents):
             self._row_of[agent.unique_id] = row

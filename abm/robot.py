@@ -43,7 +43,7 @@ class Robot(ContinuousSpaceAgent):
 
     def __init__(self, model: "SwarmModel", position: np.ndarray, state: str, mode: str) -> None:
         super().__init__(model.space, model)
-        model._robot_added(self.unique_id)
+        model.joined_space(self.unique_id)
         self.position = np.asarray(position, dtype=float)
         self.state: str | None = None
         self.process: simpy.Process | None = None
@@ -137,7 +137,7 @@ class Robot(ContinuousSpaceAgent):
         model.recorder.log("removed", self.unique_id)
         model.ledger.retire(self.unique_id)
         super().remove()
-        model._robots_reindexed()
+        model.left_space()
 
 
 def _called(behaviour: object) -> str:

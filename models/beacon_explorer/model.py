@@ -217,7 +217,10 @@ class BeaconExplorerModel(SwarmModel):
         self.faults.fail(self.robots[robot_id], "battery")
 
     def on_robot_failed(self, robot: Robot) -> None:
-        """A robot failed (a fault or a flat battery): see :func:`repair.robot_failed`."""
+        """A robot failed (a fault or a flat battery): its pending detach is forgotten, and
+        the beacon network follows (:func:`repair.robot_failed`).
+        """
+        self._detach_wanted.pop(robot.unique_id, None)
         robot_failed(self, robot)
 
     def on_link_fault(self, a: object, b: object, up: bool) -> None:

@@ -21,9 +21,8 @@ __all__ = ["link_fault", "robot_failed"]
 
 
 def robot_failed(model: "BeaconExplorerModel", robot: Robot) -> None:
-    """Drop a failed robot from the beacon network (a beacon) and forget its pending detach."""
+    """Drop a failed robot from the beacon network (a beacon)."""
     rid = robot.unique_id
-    model._detach_wanted.pop(rid, None)
     if rid in model.beacons.beacons:
         model.beacons.detach(rid, searched=not model.params.repair)
 

@@ -40,7 +40,7 @@ class Bird(ContinuousSpaceAgent):
 
     def __init__(self, model: "FlockingModel", row: int) -> None:
         super().__init__(model.space, model)
-        model._robot_added(self.unique_id)
+        model.joined_space(self.unique_id)
         model.recorder.move(None, self.state)
         self.row = row
 
