@@ -6,8 +6,9 @@ The runs of one condition are split by seed: the first ``runs`` fit the per-robo
 well-mixed diagnostic looks at the fitted runs. Everything is written beside a figure:
 ``rates.csv`` (each transition's hazard family and coefficients with standard errors and 95 %
 intervals), ``fit.csv`` (per state: held-out RMSD as a share of the swarm, the RMSD a perfect
-model would still show with so few runs, band coverage) and ``mixing.csv`` when the runs kept
-positions. Rates across swept parameters are not fitted yet: one condition per call.
+model would still show with so few runs, band coverage), ``mixing.csv`` when the runs kept
+positions, and one HTML page with the state graph drawn. Rates across swept parameters are not
+fitted yet: one condition per call.
 """
 
 from collections.abc import Mapping
@@ -23,6 +24,7 @@ import numpy as np  # noqa: E402
 
 from abm.errors import ConfigError  # noqa: E402
 from abm.pools import process_pool  # noqa: E402
+from analysis.html import figure_data, image_data, render_page, table  # noqa: E402
 from analysis.macroscopic import (  # noqa: E402
     Checks,
     Mixing,
@@ -32,6 +34,7 @@ from analysis.macroscopic import (  # noqa: E402
     check_states,
     collect_runs,
     fit_rates,
+    state_graph,
     well_mixed,
 )
 
@@ -47,6 +50,7 @@ class RateFit:
     mixing: Mixing
     fitted_seeds: tuple[int, ...]
     held_seeds: tuple[int, ...]
+    graph: object
 
 
 def _one_run(model: str, seed: int, params: Mapping[str, object]) -> RunLog:
@@ -87,11 +91,14 @@ def fit_rate_equations(
     fitted, heldout = logs[:runs], logs[runs:]
     model = fit_rates(fitted)
     checks = check_heldout(model, heldout, np.random.default_rng(seed))
-    return RateFit(model, checks, well_mixed(fitted), tuple(seeds[:runs]), tuple(seeds[runs:]))
+    return RateFit(model, checks, well_mixed(fitted), tuple(seeds[:runs]), tuple(seeds[runs:]),
+                   state_graph(fitted))  # fmt: skip
 
 
 def write_rate_fit(result: RateFit, out: Path, title: str) -> list[Path]:
-    """Write rates.csv, fit.csv, mixing.csv (when computable) and curves.png into ``out``."""
+    """Write rates.csv, fit.csv, mixing.csv (when computable), curves.png and
+    rates_report.html into ``out``.
+    """
     out.mkdir(parents=True, exist_ok=True)
     checks = result.checks
     paths = [out / "rates.csv", out / "fit.csv"]
@@ -107,7 +114,68 @@ def write_rate_fit(result: RateFit, out: Path, title: str) -> list[Path]:
         paths.append(out / "mixing.csv")
         result.mixing.table.to_csv(paths[-1], index=False)
     paths.append(_curves(result, out / "curves.png", title))
+    paths.append(_page(result, out / "rates_report.html", title, paths[-1]))
     return paths
+
+
+def _page(result: RateFit, path: Path, title: str, curves: Path) -> Path:
+    """The HTML page: state graph, rates, held-out curves and checks, the mixing diagnostic."""
+    checks, mixing = result.checks, result.mixing
+    if mixing.computable:
+        mixing_text = ("no: a rate follows the local density more than the count the model "
+                       "uses" if mixing.flagged else "yes: no rate follows the local density "
+                       "more than the count")  # fmt: skip
+        mixing_text += f" (neighbourhood radius {mixing.radius:.2f} m)"
+    else:
+        mixing_text = f"cannot be computed: {mixing.reason}"
+    return render_page(
+        "rates_report.html.j2",
+        path,
+        title=title,
+        subtitle="",
+        meta=[
+            ("fitted on seeds", f"{result.fitted_seeds[0]}-{result.fitted_seeds[-1]}"),
+            ("checked on seeds", f"{result.held_seeds[0]}-{result.held_seeds[-1]}"),
+        ],
+        fitted=len(result.fitted_seeds),
+        held=len(result.held_seeds),
+        graph=_graph_figure(result.graph),
+        rates=table(result.model.table(), 4, ("source", "target", "family", "coefficient")),
+        curves=image_data(curves),
+        swarm=checks.swarm_size,
+        checks=table(checks.table, 3, ("state",)),
+        verdict=(
+            f"Worst state: RMSD {100 * checks.rmsd_max:.1f} % of N; band coverage "
+            f"{100 * checks.band_coverage:.1f} %; the ODE ran {checks.speed_ratio:.0f}x and the "
+            f"band {checks.band_speed_ratio:.1f}x faster than the held-out agent runs."
+        ),
+        mixing_text=mixing_text,
+        mixing=table(mixing.table, 3, ("source", "target", "k")) if mixing.computable else "",
+    )
+
+
+def _graph_figure(graph: object) -> str:
+    """The state graph drawn as a circle of states, each edge labelled with its count and
+    crude rate (1/s).
+    """
+    import networkx as nx
+
+    fig, ax = plt.subplots(figsize=(7.5, 5.0))
+    layout = nx.circular_layout(graph)
+    nx.draw_networkx_nodes(graph, layout, ax=ax, node_color="#cfe8ec", node_size=2200)
+    nx.draw_networkx_labels(graph, layout, ax=ax, font_size=9)
+    nx.draw_networkx_edges(graph, layout, ax=ax, arrows=True, arrowsize=16, node_size=2200,
+                           connectionstyle="arc3,rad=0.12")  # fmt: skip
+    labels = {}
+    for a, b, data in graph.edges(data=True):
+        rate = data.get("rate", float("nan"))
+        labels[a, b] = f"{data.get('count', 0)}" + (f"\n{rate:.3g}/s" if rate == rate else "")
+    nx.draw_networkx_edge_labels(graph, layout, edge_labels=labels, ax=ax, font_size=7,
+                                 connectionstyle="arc3,rad=0.12")  # fmt: skip
+    ax.set_axis_off()
+    data = figure_data(fig)
+    plt.close(fig)
+    return data
 
 
 def _curves(result: RateFit, path: Path, title: str) -> Path:

@@ -164,6 +164,8 @@ def test_abm_fit_of_each_model_that_counts_two_states(name, tmp_path, capsys):
         assert set(rates["source"]) <= {*cls.STATES, "(launch)"}  # the model's own states
         assert list(fit["state"]) == list(cls.STATES) and fit["rmsd"].between(0, 1).all()
         assert (out / "curves.png").is_file() and "held-out seeds" in printed
+        page = (out / "rates_report.html").read_text()
+        assert "The state graph" in page and all(state in page for state in cls.STATES)
         return
     assert main([*args, "--out", str(out)]) == 0
     printed = capsys.readouterr().out
