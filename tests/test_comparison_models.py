@@ -3,9 +3,12 @@ comparison.csv holds every published number and every claim, each the same row a
 runs all cut by the time limit give censored rows, and settings that are not the paper's give
 "not comparable" rows."""
 
+import re
+
 import pytest
 
 from abm.registry import model_class
+from analysis.compare import NOT_IN_SWEEP
 from analysis.report import write_report
 from analysis.sweep import run_sweep
 from tests.test_comparison import JUDGED, check_csv_against_html
@@ -37,6 +40,13 @@ def test_comparison_csv_of_a_tiny_readme_sweep_matches_the_report(tmp_path, mode
     cls = model_class(model)
     assert len(table) == len(cls.PUBLISHED) + len(cls.CLAIMS)
     published = table.iloc[: len(cls.PUBLISHED)]
+    claims = table.iloc[len(cls.PUBLISHED) :]
+    if (claims["verdict"] == NOT_IN_SWEEP).any():  # folded below the claims these runs judge
+        absent = int((claims["verdict"] == NOT_IN_SWEEP).sum())
+        summary = re.search(rf"{absent} claims? {NOT_IN_SWEEP}", html).start()
+        assert summary < html.rindex('<table class="claims">')  # the folded table follows
+        if absent < len(claims):  # the judged claims come first
+            assert html.index('<table class="claims">') < summary
     if model == "beacon-explorer":  # every run ends at the 60 s limit
         coverage = published[published["claim or metric"].str.contains("coverage time")]
         judged = coverage[coverage["verdict"].isin(JUDGED)]
