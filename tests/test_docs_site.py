@@ -42,6 +42,9 @@ def test_the_site_builds_strictly_with_the_api_reference(tmp_path):
     # The reference is generated from the packages: a model's class and its docstring are there.
     api = (site / "api" / "models" / "beacon_explorer" / "index.html").read_text(encoding="utf-8")
     assert "BeaconExplorerModel" in api
+    # Sphinx roles in docstrings show as code, not as literal ":class:" text
+    network = (site / "api" / "abm" / "comms" / "network" / "index.html").read_text("utf-8")
+    assert ":class:<code>" not in network and "<code>Shadowing</code>" in network
     # The README's pictures and the models' READMEs come along, with links that work in the site.
     assert (site / "images" / "run.png").is_file()
     start = (site / "getting-started" / "index.html").read_text(encoding="utf-8")
