@@ -65,3 +65,29 @@ def test_help_and_bad_parameter_load_nothing_a_run_needs():
     assert seen["modules"] == []
     assert seen["kernels"] == []
     assert seen["ufuncs"] == []
+
+
+def test_a_model_loads_no_other_model():
+    """``abm run MODEL`` up to its parameter check imports that model's package only, not
+    every model registered before it in sorted order (the run's name is looked up without
+    importing the others).
+    """
+    probe = r"""
+import contextlib, io, json, sys
+from abm.registry import model_class, model_names
+from analysis.cli import main
+
+last = model_names()[-1]
+with contextlib.redirect_stderr(io.StringIO()):
+    code = main(["run", last, "--trace-interval", "-1"])
+target = model_class(last).__module__.split(".")[:2]
+loaded = sorted({m.split(".")[1] for m in sys.modules if m.startswith("models.")})
+print(json.dumps({"code": code, "target": target[1], "loaded": loaded}))
+"""
+    out = subprocess.run(
+        [sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    seen = json.loads(out.strip().splitlines()[-1])
+    assert seen["code"] == 2
+    assert seen["target"] in seen["loaded"]
+    assert set(seen["loaded"]) - {seen["target"]} <= {"environments"}, seen["loaded"]
