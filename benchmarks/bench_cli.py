@@ -1,11 +1,12 @@
 """How fast the ``abm`` command answers: help, a model's help, a bad parameter, a small run.
 
-Times four commands end to end, each run as a fresh process (what a user waits for, start-up
+Times five commands end to end, each run as a fresh process (what a user waits for, start-up
 and imports included), and prints each one's median over ``--repeats`` runs:
 
 - ``abm --help``
 - ``abm run beacon-explorer --help``
 - ``abm run beacon-explorer --launch-period -3`` (refused before any work: exit code 2)
+- ``abm run tangible-pso --help`` (the last model in sorted order)
 - ``abm run flocking``
 
 Each command runs once untimed first, which fills numba's cache: the times are warm.
@@ -39,6 +40,7 @@ COMMANDS = {
         ["run", "beacon-explorer", "--launch-period", "-3"],
         2,
     ),
+    "abm run tangible-pso --help": (["run", "tangible-pso", "--help"], 0),
     "abm run flocking": (["run", "flocking"], 0),
 }
 
