@@ -32,7 +32,10 @@ library's, which is the same on CPUs with and without FMA (measured; see
 """
 
 import math
+import threading
+from collections.abc import Callable
 
+import numpy as np
 from numba import njit, vectorize
 
 __all__ = [
@@ -323,46 +326,83 @@ def _pow(x, y):
     return sign * exp_scalar(y * log_scalar(x))
 
 
-@vectorize(["float64(float64)"], cache=True)
-def exp(x):
+def _exp(x):
     """``e**x``, element-wise."""
     return exp_scalar(x)
 
 
-@vectorize(["float64(float64)"], cache=True)
-def log10(x):
+def _log10(x):
     """Base-10 logarithm, element-wise (``-inf`` at 0, NaN below)."""
     return log_scalar(x) * _INVLN10
 
 
-@vectorize(["float64(float64, float64)"], cache=True)
-def power(x, y):
+def _power(x, y):
     """``x**y``, element-wise: by squaring for integral ``|y| <= 64``, else ``exp(y log x)``;
     negative x only with integral y (NaN otherwise).
     """
     return _pow(x, y)
 
 
-@vectorize(["float64(float64, float64)"], cache=True)
-def arctan2(y, x):
+def _arctan2(y, x):
     """Angle of the point ``(x, y)`` (rad, in [-pi, pi]), element-wise."""
     return atan2_scalar(y, x)
 
 
-@vectorize(["float64(float64)"], cache=True)
-def sin(x):
+def _sin(x):
     """Sine (rad), element-wise; NaN beyond :data:`PORTABLE_RANGE`."""
     return _sincos(x)[0]
 
 
-@vectorize(["float64(float64)"], cache=True)
-def cos(x):
+def _cos(x):
     """Cosine (rad), element-wise; NaN beyond :data:`PORTABLE_RANGE`."""
     return _sincos(x)[1]
 
 
-@vectorize(["float64(float64)"], cache=True)
-def tan(x):
+def _tan(x):
     """Tangent (rad), element-wise, as sine over cosine; NaN beyond :data:`PORTABLE_RANGE`."""
     s, c = _sincos(x)
     return s / c
+
+
+#: The element-wise ufuncs by name: each one's numba signature and scalar kernel. They are
+#: compiled (or loaded from numba's cache) on first use, by :func:`__getattr__`, not at import:
+#: building all seven took about 0.3 s, which every command paid, ``abm run MODEL --help``
+#: included, though only a running model evaluates them.
+_UFUNCS = {
+    "exp": ("float64(float64)", _exp),
+    "log10": ("float64(float64)", _log10),
+    "power": ("float64(float64, float64)", _power),
+    "arctan2": ("float64(float64, float64)", _arctan2),
+    "sin": ("float64(float64)", _sin),
+    "cos": ("float64(float64)", _cos),
+    "tan": ("float64(float64)", _tan),
+}
+_BUILD = threading.Lock()
+
+# The ufuncs' names, declared (no value: a module attribute is made only by __getattr__).
+exp: Callable[..., np.ndarray]
+log10: Callable[..., np.ndarray]
+power: Callable[..., np.ndarray]
+arctan2: Callable[..., np.ndarray]
+sin: Callable[..., np.ndarray]
+cos: Callable[..., np.ndarray]
+tan: Callable[..., np.ndarray]
+
+
+def __getattr__(name: str):
+    """The ufunc ``name`` (``exp``, ``sin``, ...), built by numba's ``vectorize`` on first use
+    and kept as the module's attribute, so every later ``portable.name`` is the same ufunc.
+    """
+    if name not in _UFUNCS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    with _BUILD:
+        if name not in globals():
+            signature, kernel = _UFUNCS[name]
+            kernel.__name__ = kernel.__qualname__ = name  # the ufunc's name and cache file
+            globals()[name] = vectorize([signature], cache=True)(kernel)
+    return globals()[name]
+
+
+def __dir__() -> list[str]:
+    """The module's names, the ufuncs not built yet included."""
+    return sorted(set(globals()) | set(_UFUNCS))

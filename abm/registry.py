@@ -133,10 +133,17 @@ def model_class(model: str | type) -> type:
 def name_of(model: type) -> str | None:
     """The registered name of a model class (None if it is not registered).
 
-    Registered targets are imported as needed to compare classes (an entry point may name
-    the class through its package, ``models.x:Model``, or its module, ``models.x.model:Model``).
+    A name already looked up as this class is answered without importing anything (so
+    ``abm run tangible-pso`` does not import every model listed before it); otherwise
+    registered targets are imported as needed to compare classes (an entry point may name the
+    class through its package, ``models.x:Model``, or its module, ``models.x.model:Model``).
+    Where several names register one class, the first in sorted order among those looked up
+    is the answer.
     """
     _discover()
+    known = sorted(name for name, cls in _classes.items() if cls is model)
+    if known:
+        return known[0]
     for name in sorted(_targets):
         try:
             if model_class(name) is model:

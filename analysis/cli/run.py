@@ -70,13 +70,14 @@ def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
 
 
 def main(args: argparse.Namespace) -> int:
-    """Check every input, build, run, print, save."""
-    from abm.draw import save_swarm_png
+    """Check every input, build, run, print, save.
+
+    What only a run needs (the drawing, the run folder's writer, the progress line) is imported
+    after the inputs are checked, so ``--help`` and a bad parameter answer at once.
+    """
     from abm.errors import ConfigError
     from abm.registry import model_class, model_names, name_of
     from analysis.cli.flags import given_params
-    from analysis.cli.progress import RunProgress
-    from analysis.run_folder import check_run_target
 
     if args.model is None:
         raise ConfigError(
@@ -91,11 +92,16 @@ def main(args: argparse.Namespace) -> int:
     params.setdefault("trace_interval", cls.Params().trace_interval or 1.0)
     planned = cls.make_params(**params)  # every parameter checked before the run
     if options.out is not None:
+        from analysis.run_folder import check_run_target
+
         check_run_target(options.out)
         _check_same_run(options.out, cls, options.seed, planned)
         out, made = _prepare(options.out)
     else:
         out, made = _prepare(None, name, options.seed)
+    from abm.draw import save_swarm_png
+    from analysis.cli.progress import RunProgress
+
     try:
         model = cls(seed=options.seed, **params)
         progress = RunProgress(model) if options.progress else None

@@ -11,6 +11,7 @@ the newest flood has reached.
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cache
 
 import networkx as nx
 import numpy as np
@@ -32,14 +33,22 @@ from models.beacon_explorer.flowchart import (
 from models.beacon_explorer.params import BeaconExplorerParams
 
 __all__ = ["Beacon", "BeaconNetwork"]
-#: Unit vectors of the rays probing the NE, SE, SW and NW quadrants, five per quadrant at
-#: compass bearings 15 to 75 degrees past its first cardinal (clockwise from North).
-QUADRANT_RAYS = np.array(
-    [
-        [portable.sin_scalar(a), portable.cos_scalar(a)]
-        for a in np.radians([q * 90 + b for q in range(4) for b in (15, 30, 45, 60, 75)])
-    ]
-)
+
+
+@cache
+def quadrant_rays() -> np.ndarray:
+    """Unit vectors of the rays probing the NE, SE, SW and NW quadrants, five per quadrant at
+    compass bearings 15 to 75 degrees past its first cardinal (clockwise from North).
+
+    Computed on first use, not at import: the portable sine and cosine are numba functions,
+    and loading them took a fifth of a second that ``abm run beacon-explorer --help`` paid.
+    """
+    return np.array(
+        [
+            [portable.sin_scalar(a), portable.cos_scalar(a)]
+            for a in np.radians([q * 90 + b for q in range(4) for b in (15, 30, 45, 60, 75)])
+        ]
+    )
 
 
 @dataclass
@@ -298,7 +307,7 @@ class BeaconNetwork:
         # cardinal): a single diagonal ray from a beacon that drifted towards a T-junction's
         # corner can run 3.5 m up the side branch and pass for open space.
         reach = ray_sensors(
-            self.arena, position, QUADRANT_RAYS, self.rng, p.sensor_range, p.sensor_noise
+            self.arena, position, quadrant_rays(), self.rng, p.sensor_range, p.sensor_noise
         )
         if robot is not None:
             reach = self.sensed("rays", [robot], reach[None])[0]

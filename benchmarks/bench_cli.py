@@ -1,0 +1,120 @@
+"""How fast the ``abm`` command answers: help, a model's help, a bad parameter, a small run.
+
+Times five commands end to end, each run as a fresh process (what a user waits for, start-up
+and imports included), and prints each one's median over ``--repeats`` runs:
+
+- ``abm --help``
+- ``abm run beacon-explorer --help``
+- ``abm run beacon-explorer --launch-period -3`` (refused before any work: exit code 2)
+- ``abm run tangible-pso --help`` (the last model in sorted order)
+- ``abm run flocking``
+
+Each command runs once untimed first, which fills numba's cache: the times are warm.
+
+Give ``--abm`` once per installation to compare them side by side (e.g. main's checkout and
+this one); their runs alternate, so a change in the machine's load hits both alike. Each
+installation gets a numba cache folder of its own in a temporary folder
+(``NUMBA_CACHE_DIR``) and writes no byte code, so timing another checkout writes nothing in
+it; the runs' folders go to a temporary folder too. Prints the machine and the load average
+before and after: on a loaded machine read the ratio, and name the machine beside any
+absolute figure.
+
+Usage: python benchmarks/bench_cli.py [--abm PATH/TO/bin/abm ...] [--repeats 5]
+"""
+
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+#: The commands timed, by label: arguments to ``abm`` and the exit code each must end with.
+COMMANDS = {
+    "abm --help": (["--help"], 0),
+    "abm run beacon-explorer --help": (["run", "beacon-explorer", "--help"], 0),
+    "abm run beacon-explorer --launch-period -3": (
+        ["run", "beacon-explorer", "--launch-period", "-3"],
+        2,
+    ),
+    "abm run tangible-pso --help": (["run", "tangible-pso", "--help"], 0),
+    "abm run flocking": (["run", "flocking"], 0),
+}
+
+
+def machine() -> str:
+    """CPU model and core count (from lscpu where there is one)."""
+    name = platform.processor() or platform.machine()
+    try:
+        for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
+            if line.startswith("Model name:"):
+                name = line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return f"{name}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}"
+
+
+def timed(abm: Path, argv: list[str], expect: int, env: dict, cwd: Path) -> float:
+    """Seconds one ``abm ARGV`` took as a fresh process; its exit code must be ``expect``."""
+    start = time.perf_counter()
+    done = subprocess.run([str(abm), *argv], env=env, cwd=cwd, capture_output=True, text=True)
+    took = time.perf_counter() - start
+    if done.returncode != expect:
+        sys.exit(
+            f"{abm} {' '.join(argv)}: exit code {done.returncode}, expected {expect}:\n"
+            f"{done.stderr.strip()}"
+        )
+    return took
+
+
+def main() -> int:
+    """Time every command for every installation; print the medians side by side."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--abm",
+        type=Path,
+        action="append",
+        help="an installation's abm script (repeatable) [this interpreter's]",
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="runs per command [5]")
+    args = parser.parse_args()
+    installs = [p.absolute() for p in args.abm or [Path(sys.executable).parent / "abm"]]
+    for abm in installs:
+        if not abm.is_file():
+            sys.exit(f"--abm {abm}: no such file")
+    print(f"machine: {machine()}")
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
+    times: dict[tuple[Path, str], list[float]] = {}
+    with tempfile.TemporaryDirectory(prefix="bench-cli-") as scratch:
+        envs, cwds = {}, {}
+        for i, abm in enumerate(installs):
+            envs[abm] = dict(
+                os.environ,
+                NUMBA_CACHE_DIR=str(Path(scratch) / f"numba-{i}"),
+                PYTHONDONTWRITEBYTECODE="1",
+            )
+            cwds[abm] = Path(scratch) / f"runs-{i}"
+            cwds[abm].mkdir()
+            for argv, expect in COMMANDS.values():  # untimed: fills numba's cache
+                timed(abm, argv, expect, envs[abm], cwds[abm])
+        for label, (argv, expect) in COMMANDS.items():
+            for _ in range(args.repeats):
+                for abm in installs:
+                    took = timed(abm, argv, expect, envs[abm], cwds[abm])
+                    times.setdefault((abm, label), []).append(took)
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+    print(f"median of {args.repeats} fresh processes, seconds:")
+    print(f"  {'command':<44}" + "".join(f"{f'[{i}]':>9}" for i in range(len(installs))))
+    for label in COMMANDS:
+        medians = [statistics.median(times[abm, label]) for abm in installs]
+        print(f"  {label:<44}" + "".join(f"{m:>9.2f}" for m in medians))
+    for i, abm in enumerate(installs):
+        print(f"  [{i}] {abm}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
