@@ -32,7 +32,7 @@ from abm.verdicts import (
     spread,
 )
 
-__all__ = ["TESTS"]
+__all__ = ["ACCOUNTINGS", "TESTS"]
 
 #: C1: share of the free cells that must be known at the end (ours; cells in world corners and
 #: wall pockets next to a parked worker cannot be reached under the padding rules).
@@ -302,29 +302,56 @@ def c12(runs, samples) -> Verdict | None:
     return Verdict(text, True, "", **common)
 
 
-def c14(runs, samples) -> Verdict | None:
-    if "topology" not in runs or runs["topology"].nunique() < 2:
+#: The two accountings of the message comparison (README, "The message comparison"): the
+#: summary column each counts in, and its name in the verdicts.
+ACCOUNTINGS = {
+    "per_destination": ("messages_task", "task messages, one per destination"),
+    "broadcast": ("transmissions_task", "task transmissions, one per broadcast"),
+}
+
+
+def _fewer(runs: pd.DataFrame, accounting: str) -> Verdict | None:
+    """C14 under one accounting: HST sends fewer than FC and than RING at every size n_s = W S,
+    each by the Welch 95 % interval of FC - HST (RING - HST) excluding 0 on the positive side.
+    The star's ratio and star - HST (same rule) are shown, not judged: the report's claim
+    names only the flat topologies.
+    """
+    metric, what = ACCOUNTINGS[accounting]
+    if "topology" not in runs or metric not in runs or runs["topology"].nunique() < 2:
         return None
     ok = runs[runs["scout_scan_area"].notna()].assign(n_s=runs["W"] * runs["S"])
-    mean = ok.groupby(["n_s", "topology"])["messages_task"].mean().unstack()
+    ok = ok.dropna(subset=[metric])
+    mean = ok.groupby(["n_s", "topology"])[metric].mean().unstack()
     flat = [t for t in ("fc", "ring") if t in mean]
     if "hst" not in mean or not flat:
         return None
     ratio = mean[flat].min(axis=1) / mean["hst"]
-    star = (mean["star"] / mean["hst"]) if "star" in mean else None
-    ours = "flat / HST task transmissions: " + ", ".join(
-        f"{r:.1f} at {n} scouts" for n, r in ratio.items()
+    ours = f"{accounting} accounting ({what}); flat / HST: " + ", ".join(
+        f"{r:.2f} at {n} scouts" for n, r in ratio.items()
     )
-    if star is not None:
-        ours += "; star / HST: " + ", ".join(f"{r:.2f}" for r in star)
     parts = []
     for n, group in ok.groupby("n_s"):
-        hst = group.loc[group["topology"] == "hst", "messages_task"]
+        hst = group.loc[group["topology"] == "hst", metric]
         for arm in flat:
-            parts.append(difference(hst, group.loc[group["topology"] == arm, "messages_task"], +1))
+            parts.append(difference(hst, group.loc[group["topology"] == arm, metric], +1))
             ours += f"; {arm} - HST at {n} scouts {parts[-1].ours or parts[-1].why}"
+        if "star" in mean:
+            star = difference(hst, group.loc[group["topology"] == "star", metric], +1)
+            ours += f"; star - HST at {n} scouts (not judged) {star.ours or star.why}"
     return combine(parts, ours, len(ok), "HST sends fewer than FC and RING at every size")
 
 
+def c14(runs, samples) -> Verdict | None:
+    """C14 counting every copy of a message to each destination (one row per link and hop)."""
+    return _fewer(runs, "per_destination")
+
+
+def c14b(runs, samples) -> Verdict | None:
+    """C14 counting a message sent to several destinations at once on a shared channel (FC's
+    copies, a ring origin's first hop both ways) as one transmission.
+    """
+    return _fewer(runs, "broadcast")
+
+
 TESTS = {"C1": c1, "C2": c2, "C3": c3, "C4": c4, "C6": c6, "C7": c7, "C8": c8,
-         "C9": c9, "C12": c12, "C14": c14}  # fmt: skip
+         "C9": c9, "C12": c12, "C14": c14, "C14b": c14b}  # fmt: skip

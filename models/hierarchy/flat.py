@@ -7,9 +7,12 @@ each round with all scouts as children (model RNG: identical on every node), so 
 or assignment message is needed; instead every POINT, ARRIVED and SCAN_COMPLETE (and at
 start-up every INFO) is disseminated to **all** other nodes: on FC one transmission to each of
 the n - 1 others, on the ring forwarded hop by hop both ways until every node has it once (n - 1
-transmissions, up to ceil((n - 1) / 2) hops). With reliable, zero-latency delivery (the
-comparison's setting) every replica equals the map holder's after each message, so the
-simulation plans once, on the holder's replica, and counts every transmission on the network.
+transmissions, up to ceil((n - 1) / 2) hops). On a shared radio channel the FC copies are one
+broadcast, and so are the ring origin's first hops both ways: the log marks each as one
+transmission (``MessageLog.shared``; the summary's ``transmissions_task``). With reliable,
+zero-latency delivery (the comparison's setting) every replica equals the map holder's after
+each message, so the simulation plans once, on the holder's replica, and counts every
+transmission on the network.
 """
 
 import numpy as np
@@ -55,13 +58,15 @@ def disseminate(model, origin: object, msg: Message) -> None:
 
     if isinstance(comms.policy, RingLinks):
         n = len(others)
-        forward(origin, +1, (n + 1) // 2, 0)
-        if n // 2:
-            forward(origin, -1, n // 2, 0)
+        with comms.log.shared():  # the origin's first hop both ways: one broadcast
+            forward(origin, +1, (n + 1) // 2, 0)
+            if n // 2:
+                forward(origin, -1, n // 2, 0)
         return
-    for dst in others:
-        comms.send(origin, dst, (msg, 0, 0, 0), arrive, kind=msg.KIND, items=msg.items,
-                   nbytes=msg.nbytes, phase=msg.PHASE, origin=origin)  # fmt: skip
+    with comms.log.shared():  # one broadcast heard by every other node
+        for dst in others:
+            comms.send(origin, dst, (msg, 0, 0, 0), arrive, kind=msg.KIND, items=msg.items,
+                       nbytes=msg.nbytes, phase=msg.PHASE, origin=origin)  # fmt: skip
 
 
 class FlatScout(Scout):

@@ -383,6 +383,7 @@ class HierarchyModel(SwarmModel):
             "reattached": self.reattached,
             "messages": len(log),
             "messages_task": len(task),
+            "transmissions_task": self.comms.log.transmissions("task"),
             "messages_startup": int((log["phase"] == "startup").sum()),
             "bytes": int(log["bytes"].sum()),
             "max_node_load": int(load.max()) if len(load) else 0,

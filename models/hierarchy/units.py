@@ -36,7 +36,14 @@ SUMMARY_UNITS = {
     "workers_failed": Quantity("count", "workers failed"),
     "reattached": Quantity("count", "scouts reattached to another worker"),
     "messages": Quantity("count", "messages sent"),
-    "messages_task": Quantity("count", "messages sent during the task"),
+    "messages_task": Quantity(
+        "count", "messages sent during the task, one per destination (per-destination accounting)"
+    ),
+    "transmissions_task": Quantity(
+        "count",
+        "radio transmissions during the task, one per broadcast to several destinations on a "
+        "shared channel (broadcast accounting)",
+    ),
     "messages_startup": Quantity("count", "messages sent during start-up"),
     "bytes": Quantity("byte", "bytes of all messages"),
     "max_node_load": Quantity("count", "most messages sent plus received by one robot"),
