@@ -228,8 +228,9 @@ def predictive_table(target: Target, runs: pd.DataFrame) -> pd.DataFrame:
 
 
 def posterior_figure(history, priors: Sequence[Prior], table: pd.DataFrame, path: Path) -> Path:
-    """One panel per parameter: the last population's weighted histogram over the prior's
-    range, its median and 90 % interval marked.
+    """One panel per parameter: the last population's weighted histogram (30 bins over the
+    particles' span), its median and 90 % interval marked; the prior's range is in the label
+    (drawn at full width a narrow posterior would be one bar).
     """
     import matplotlib
 
@@ -239,15 +240,17 @@ def posterior_figure(history, priors: Sequence[Prior], table: pd.DataFrame, path
     frame, w = history.get_distribution()
     fig, axes = plt.subplots(1, len(priors), figsize=(4 * len(priors), 3), squeeze=False)
     for ax, p, (_, row) in zip(axes[0], priors, table.iterrows(), strict=True):
-        edges = (np.geomspace if p.log else np.linspace)(p.low, p.high, 41)
-        ax.hist(frame[p.name], bins=edges, weights=w, density=True, color="#4c72b0", alpha=0.8)
+        x = frame[p.name].to_numpy(float)
+        lo, hi = (x.min(), x.max()) if x.max() > x.min() else (p.low, p.high)
+        edges = (np.geomspace if p.log else np.linspace)(lo, hi, 31)
+        ax.hist(x, bins=edges, weights=w, density=True, color="#4c72b0", alpha=0.8)
         ax.axvline(row["median"], color="k", label=f"median {row['median']:.4g}")
         for q in ("q05", "q95"):
             ax.axvline(row[q], color="k", linestyle="--")
-        ax.set_xlim(p.low, p.high)
         if p.log:
             ax.set_xscale("log")
-        ax.set_xlabel(f"{p.name} (prior {'log-' if p.log else ''}uniform; dashed: 5 %, 95 %)")
+        kind = "log-uniform" if p.log else "uniform"
+        ax.set_xlabel(f"{p.name} (prior {kind} {p.low:g}..{p.high:g}; dashed: 5 %, 95 %)")
         ax.set_ylabel("posterior density")
         ax.legend(fontsize="small")
     fig.suptitle(f"posterior after {history.n_populations} populations")
