@@ -13,6 +13,7 @@
 
 import json
 import math
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -203,7 +204,7 @@ def published_target(model_cls: type, free: Sequence = ()) -> Target:
     for rec in records:
         label = f"{rec.section}: {rec.quantity} ({rec.source or 'no source'})"
         if rec.kind != "level":
-            skipped.append(f"{label}: a {rec.kind}, not a level")
+            skipped.append(f"{label}: not a level (kind {rec.kind})")
         elif isinstance(rec.value, str) or rec.spread is None:
             skipped.append(f"{label}: no published spread")
         elif set(rec.condition) & set(free):
@@ -212,9 +213,11 @@ def published_target(model_cls: type, free: Sequence = ()) -> Target:
             rows.append({"metric": rec.metric, "value": float(rec.value), "sd": rec.spread,
                          **rec.condition})  # fmt: skip
     if not rows:
+        why = Counter(line.rpartition(": ")[2] for line in skipped)
+        counts = "; ".join(f"{n} {reason}" for reason, n in why.most_common()) or "none"
         raise ConfigError(
             f"{model_cls.__name__} has no published level with a spread to calibrate against "
-            f"({len(records)} records, none usable); give measured numbers with --target FILE"
+            f"({len(records)} records: {counts}); give measured numbers with --target FILE"
         )
     frame = pd.DataFrame(rows)
     conditions = tuple(c for c in frame.columns if c not in COLUMNS)

@@ -171,3 +171,24 @@ def test_folder_with_other_files_refused(tmp_path, capsys):
     (out / "notes.txt").write_text("mine")
     _refused(capsys, _calibrate(tmp_path), "not a calibration folder", "notes.txt")
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
+def test_published_target_uses_levels_with_a_spread_and_says_what_it_skips(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = abm(["calibrate", NORMAL, "--target", "published", "--free", "mu=-20:20",
+                "--out", str(out), "--workers", "1", "--population-size", "10",
+                "--populations", "1", "--check-runs", "2"])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 0, err
+    assert "1 numbers" in err
+    assert "skipped toy: y (T2): no published spread" in err
+    assert "skipped toy: y (T3): its condition fixes a free parameter" in err
+    rows = json.loads((out / "calibration.json").read_text())["target"]
+    assert rows == [{"metric": "y", "value": 3.0, "sd": 1.0, "sigma": 1.0}]
+
+
+def test_published_target_without_usable_records_refused(tmp_path, capsys):
+    code = abm(["calibrate", "beacon-explorer", "--target", "published",
+                "--free", "launch_period=2:20", "--out", str(tmp_path / "out")])  # fmt: skip
+    _refused(capsys, code, "no published level with a spread", "not a level")
+    assert not (tmp_path / "out").exists()
