@@ -48,9 +48,10 @@ QUANTILES = (0.05, 0.95)
 def evaluation_seed(seed: int, values: Sequence[float]) -> int:
     """The seed of the model runs of one particle: a draw of a Generator seeded by the
     calibration's seed and the particle's exact values (the same particle, the same runs).
+    Below 2**53, so pyABC's database, which stores statistics as floats, keeps it exactly.
     """
     bits = [struct.unpack("<Q", struct.pack("<d", float(v)))[0] for v in values]
-    return int(np.random.default_rng([seed, *bits]).integers(2**63))
+    return int(np.random.default_rng([seed, *bits]).integers(2**53))
 
 
 def distance(sd: np.ndarray) -> Callable[[Mapping, Mapping], float]:
