@@ -223,3 +223,24 @@ def test_each_evaluation_seed_is_stored_and_replays_its_statistics(tmp_path, cap
             calib.evaluate({"mu": row["par_mu"]}, int(row["sumstat__seed"]))["r0"]
             == (row["sumstat_r0"])
         )
+
+
+def test_holdout_condition_is_checked_at_the_posterior_median(tmp_path, capsys):
+    """Target rows at sigma = 1 (a condition column), held-out rows at sigma = 3: the
+    held-out check runs the posterior median there, on fresh seeds.
+    """
+    target = _target(tmp_path, f"metric,value,sd,sigma\ny,{Y0},1.0,1.0\n")
+    holdout = tmp_path / "holdout.csv"
+    holdout.write_text(f"metric,value,sd,sigma\ny,{Y0},3.0,3.0\n")
+    out = tmp_path / "out"
+    code = abm(["calibrate", NORMAL, "--target", str(target), "--free", "mu=-20:20",
+                "--holdout", str(holdout), "--out", str(out), "--workers", "1",
+                "--population-size", "20", "--populations", "2", "--check-runs", "6"])  # fmt: skip
+    assert code == 0, capsys.readouterr().err
+    held = pd.read_csv(out / "heldout.csv")
+    assert list(held["check"]) == ["held-out condition"]
+    assert list(held["sigma"]) == [3.0] and held["runs"].iloc[0] == 6
+    median = pd.read_csv(out / "posterior.csv")["median"].iloc[0]
+    # six draws of N(median, 3): their mean within 4 standard errors of the median
+    assert abs(held["predicted_mean"].iloc[0] - median) < 4 * 3.0 / np.sqrt(6)
+    assert held["q95"].iloc[0] - held["q05"].iloc[0] > 2.0  # the sigma = 3 spread, not 1
