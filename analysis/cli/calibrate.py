@@ -7,6 +7,7 @@ the target and a held-out check are written beside pyABC's database.
 """
 
 import argparse
+import importlib.util
 import json
 import os
 import sys
@@ -114,6 +115,10 @@ def main(args: argparse.Namespace) -> int:
         "seed": args.seed,
         "population_size": args.population_size,
     }
+    if importlib.util.find_spec("pyabc") is None:
+        raise ConfigError(
+            "pyABC is not installed: run `.venv/bin/pip install -e '.[calibrate]'` (or make venv)"
+        )
     resume = check_folder(args.out, manifest)
     print(
         f"calibrate {name}: {len(priors)} free ({', '.join(names)}), target {target.source} "
