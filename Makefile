@@ -15,7 +15,7 @@ $(STAMP): pyproject.toml scripts/find_python.sh
 	@PYTHON=$$(sh scripts/find_python.sh) && echo "using $$PYTHON ($$($$PYTHON --version))" && \
 	  $$PYTHON -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev]"
+	$(PY) -m pip install --quiet -e ".[dev,calibrate]"
 	@touch $(STAMP)
 
 # The live browser view: Solara with its front-end assets fetched from npm (offline-safe).

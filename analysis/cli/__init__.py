@@ -16,7 +16,7 @@ from abm.errors import ABMError, ConfigError
 __all__ = ["main", "build_parser", "one_line", "OneLineParser", "VERB_MODULES"]
 
 #: Verb modules, in the order ``abm --help`` lists them.
-VERB_MODULES = ("run", "sweep", "explore", "report", "fit", "render", "viz")
+VERB_MODULES = ("run", "sweep", "explore", "calibrate", "report", "fit", "render", "viz")
 
 
 def _load_verbs() -> list:
