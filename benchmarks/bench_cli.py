@@ -24,13 +24,14 @@ Usage: python benchmarks/bench_cli.py [--abm PATH/TO/bin/abm ...] [--repeats 5]
 
 import argparse
 import os
-import platform
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from machine import machine  # benchmarks/machine.py, beside this script
 
 #: The commands timed, by label: arguments to ``abm`` and the exit code each must end with.
 COMMANDS = {
@@ -43,18 +44,6 @@ COMMANDS = {
     "abm run tangible-pso --help": (["run", "tangible-pso", "--help"], 0),
     "abm run flocking": (["run", "flocking"], 0),
 }
-
-
-def machine() -> str:
-    """CPU model and core count (from lscpu where there is one)."""
-    name = platform.processor() or platform.machine()
-    try:
-        for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
-            if line.startswith("Model name:"):
-                name = line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return f"{name}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}"
 
 
 def timed(abm: Path, argv: list[str], expect: int, env: dict, cwd: Path) -> float:

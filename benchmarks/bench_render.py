@@ -21,7 +21,6 @@ Usage: python benchmarks/bench_render.py [--run RUN_FOLDER] [--model beacon-expl
 import argparse
 import importlib.util
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -29,6 +28,7 @@ import time
 from pathlib import Path
 
 import imageio.v3 as iio
+from machine import machine  # benchmarks/machine.py, beside this script
 
 from abm.registry import model_class
 from analysis import render as new_render
@@ -54,18 +54,6 @@ def old_render(commit: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
-
-
-def machine() -> str:
-    """CPU model and core count (from lscpu where there is one)."""
-    name = platform.processor() or platform.machine()
-    try:
-        for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
-            if line.startswith("Model name:"):
-                name = line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return f"{name}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}"
 
 
 def time_render(module, run, frames: int, snapshots: int, out: Path) -> tuple[float, float]:
