@@ -213,3 +213,16 @@ def test_rate_equations_refuse_what_they_cannot_do_before_any_run(extra, said, t
     assert main(["fit", "sugarmap", *extra, "--out", str(out)]) != 0
     err = capsys.readouterr().err
     assert said in err and len(err.strip().splitlines()) == 1 and not out.exists()
+
+
+@pytest.mark.parametrize("verb", ["calibrate", "fit"])
+def test_a_bad_seed_is_one_line_before_any_folder(verb, tmp_path, capsys):
+    # calibrate once started pyABC with a negative seed and died deep inside its workers
+    target = tmp_path / "t.csv"
+    target.write_text("metric,value,sd\ncoverage_time,300,50\n")
+    extra = ["--target", str(target), "--free", "launch_period=2:20"] if verb == "calibrate" else []
+    out = tmp_path / "out"
+    assert main([verb, "beacon-explorer", *extra, "--seed", "-3", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "seed must be an integer in [0, 2**63 - 1], got -3" in err[0]
+    assert not out.exists()

@@ -24,6 +24,7 @@ EXAMPLE = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm calibrate``."""
     from abm.registry import model_names
+    from analysis.cli.flags import seed_argument
 
     parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
     parser.add_argument(
@@ -49,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--epsilon", type=float, default=0.5, help="stop at this distance (in target sds) [0.5]"
     )
-    parser.add_argument("--seed", type=int, default=0, help="the calibration's seed [0]")
+    parser.add_argument("--seed", type=seed_argument, default=0, help="the calibration's seed [0]")
     parser.add_argument(
         "--workers", type=int, default=min(2, os.cpu_count() or 1), help="local processes"
     )

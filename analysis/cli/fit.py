@@ -20,6 +20,7 @@ EXAMPLE = "abm fit stigmergy --grid map=hall100,divided --grid pheromone_radius=
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm fit``."""
     from abm.registry import model_names
+    from analysis.cli.flags import seed_argument
 
     parser.add_argument("model", help=f"the model: {', '.join(model_names())} (or module:Class)")
     parser.add_argument(
@@ -45,7 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--held", type=int, default=3, help="rate equations: held-out runs that check them [3]"
     )
-    parser.add_argument("--seed", type=int, default=0, help="the sweep seed [0]")
+    parser.add_argument("--seed", type=seed_argument, default=0, help="the sweep seed [0]")
     parser.add_argument(
         "--workers", type=int, default=min(2, os.cpu_count() or 1), help="local processes"
     )

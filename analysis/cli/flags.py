@@ -13,7 +13,7 @@ import typing
 
 from abm.params import FAULT_KEYWORDS, field_help, field_rule, param_fields, refuse_fault_keyword
 
-__all__ = ["add_param_flags", "flag_name", "given_params", "parse_assignment"]
+__all__ = ["add_param_flags", "flag_name", "given_params", "parse_assignment", "seed_argument"]
 
 _DEST = "param__"
 
@@ -155,3 +155,15 @@ def _one(params_cls, name: str, flag: dict, text: str, check_value):
         choices = ", ".join(repr(c) for c in flag["choices"])
         raise ConfigError(f"{name} must be one of {choices}, got {value!r}")
     return check_value(params_cls, name, value)
+
+
+def seed_argument(text: str) -> int:
+    """An argparse ``type`` for every verb's ``--seed``: one integer in [0, 2**63 - 1]
+    (:func:`abm.errors.parse_seed`), refused in one line before any work starts.
+    """
+    from abm.errors import ConfigError, parse_seed
+
+    try:
+        return parse_seed(text)
+    except ConfigError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None

@@ -47,11 +47,14 @@ def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
     """
     from abm.contract import description
     from analysis.cli import OneLineParser
-    from analysis.cli.flags import add_param_flags
+    from analysis.cli.flags import add_param_flags, seed_argument
 
     parser = OneLineParser(prog=f"abm run {name}", description=description(model_cls))
     parser.add_argument(
-        "--seed", type=_seed, default=1, help="the model's seed, an integer in [0, 2**63 - 1] [1]"
+        "--seed",
+        type=seed_argument,
+        default=1,
+        help="the model's seed, an integer in [0, 2**63 - 1] [1]",
     )
     parser.add_argument(
         "--out",
@@ -154,16 +157,6 @@ def _prepare(out: Path | None, name: str = "", seed: int = 0) -> tuple[Path, boo
             raise
         raise OutputError(exc.errno, exc.strerror or str(exc), exc.filename or str(out)) from exc
     return out, made
-
-
-def _seed(text: str) -> int:
-    """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
-    from abm.errors import ConfigError, parse_seed
-
-    try:
-        return parse_seed(text)
-    except ConfigError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def new_run_folder(name: str, seed: int, started: datetime, root: Path = RUNS) -> Path:

@@ -12,6 +12,8 @@ EXAMPLE = "abm sweep experiments/corridor.toml --executor processes"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``abm sweep``."""
+    from analysis.cli.flags import seed_argument
+
     parser.add_argument("file", type=Path, help="sweep file, e.g. experiments/corridor.toml")
     add_execution_options(parser)
     parser.add_argument(
@@ -19,7 +21,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--seed",
-        type=_seed,
+        type=seed_argument,
         default=None,
         help="override the file's sweep seed, an integer in [0, 2**63 - 1] (per-run seeds are "
         "spawned from it; a folder holding runs of another seed is refused)",
@@ -70,16 +72,6 @@ def run_sweep(sweep: object, out: Path, args: argparse.Namespace) -> tuple[objec
     n_failed = int((df["status"] == "failed").sum()) if len(df) else 0
     print(f"{len(df) - n_failed} runs finished, {n_failed} failed, wall time {wall:.1f} s")
     return df, n_failed
-
-
-def _seed(text: str) -> int:
-    """``--seed``: one integer in [0, 2**63 - 1] (:func:`abm.errors.check_seed`)."""
-    from abm.errors import ConfigError, parse_seed
-
-    try:
-        return parse_seed(text)
-    except ConfigError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def main(args: argparse.Namespace) -> int:
