@@ -412,7 +412,13 @@ class SwarmModel(mesa.Model):
         """Put robots at ``positions`` (m) in the Mesa space (the physics does this for flyers;
         a model moving robots by whole steps calls it).
         """
-        self.space.agent_positions[self._row_of[np.asarray(ids, dtype=np.int64)]] = positions
+        self.space.agent_positions[self.rows_of(ids)] = positions
+
+    def rows_of(self, ids: np.ndarray) -> np.ndarray:
+        """The rows of ``space.agent_positions`` that hold the agents ``ids`` (for a model's
+        vectorised work on its robots' positions; valid until an agent leaves the space).
+        """
+        return self._row_of[np.asarray(ids, dtype=np.int64)]
 
     def positions(self) -> pd.DataFrame:
         """Sampled robot positions (time, robot, x, y, state, comm), every ``trace_interval`` s.

@@ -175,7 +175,7 @@ class HierarchyModel(SwarmModel):
         ids = np.array([s.robot.unique_id for s in self.scouts], dtype=np.int64)
         self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
-        self._scout_rows = self._row_of[ids]
+        self._scout_rows = self.rows_of(ids)
         self._parent_of = [s.links[0] for s in self.scouts]
         for node in self.nodes.values():
             if node.robot is None:
