@@ -9,12 +9,16 @@ energy model still names modes, and the ledger then keeps only their durations.
 from collections import defaultdict
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import pandas as pd
 import simpy
 
 from abm.clock import call_later
 from abm.errors import ConfigError, check_range
+
+if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
+    from mesa import Agent
 
 __all__ = ["PowerModes", "EnergyLedger", "Battery"]
 
@@ -103,9 +107,13 @@ class EnergyLedger:
             del self._mode[robot_id]
             del self._since[robot_id]
 
-    def mode(self, robot_id: int) -> str:
-        """The robot's current mode."""
-        return self._mode[robot_id]
+    def robot_left(self, robot: "Agent") -> None:
+        """A robot failed or was removed (a lifecycle event): it draws nothing more."""
+        self.retire(robot.unique_id)
+
+    def mode(self, robot_id: int) -> str | None:
+        """The robot's current mode (None for a robot that never had one, or retired)."""
+        return self._mode.get(robot_id)
 
     def power(self, robot_id: int) -> float:
         """The robot's current power draw (W)."""

@@ -13,9 +13,10 @@ battery, or a model's own call of :meth:`FaultInjector.fail` -- takes the same p
 
 1. the fault is written to the event log (``event == "fault"``, with its ``cause`` and the
    ``state`` the robot was in);
-2. the robot leaves the air (physics) and the comm network (messages to or from it in flight
-   are dropped, not delivered), its state becomes ``failed`` (counted like any state, so the
-   counts stay conserved) and its energy ledger is closed (it draws nothing more);
+2. the failure is published on ``model.lifecycle`` (:mod:`abm.lifecycle`): the robot leaves
+   the air (physics), the comm network (messages to or from it in flight are dropped, not
+   delivered) and its energy ledger is closed (it draws nothing more); then its state becomes
+   ``failed`` (counted like any state, so the counts stay conserved);
 3. its SimPy process is interrupted (``Process.interrupt``): the events it waited on no longer
    resume it, and :class:`~abm.robot.Robot` refuses any later change of its state or mode;
 4. the model's hook ``on_robot_failed(robot)`` runs, for the model's own structures and repair.
@@ -102,6 +103,10 @@ class FaultInjector:
         self._generation: dict[int, int] = defaultdict(int)  # voids stale failure events
         self._sensor_broken: dict[int, float] = {}  # robot -> time its sensors broke
         self._stuck: dict[tuple[int, str], np.ndarray] = {}
+        if self.kinds & {"robot", "sensor"}:
+            # only a model whose robots can fail or lose their sensors needs to follow them
+            model.lifecycle.subscribe("state", self.state_changed)
+            model.lifecycle.subscribe("removed", self.robot_removed)
         for t in robot.fault_times:
             call_later(self.env, t, lambda _value: self._scheduled_failure())
         if link.link_outage_rate > 0:
@@ -129,8 +134,8 @@ class FaultInjector:
         self._generation[rid] += 1  # a failure already scheduled is void
 
     def state_changed(self, robot: "Robot", old: str | None, new: str) -> None:
-        """A robot entered state ``new`` (called by :class:`~abm.robot.Robot`): its exposure
-        to the hazard starts or stops with the states it may fail in.
+        """A robot entered state ``new`` (a lifecycle ``"state"`` event): its exposure to the
+        hazard starts or stops with the states it may fail in.
         """
         rid = robot.unique_id
         if rid in self._exempt or rid in self.failures:
@@ -155,7 +160,9 @@ class FaultInjector:
             call_later(self.env, left, lambda _value: self._hazard_failure(rid, generation))
 
     def robot_removed(self, robot: "Robot") -> None:
-        """A robot left the model (``Robot.remove``): nothing more is injected into it."""
+        """A robot left the model (a lifecycle ``"removed"`` event): nothing more is injected
+        into it.
+        """
         rid = robot.unique_id
         self._robots.pop(rid, None)
         self._generation[rid] += 1
@@ -198,13 +205,9 @@ class FaultInjector:
         self._generation[rid] += 1
         self._sensor_broken.pop(rid, None)
         model.recorder.log("fault", rid, cause=cause, state=robot.state)
-        if model.physics is not None and rid in model.physics.ids:
-            robot.position = model.physics.stop(rid)
-        if rid in model.comms.graph:
-            model.comms.remove(rid)
+        model.lifecycle.publish("failed", robot)
         robot.set_state(FAILED)
         robot.failure = failure  # from here on the robot refuses state and mode changes
-        model.ledger.retire(rid)
         process = robot.process
         if process is not None and process.is_alive:
             if process is self.env.active_process:

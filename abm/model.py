@@ -2,7 +2,8 @@
 
 The model owns everything a swarm needs: the SimPy environment (the only clock), a Mesa
 continuous space, the arena, the comm network, the physics process, the energy ledger, the
-recorder and (when the model covers an area) the coverage raster. ``step()`` runs the
+recorder, the robots' lifecycle events (:mod:`abm.lifecycle`) and (when the model covers an
+area) the coverage raster. Its robots are Mesa's ``model.agents``. ``step()`` runs the
 environment for a fixed slice of simulated time so that ``mesa.batch_run`` and SolaraViz drive
 it unchanged; ``run()`` runs to completion.
 
@@ -30,6 +31,7 @@ from abm.coverage import CoverageRaster
 from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
+from abm.lifecycle import Lifecycle
 from abm.params import SwarmParams, make_params, param_fields, with_faults
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
@@ -185,6 +187,7 @@ class SwarmModel(mesa.Model):
         self.recorder = Recorder(
             self.env, self.STATES, row_limits={"collision": params.collision_rows}
         )
+        self.lifecycle = Lifecycle()
         self.faults = FaultInjector(self)
         self.coverage: CoverageRaster | None = None
         self.wall_collisions = 0
@@ -202,6 +205,10 @@ class SwarmModel(mesa.Model):
                 on_collision=self.collision,
                 owner=type(self).__qualname__,
             )
+        for part in (self.physics, self.comms, self.ledger):
+            if part is not None:  # each forgets a robot that fails or leaves
+                self.lifecycle.subscribe("failed", part.robot_left)
+                self.lifecycle.subscribe("removed", part.robot_left)
         self.done = self.env.event()
         self.end_reason: str | None = None
         call_later(self.env, self.time_limit, self.finish, "time limit")

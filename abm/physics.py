@@ -26,7 +26,7 @@ import os
 from collections.abc import Callable, Iterable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import simpy
@@ -37,6 +37,9 @@ from abm.arena import Arena
 from abm.checks import check_control, check_controller
 from abm.errors import ConfigError, check_range
 from abm.neighbours import pairs_within
+
+if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
+    from mesa.experimental.continuous_space import ContinuousSpaceAgent
 
 __all__ = ["Physics", "Controller", "FlightParams"]
 
@@ -245,6 +248,11 @@ class Physics:
         returns its last position.
         """
         return self._remove(self._rows([robot_id]))[0]
+
+    def robot_left(self, robot: "ContinuousSpaceAgent") -> None:
+        """A robot failed or was removed (a lifecycle event): out of the air, where it was."""
+        if robot.unique_id in self.ids:
+            robot.position = self.stop(robot.unique_id)
 
     def finish(self, robot_ids: Iterable[int]) -> np.ndarray:
         """End these robots' flights now (they landed, attached, ...): each one's event from

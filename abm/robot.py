@@ -24,10 +24,14 @@ class RobotFailedError(ABMError, RuntimeError):
 class Robot(ContinuousSpaceAgent):
     """A robot of the swarm.
 
-    The robot's behaviour is a SimPy generator (``behaviour``) that a model writes to read like
-    the source's flowchart; the robot only keeps the bookkeeping every model needs: its state
-    (counted by the recorder), its power mode (integrated by the energy ledger) and its place
-    in the Mesa space.
+    A model's robots are subclasses of this class in the model's ``agents.py``, one per role,
+    and a robot's behaviour is a SimPy generator method of its class that reads like the
+    source's flowchart, run with ``robot.start(robot.behaviour())``. This class keeps the
+    bookkeeping every model needs: its state (counted by the recorder), its power mode
+    (integrated by the energy ledger) and its place in the Mesa space. A robot joins the model
+    when it is made and the model's ``agents`` is the index of its robots; changes of state,
+    failures and removals are published on ``model.lifecycle`` (:mod:`abm.lifecycle`) to the
+    parts that keep something per robot.
 
     A robot that failed (:meth:`abm.faults.FaultInjector.fail`) keeps its place and its
     ``failure`` record; it refuses any further change of state or mode
@@ -37,11 +41,14 @@ class Robot(ContinuousSpaceAgent):
         model: the swarm model.
         position: where the robot starts (m).
         state: its first state (one of ``model.STATES``).
-        mode: its first power mode.
+        mode: its first power mode; None for a robot whose energy is not modelled (it then
+            has no mode, and draws nothing).
 
     """
 
-    def __init__(self, model: "SwarmModel", position: np.ndarray, state: str, mode: str) -> None:
+    def __init__(
+        self, model: "SwarmModel", position: np.ndarray, state: str, mode: str | None = None
+    ) -> None:
         super().__init__(model.space, model)
         model.joined_space(self.unique_id)
         self.position = np.asarray(position, dtype=float)
@@ -50,7 +57,8 @@ class Robot(ContinuousSpaceAgent):
         self.failure: Failure | None = None
         self._removed = False
         self.set_state(state)
-        self.set_mode(mode)
+        if mode is not None:
+            self.set_mode(mode)
 
     @property
     def env(self) -> simpy.Environment:
@@ -58,8 +66,8 @@ class Robot(ContinuousSpaceAgent):
         return self.model.env
 
     def set_state(self, state: str) -> None:
-        """Enter a new state; logged and counted (the fault injector learns it too: a
-        robot's hazard may apply in some states only).
+        """Enter a new state; logged, counted and published (``"state"``: a robot's fault
+        hazard may apply in some states only).
         """
         if state not in self.model.STATES:
             raise ValueError(f"unknown state {state!r}; states are {self.model.STATES}")
@@ -67,7 +75,7 @@ class Robot(ContinuousSpaceAgent):
         old, self.state = self.state, state
         self.model.recorder.move(old, state)
         self.model.recorder.log("state", self.unique_id, state=state)
-        self.model.faults.state_changed(self, old, state)
+        self.model.lifecycle.publish("state", self, old, state)
 
     def set_mode(self, mode: str) -> None:
         """Switch power mode (the ledger integrates power piecewise)."""
@@ -88,7 +96,7 @@ class Robot(ContinuousSpaceAgent):
 
     @property
     def mode(self) -> str | None:
-        """Current power mode (None once the robot failed: its ledger is closed)."""
+        """Current power mode (None once the robot failed, or for a robot without one)."""
         if self.failure is not None:
             return None
         return self.model.ledger.mode(self.unique_id)
@@ -107,7 +115,7 @@ class Robot(ContinuousSpaceAgent):
         if not inspect.isgenerator(behaviour):
             raise HookError(
                 f"{type(self.model).__qualname__}: robot.start() got {_called(behaviour)}; "
-                "expected a generator, the behaviour called: robot.start(self.walk(robot))"
+                "expected a generator, the behaviour called: robot.start(robot.walk())"
             )
         self.process = self.env.process(self._ends_on_interrupt(behaviour))
         return self.process
@@ -121,21 +129,22 @@ class Robot(ContinuousSpaceAgent):
             return None
 
     def remove(self) -> None:
-        """Take the robot out of the model: out of the air, out of the counts, the energy
-        ledger and the space (the other robots' rows in the space move up).
+        """Take the robot out of the model: the one place a robot leaves without failing.
+
+        It is published (``"removed"``: it leaves the air, the comm network and the energy
+        ledger, and faults no longer touch it), its process is interrupted, it leaves the
+        counts (logged as ``removed``), Mesa's agents and the space (the other robots' rows in
+        the space move up).
 
         The model's own structures (e.g. a beacon network) are the model's to update first.
         """
         model = self.model
         self._removed = True
-        if model.physics is not None and self.unique_id in model.physics.ids:
-            model.physics.stop(self.unique_id)
+        model.lifecycle.publish("removed", self)
         if self.process is not None and self.process.is_alive:
             self.process.interrupt("removed")
-        model.faults.robot_removed(self)
         model.recorder.move(self.state, None)
         model.recorder.log("removed", self.unique_id)
-        model.ledger.retire(self.unique_id)
         super().remove()
         model.left_space()
 

@@ -15,7 +15,7 @@ import simpy
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
-from tiny_model import TinyModel, TinyParams
+from tiny_model import TinyModel, TinyParams, Walker
 
 from abm import registry
 from abm.arena import Arena
@@ -24,7 +24,6 @@ from abm.contract import check_model
 from abm.errors import ContractError, HookError
 from abm.params import param
 from abm.physics import Physics
-from abm.robot import Robot
 from analysis.cli import main
 
 SHORT = ["--time-limit", "30", "--walkers", "2", "--launch-period", "1", "--no-progress"]
@@ -79,8 +78,8 @@ class UncalledBehaviourModel(TinyModel):
 
     def _launcher(self):
         yield self.env.timeout(self.params.launch_period)
-        robot = Robot(self, self.centre, "walking", "walk")
-        robot.start(self._walk)
+        walker = Walker(self, self.centre, "walking", "walk")
+        walker.start(walker.walk)
 
 
 class BadLayersModel(TinyModel):
@@ -327,7 +326,7 @@ def test_metrics_may_not_replace_a_common_summary_key():
 
 def test_a_behaviour_that_is_not_a_generator_is_named(capsys, tmp_path):
     expected = (
-        r"UncalledBehaviourModel: robot\.start\(\) got the function TinyModel\._walk \(not "
+        r"UncalledBehaviourModel: robot\.start\(\) got the function Walker\.walk \(not "
         r"called\); expected a generator"
     )
     with pytest.raises(HookError, match=expected):

@@ -12,7 +12,7 @@ from mesa.experimental.continuous_space import ContinuousSpaceAgent
 from abm.arena import Arena
 from abm.errors import ConfigError
 from abm.model import SwarmModel
-from models.flocking import LARGE, FlockingModel, FlockingParams
+from models.flocking import LARGE, Bird, FlockingModel, FlockingParams
 
 DECLARED = {"speed": 1.0, "separation": 1.0, "cohere": 0.03, "separate": 0.015, "match": 0.05}
 
@@ -103,13 +103,15 @@ def test_birds_are_mesa_agents_on_a_periodic_space_moved_by_the_update():
     model = FlockingModel(seed=5, birds=30, extent=30.0, trace_interval=None)
     assert model.space.torus
     assert len(model.agents) == 30
-    assert all(isinstance(bird, ContinuousSpaceAgent) for bird in model.agents)
-    before = np.array([bird.position for bird in model.birds])
+    birds = model.agents_by_type[Bird]
+    assert len(birds) == 30 and all(isinstance(b, ContinuousSpaceAgent) for b in birds)
+    before = np.array([bird.position for bird in birds])
     model.run()
-    after = np.array([bird.position for bird in model.birds])
+    after = np.array([bird.position for bird in birds])
     assert np.array_equal(after, model.space.agent_positions)
     assert not np.array_equal(before, after)
-    assert np.array_equal(model.birds[7].velocity, model.velocity[7])
+    seventh = next(b for b in birds if b.row == 7)
+    assert np.array_equal(seventh.velocity, model.velocity[7])
     assert model.time == 100.0 and model.updates == 100
     assert model.summary()["end_reason"] == "100 steps"
 

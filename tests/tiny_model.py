@@ -41,6 +41,25 @@ class TinyParams(SwarmParams):
     time_limit: float = param(200.0, low=0.0, low_open=True)
 
 
+class Walker(Robot):
+    """A walker: leaves the centre at full speed in random directions, rests after a random
+    time (rate ``rest_rate``) and covers what its sensor sees from where it rests.
+    """
+
+    def walk(self):
+        """The walker's behaviour: walk, then rest for good."""
+        model = self.model
+        model.physics.fly(self.unique_id, model.centre)
+        yield model.env.timeout(model.rng.exponential(1.0 / model.params.rest_rate))
+        model.physics.finish([self.unique_id])
+        self.set_state("resting")
+        self.set_mode("rest")
+        model.comms.add(self.unique_id, self.position.copy())
+        model.coverage.stamp(self.position[None], model.env.now)
+        if model.recorder.counts["resting"] == model.params.walkers:
+            model.finish("all resting")
+
+
 class TinyModel(SwarmModel):
     """Walkers leave the centre one per launch period, walk at random and rest."""
 
@@ -71,19 +90,8 @@ class TinyModel(SwarmModel):
     def _launcher(self):
         for _ in range(self.params.walkers):
             yield self.env.timeout(self.params.launch_period)
-            robot = Robot(self, self.centre, "walking", "walk")
-            robot.start(self._walk(robot))
-
-    def _walk(self, robot: Robot):
-        self.physics.fly(robot.unique_id, self.centre)
-        yield self.env.timeout(self.rng.exponential(1.0 / self.params.rest_rate))
-        self.physics.finish([robot.unique_id])
-        robot.set_state("resting")
-        robot.set_mode("rest")
-        self.comms.add(robot.unique_id, robot.position.copy())
-        self.coverage.stamp(robot.position[None], self.env.now)
-        if self.recorder.counts["resting"] == self.params.walkers:
-            self.finish("all resting")
+            walker = Walker(self, self.centre, "walking", "walk")
+            walker.start(walker.walk())
 
     def metrics(self) -> dict:
         """Robots resting at the end (MACRO reads its parameters from the run's own)."""

@@ -16,6 +16,7 @@ is off the arena (a base station, a laptop): its radio reaches every node.
 """
 
 from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
@@ -28,6 +29,9 @@ from abm.comms.policies import LinkPolicy, Node
 from abm.comms.radio import Shadowing
 from abm.errors import LinkError, check_range
 from abm.neighbours import NeighbourIndex
+
+if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
+    from mesa import Agent
 
 __all__ = ["CommNetwork"]
 
@@ -196,6 +200,13 @@ class CommNetwork:
         for other in neighbours:
             self._notify("down", node, other)
         return neighbours
+
+    def robot_left(self, robot: "Agent") -> None:
+        """A robot failed or was removed (a lifecycle event): its node, if it has one, and its
+        links go (messages in flight to or from it are dropped).
+        """
+        if robot.unique_id in self.graph:
+            self.remove(robot.unique_id)
 
     def block(self, a: Node, b: Node) -> None:
         """A link outage: ``a`` and ``b`` cannot link until :meth:`unblock` (their link, if

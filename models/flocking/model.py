@@ -1,53 +1,24 @@
 """The flocking model of the ABMFrameworksComparison suite on the framework.
 
-Birds are Mesa agents (continuous-space agents) on a periodic Mesa space; the flock's clock
-is SimPy: one process ticks once per update step, draws a new random activation order from
-``model.rng`` and runs the compiled sequential update
+Birds (:class:`models.flocking.agents.Bird`, robots of the framework) are the Mesa agents of a
+periodic Mesa space; the flock's clock is SimPy: one process ticks once per update step, draws
+a new random activation order from ``model.rng`` and runs the compiled sequential update
 (:func:`models.flocking.kernel.flock_step`) on the space's own position array, so every
 agent's ``position`` is current after each step.
 """
 
 import numpy as np
-from mesa.experimental.continuous_space import ContinuousSpaceAgent
 
 from abm.arena import Arena
 from abm.model import SwarmModel
 from abm.styles import StateStyle
+from models.flocking.agents import Bird
 from models.flocking.kernel import CellList, flock_step, order_parameters
 from models.flocking.params import FlockingParams
 from models.flocking.published import PUBLISHED, REPORT
 from models.flocking.units import SUMMARY_UNITS
 
-__all__ = ["Bird", "FlockingModel"]
-
-
-class Bird(ContinuousSpaceAgent):
-    """One bird: a Mesa continuous-space agent whose unit velocity is a row of the flock's.
-
-    A bird has one state ("flying"), draws no power and has no SimPy process of its own (the
-    flock's update moves every bird), so it is a plain Mesa agent rather than an
-    :class:`abm.robot.Robot`, whose power-mode ledger and state log it would not use. It is
-    counted in its state like a robot, and the model places all birds at once
-    (:meth:`~abm.model.SwarmModel.place`).
-
-    Args:
-        model: the flocking model.
-        row: its row in the space's position array and the flock's velocity array.
-
-    """
-
-    state = "flying"
-
-    def __init__(self, model: "FlockingModel", row: int) -> None:
-        super().__init__(model.space, model)
-        model.joined_space(self.unique_id)
-        model.recorder.move(None, self.state)
-        self.row = row
-
-    @property
-    def velocity(self) -> np.ndarray:
-        """The bird's unit velocity (a view: the flock's update writes it)."""
-        return self.model.velocity[self.row]
+__all__ = ["FlockingModel"]
 
 
 class FlockingModel(SwarmModel):
@@ -81,8 +52,8 @@ class FlockingModel(SwarmModel):
         heading = self.rng.uniform(-1.0, 1.0, (p.birds, 2))
         #: Unit velocity of every bird, one row per bird (the rows of the Mesa space).
         self.velocity = heading / np.linalg.norm(heading, axis=1)[:, None]
-        self.birds = [Bird(self, row) for row in range(p.birds)]
-        self.place(np.array([bird.unique_id for bird in self.birds]), positions)
+        for row in range(p.birds):
+            Bird(self, positions[row], row)
         self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
         self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
         #: Neighbours each bird saw at its last update.
