@@ -41,10 +41,10 @@ import numpy as np
 from abm.clock import call_later
 from abm.errors import ConfigError
 from abm.params import FAULT_PARAMS
+from abm.robot import Robot
 
 if TYPE_CHECKING:
     from abm.model import SwarmModel
-    from abm.robot import Robot
 
 __all__ = ["FAILED", "FAULT_KINDS", "Failure", "FaultInjector"]
 
@@ -95,7 +95,6 @@ class FaultInjector:
         self.shape = robot.fault_shape
         self.states = frozenset(robot.fault_states)
         self._sensor = sensor
-        self._robots: dict[int, Robot] = {}  # robots that may still fail, by id
         self._exempt: set[int] = set()
         self._life: dict[int, float] = {}  # drawn lifetime (s of exposure)
         self._exposure: dict[int, float] = defaultdict(float)  # time spent in fault_states
@@ -124,16 +123,15 @@ class FaultInjector:
         """Ids of the robots that failed, in the order they failed."""
         return list(self.failures)
 
-    def exempt(self, robot: "Robot") -> None:
+    def exempt(self, robot: Robot) -> None:
         """Never fail this robot at random or by schedule (e.g. a powered base station); the
         model may still fail it with :meth:`fail`.
         """
         rid = robot.unique_id
         self._exempt.add(rid)
-        self._robots.pop(rid, None)
         self._generation[rid] += 1  # a failure already scheduled is void
 
-    def state_changed(self, robot: "Robot", old: str | None, new: str) -> None:
+    def state_changed(self, robot: Robot, old: str | None, new: str) -> None:
         """A robot entered state ``new`` (a lifecycle ``"state"`` event): its exposure to the
         hazard starts or stops with the states it may fail in.
         """
@@ -141,8 +139,7 @@ class FaultInjector:
         if rid in self._exempt or rid in self.failures:
             return
         if old is None:
-            self._robots[rid] = robot
-            if self.kinds and "sensor" in self.kinds:
+            if "sensor" in self.kinds:
                 self._schedule_sensor_fault(robot)
         if self.rate <= 0:
             return
@@ -157,29 +154,42 @@ class FaultInjector:
             self._since[rid] = self.env.now
             generation = self._generation[rid]
             left = max(0.0, self._life[rid] - self._exposure[rid])
-            call_later(self.env, left, lambda _value: self._hazard_failure(rid, generation))
+            call_later(self.env, left, lambda _value: self._hazard_failure(robot, generation))
 
-    def robot_removed(self, robot: "Robot") -> None:
+    def robot_removed(self, robot: Robot) -> None:
         """A robot left the model (a lifecycle ``"removed"`` event): nothing more is injected
         into it.
         """
         rid = robot.unique_id
-        self._robots.pop(rid, None)
         self._generation[rid] += 1
         self._sensor_broken.pop(rid, None)
 
-    def _hazard_failure(self, rid: int, generation: int) -> None:
-        if self._generation[rid] == generation and rid in self._robots:
-            self.fail(self._robots[rid], "hazard")
+    def _may_fail(self, robot: Robot) -> bool:
+        """The robot is still in the model, has not failed and is not exempt."""
+        return (
+            robot.failure is None
+            and robot.unique_id not in self._exempt
+            and robot in self.model.agents
+        )
+
+    def _hazard_failure(self, robot: Robot, generation: int) -> None:
+        if self._generation[robot.unique_id] == generation and self._may_fail(robot):
+            self.fail(robot, "hazard")
 
     def _scheduled_failure(self) -> None:
-        eligible = [r for r in self._robots.values() if not self.states or r.state in self.states]
+        eligible = [
+            r
+            for r in self.model.agents
+            if isinstance(r, Robot)
+            and self._may_fail(r)
+            and (not self.states or r.state in self.states)
+        ]
         if not eligible:
             self.model.recorder.log("fault_skipped", cause="scheduled")
             return
         self.fail(eligible[int(self.rng.integers(len(eligible)))], "scheduled")
 
-    def fail(self, robot: "Robot", cause: str) -> bool:
+    def fail(self, robot: Robot, cause: str) -> bool:
         """Fail ``robot`` now (see the module's docstring for what that does).
 
         Args:
@@ -201,7 +211,6 @@ class FaultInjector:
             )
         failure = Failure(float(self.env.now), cause, robot.state)
         self.failures[rid] = failure
-        self._robots.pop(rid, None)
         self._generation[rid] += 1
         self._sensor_broken.pop(rid, None)
         model.recorder.log("fault", rid, cause=cause, state=robot.state)
@@ -251,15 +260,15 @@ class FaultInjector:
             self.model.recorder.log("loss_burst_end")
 
     # ------------------------------------------------------------------ sensors
-    def _schedule_sensor_fault(self, robot: "Robot") -> None:
+    def _schedule_sensor_fault(self, robot: Robot) -> None:
         """Draw when this robot's sensors break (exponential, rate ``sensor_fault_rate``)."""
-        rid = robot.unique_id
         life = float(self.rng.exponential(1.0 / self._sensor.sensor_fault_rate))
-        call_later(self.env, life, self._break_sensor, rid)
+        call_later(self.env, life, self._break_sensor, robot)
 
-    def _break_sensor(self, rid: int) -> None:
-        if rid not in self._robots:
+    def _break_sensor(self, robot: Robot) -> None:
+        if not self._may_fail(robot):
             return  # it failed, left the model or was exempted meanwhile
+        rid = robot.unique_id
         self._sensor_broken[rid] = self.env.now
         self.model.recorder.log("sensor_fault", rid, sensor=self._sensor.sensor_fault_kind)
 
