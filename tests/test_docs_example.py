@@ -31,7 +31,7 @@ def example_files(text: str) -> dict[str, str]:
 def walker(tmp_path, monkeypatch) -> Path:
     """The example written out as the package ``walker`` (importable here and in workers)."""
     files = example_files(DOCS.read_text())
-    assert set(files) == {"params.py", "model.py", "published.py"}
+    assert set(files) == {"params.py", "agents.py", "model.py", "published.py"}
     package = tmp_path / "site" / "walker"
     package.mkdir(parents=True)
     (package / "__init__.py").write_text("")
@@ -52,6 +52,21 @@ def test_the_example_imports_keeps_the_contract_and_runs(walker):
     summary = model.summary()
     assert summary["resting"] + model.recorder.counts["walking"] == 3
     assert summary["end_reason"] in ("all resting", "time limit")
+
+
+def test_the_example_robots_are_walker_agents_running_their_own_walk(walker):
+    """The page's shape: the robots are the Walker class of agents.py, Mesa's AgentSet is
+    their index, and each rests at the end of its own behaviour, Walker.walk."""
+    from walker.agents import Walker
+
+    assert "def walk(self)" in example_files(DOCS.read_text())["agents.py"]
+    cls = registry.model_class(TARGET)
+    model = cls(seed=3, walkers=5, launch_period=1.0, rest_rate=0.2, time_limit=600.0)
+    model.run()
+    walkers = model.agents_by_type[Walker]
+    assert set(model.agents_by_type) == {Walker} and len(walkers) == 5
+    assert model.end_reason == "all resting"
+    assert all(w.state == "resting" and not w.process.is_alive for w in walkers)
 
 
 def _wrote(out: str) -> list[Path]:

@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 
 from models.beacon_explorer import BeaconExplorerModel
 from models.stigmergy import StigmergyModel
+from models.stigmergy.agents import UAV
 
 
 def test_removing_robots_keeps_positions_right_and_the_run_going():
@@ -42,10 +43,10 @@ def test_a_robot_failed_in_flight_leaves_the_air_and_its_behaviour_ends(seed, wh
     model.run(until=when + 100.0)
     assume(model.faults.failed)  # else no wander was in the air at that moment
     (rid,) = model.faults.failed
-    robot = next(r for r in model.robots if r.unique_id == rid)
+    robot = next(r for r in model.agents_by_type[UAV] if r.unique_id == rid)
     assert robot.failure.state == "wander" and not robot.process.is_alive
-    assert rid not in model.physics.ids and rid not in model.beacon_ids
+    assert rid not in model.physics.ids and robot.beacon_row is None
     events = model.events()
     assert events[(events.robot == rid) & (events.time > when)].empty
     counts = model.state_counts().iloc[-1]
-    assert counts[list(model.STATES)].sum() == len(model.robots) and counts.failed == 1
+    assert counts[list(model.STATES)].sum() == len(model.agents) and counts.failed == 1

@@ -6,6 +6,7 @@ import pytest
 
 from abm.errors import ConfigError
 from models.stigmergy import StigmergyModel
+from models.stigmergy.agents import UAV
 
 
 @pytest.fixture(scope="module")
@@ -17,21 +18,20 @@ def test_failed_beacons_stop_relaying_and_never_act_again(faulty_run):
     model = faulty_run
     failed = model.faults.failed
     assert len(failed) >= 3
-    assert not set(failed) & set(model.beacon_ids)  # nobody links to a failed beacon
-    live = [r for r in model.robots if r.state == "beacon"]
-    assert sorted(model.beacon_ids) == sorted(r.unique_id for r in live)
-    by_id = {r.unique_id: r for r in model.robots}
-    expected = np.array([by_id[i].position for i in model.beacon_ids])
-    assert np.array_equal(model.beacon_positions, expected)
+    uavs = model.agents_by_type[UAV]
+    assert all(r.beacon_row is None for r in uavs if r.failed)  # nobody links to a failed beacon
+    live = sorted((r for r in uavs if r.state == "beacon"), key=lambda r: r.beacon_row)
+    assert [r.beacon_row for r in live] == list(range(len(model.beacon_positions)))
+    assert np.array_equal(model.beacon_positions, np.array([r.position for r in live]))
     events = model.events()
     for rid in failed:
         mine = events[events.robot == rid]
         after = mine.loc[mine.index[mine.event == "fault"][0] :]
         assert list(after.event) == ["fault", "state"]
-    assert model.robots[0].unique_id not in failed  # p0's beacon is exempt
+    assert uavs[0].launch_index == 0 and uavs[0].unique_id not in failed  # p0's is exempt
     counts = model.state_counts()
     assert (counts[list(model.STATES)].sum(axis=1).diff().fillna(1) >= 0).all()
-    assert counts.iloc[-1][list(model.STATES)].sum() == len(model.robots)
+    assert counts.iloc[-1][list(model.STATES)].sum() == len(model.agents)
 
 
 def test_same_seed_with_faults_gives_the_same_event_log(faulty_run):

@@ -3,11 +3,13 @@
 One beacon sits at p0; a new wander robot takes off from p0 every launch period (eta = 0.01
 robots per 0.5 s step = one per 50 s). Three SimPy processes tell the story:
 
-- the launcher: a new wander every launch period while the swarm has room;
-- the model step (every 0.5 s): each wander checks its link to the swarm and lands -- becoming
-  a beacon that leaves a footprint -- when the nearest beacon is l_i or farther away; the
-  others pick their heading f = a1 f1 + a2 f2 + a3 f3 (:mod:`models.stigmergy.wander`) and
-  deposit pheromone;
+- the launcher: a new :class:`~models.stigmergy.agents.UAV` every launch period while the
+  swarm has room; each runs its own behaviour, :meth:`UAV.wander
+  <models.stigmergy.agents.UAV.wander>` (fly, then land as a beacon);
+- the model step (every 0.5 s): each wander checks its link to the swarm and its flight ends
+  -- it lands, a beacon that leaves a footprint -- when the nearest beacon is l_i or farther
+  away; the others pick their heading f = a1 f1 + a2 f2 + a3 f3
+  (:mod:`models.stigmergy.wander`, vectorised over every flyer) and deposit pheromone;
 - the coverage sensor (every second): what the wanders see is added to ca; the run ends when
   ca reaches 95 % (or at the time limit).
 
@@ -24,10 +26,10 @@ from abm.errors import ConfigError
 from abm.model import SwarmModel
 from abm.pheromone import PheromoneField, field_bytes
 from abm.physics import FlightParams
-from abm.robot import Robot
 from abm.styles import StateStyle
 from models.environments.bitmap import MAPS, load_map, map_digest, map_entropy
 from models.stigmergy import published
+from models.stigmergy.agents import UAV
 from models.stigmergy.params import P0, StigmergyParams
 from models.stigmergy.units import SUMMARY_UNITS
 from models.stigmergy.wander import WanderController, nearest_distance
@@ -96,13 +98,12 @@ class StigmergyModel(SwarmModel):
         )
         self.controller = WanderController(self)
         self.physics.controller = self.controller
+        #: positions (m) of the live beacons, the swarm a wander links to; row k is the
+        #: beacon whose ``beacon_row`` is k
         self.beacon_positions = np.empty((0, 2))
-        self.beacon_ids: list[int] = []  # the robot of each row of beacon_positions
-        self.robots: list[Robot] = []
-        first = Robot(self, start, "beacon", "beacon")
+        first = UAV(self, start, "beacon", "beacon", launch_index=0)
         self.faults.exempt(first)  # p0's beacon stands for the launch site
-        self.robots.append(first)
-        self._land(first, 0, start)
+        first.land()
         self.env.process(self._launcher())
         self.env.process(self._model_steps())
         self.env.process(self._coverage_sensor())
@@ -124,23 +125,15 @@ class StigmergyModel(SwarmModel):
             )
         return start
 
-    # ------------------------------------------------------------------ behaviour
+    # ------------------------------------------------------------------ processes
     def _launcher(self):
-        """A new wander robot every launch period, while the swarm has room."""
-        while len(self.robots) < self.swarm_size:
+        """A new UAV every launch period, while the swarm has room; it wanders, then lands."""
+        while len(self.agents_by_type[UAV]) < self.swarm_size:
             yield self.env.timeout(self.launch_period)
-            robot = Robot(self, self.start, "wander", "flight")
-            index = len(self.robots)
-            self.robots.append(robot)
+            index = len(self.agents_by_type[UAV])  # p0's beacon is 0
+            robot = UAV(self, self.start, "wander", "flight", launch_index=index)
             self.recorder.log("launch", robot.unique_id)
-            robot.start(self._wander(robot, index))
-
-    def _wander(self, robot: Robot, index: int):
-        """One robot's story: fly until the link to the swarm weakens to l_i, then land."""
-        landed = self.physics.fly(robot.unique_id, self.start)
-        self.controller.launched()
-        yield landed
-        self._land(robot, index, robot.position.copy())
+            robot.start(robot.wander())
 
     def _model_steps(self):
         """The paper's model step: links checked, landings, headings and deposits."""
@@ -155,34 +148,30 @@ class StigmergyModel(SwarmModel):
             if self.physics.n_flying:
                 self.stamp_coverage(self.physics.pos)
 
-    def _land(self, robot: Robot, index: int, position: np.ndarray) -> None:
-        """Become a beacon: land, leave the footprint (radius C_rb, intensity C_db)."""
-        if robot.state != "beacon":
-            robot.set_state("beacon")
-            robot.set_mode("beacon")
-        robot.position = position
-        self.recorder.log("land", robot.unique_id, x=position[0], y=position[1])
-        intensity = max(0.0, (self.swarm_size - index) / self.swarm_size)
-        self.pheromone.deposit(
-            position,
-            self.params.pheromone_radius,
-            intensity,
-            time=self.env.now,
-            line_of_sight=self.params.deposit_line_of_sight,
-        )
-        self.beacon_positions = np.vstack([self.beacon_positions, position[None]])
-        self.beacon_ids.append(robot.unique_id)
-        self.stamp_coverage(position[None])
-
-    def on_robot_failed(self, robot: Robot) -> None:
-        """A failed beacon stops relaying: wanders no longer link to it (so they fly on until
-        the next live beacon is l_i away). Its footprint stays and decays like every deposit
-        (C_eps); a failed wander has left the air already.
+    # ------------------------------------------------------------------ beacons
+    def add_beacon(self, position: np.ndarray) -> int:
+        """A UAV landed at ``position`` (m): from now on it relays (wanders link to it) and its
+        sensors see around it. Returns its row in :attr:`beacon_positions`.
         """
-        if robot.unique_id in self.beacon_ids:
-            row = self.beacon_ids.index(robot.unique_id)
-            del self.beacon_ids[row]
-            self.beacon_positions = np.delete(self.beacon_positions, row, axis=0)
+        row = len(self.beacon_positions)
+        self.beacon_positions = np.vstack([self.beacon_positions, position[None]])
+        self.stamp_coverage(position[None])
+        return row
+
+    def on_robot_failed(self, robot: UAV) -> None:
+        """A failed beacon stops relaying: wanders no longer link to it (so they fly on until
+        the next live beacon is l_i away), and the beacons after its row move up one. Its
+        footprint stays and decays like every deposit (C_eps); a failed wander has left the
+        air already.
+        """
+        row = robot.beacon_row
+        if row is None:
+            return
+        robot.beacon_row = None
+        self.beacon_positions = np.delete(self.beacon_positions, row, axis=0)
+        for uav in self.agents_by_type[UAV]:
+            if uav.beacon_row is not None and uav.beacon_row > row:
+                uav.beacon_row -= 1
 
     # ------------------------------------------------------------------ sensing
     def link_distance(self, points: np.ndarray) -> np.ndarray:
@@ -202,7 +191,7 @@ class StigmergyModel(SwarmModel):
 
     def cb(self) -> float:
         """Fraction of free area seen by the robots where they are now (all states)."""
-        live = [r.position for r in self.robots if not r.failed]
+        live = [r.position for r in self.agents_by_type[UAV] if not r.failed]
         return self.coverage.seen_fraction(np.array(live).reshape(-1, 2))
 
     # ------------------------------------------------------------------ data
@@ -226,7 +215,7 @@ class StigmergyModel(SwarmModel):
             "seed": self.seed,
             "wander": counts["wander"],
             "beacon": counts["beacon"],
-            "robots": len(self.robots),
+            "robots": len(self.agents_by_type[UAV]),
             "ca": 100.0 * self.ca,
             "cb": 100.0 * self.cb(),
             "entropy": self.entropy,
