@@ -107,13 +107,15 @@ def _framework_attributes() -> set[str]:
 
 
 def _robots_in(value: object, depth: int = 0) -> bool:
-    """Whether ``value`` is a robot or a container holding one (lists, tuples, sets, dicts,
-    object arrays), searched a few levels deep.
+    """Whether ``value`` is a robot or holds one: in a container (lists, tuples, sets, dicts,
+    object arrays) or in an attribute of one of the model's own parts, a few levels deep.
     """
     if isinstance(value, Robot):
         return True
     if depth > 4:
         return False
+    if type(value).__module__.startswith("models.") and hasattr(value, "__dict__"):
+        value = list(vars(value).values())
     if isinstance(value, dict):
         value = [*value.keys(), *value.values()]
     if isinstance(value, np.ndarray) and value.dtype == object:

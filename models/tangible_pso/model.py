@@ -235,9 +235,7 @@ class TangiblePSOModel(SwarmModel):
         """
         p, g = self.params, self.g
         pos = self.history[0][g].copy()
-        for i in range(p.n_mavs):
-            mav = MAV(self, i, pos[i, :2])
-            mav.start(mav.deploy(self.flight))
+        self._launch_swarm(pos)
         alive = np.ones(p.n_mavs, dtype=bool)
         d = self.deployment = {"failed_at": [], "localised_at_failure": [], "trace": []}
         d["trace"].append((self.env.now, pos.copy(), alive.copy()))
@@ -270,6 +268,14 @@ class TangiblePSOModel(SwarmModel):
             d["trace"].append((self.env.now, pos.copy(), alive.copy()))
         self.deployed = pos
         self.deployed_alive = alive
+
+    def _launch_swarm(self, pos: np.ndarray) -> None:
+        """The real swarm at the plan's first positions ``pos`` ``(n_r, 3)``, MAV i in row i,
+        each starting its behaviour (:meth:`MAV.deploy <models.tangible_pso.agents.MAV.deploy>`).
+        """
+        for i in range(self.params.n_mavs):
+            mav = MAV(self, i, pos[i, :2])
+            mav.start(mav.deploy(self.flight))
 
     def _survivors_leg(self, start: np.ndarray, goal: np.ndarray) -> Leg:
         p = self.params
