@@ -183,6 +183,7 @@ class TangiblePSOModel(SwarmModel):
         if self.params.deploy:
             self.flight = self.env.process(self._fly_plan())
             yield self.flight
+            # every MAV ends its own behaviour: "deployed", or earlier where it failed
             yield self.env.all_of([mav.process for mav in self.agents_by_type[MAV]])
             self.finish("deployed")
         else:
@@ -253,7 +254,9 @@ class TangiblePSOModel(SwarmModel):
                 except simpy.Interrupt:  # an MAV failed: everyone stops where it is
                     here = leg.positions(self.env.now - began)
                     pos[alive] = here
-                    now_alive = np.array([m.failure is None for m in self.agents_by_type[MAV]])
+                    now_alive = np.zeros_like(alive)
+                    for mav in self.agents_by_type[MAV]:
+                        now_alive[mav.row] = not mav.failed
                     survivors = pos[now_alive]
                     d["failed_at"].append(t)
                     d["localised_at_failure"].append(self._localised(survivors))
