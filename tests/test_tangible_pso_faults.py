@@ -9,6 +9,7 @@ import pytest
 
 from abm.errors import ConfigError
 from models.tangible_pso import TangiblePSOModel
+from models.tangible_pso.agents import MAV
 from models.tangible_pso.feasibility import localised
 
 SMALL = {"deploy": True}
@@ -25,7 +26,7 @@ def test_without_faults_the_real_swarm_ends_at_the_best_distribution():
     assert s["end_reason"] == "deployed" and s["mavs_failed"] == 0
     assert np.allclose(m.deployed, m.best)
     assert s["deployed_cost"] == pytest.approx(s["best_cost"])
-    assert all(mav.state == "deployed" for mav in m.mavs)
+    assert all(mav.state == "deployed" for mav in m.agents_by_type[MAV])
     for _t, pos, _alive in m.deployment["trace"]:
         assert localised(pos, m.params.neighbours, m.params.d_min, m.params.loc_range)
 
@@ -41,7 +42,7 @@ def test_survivors_localised_when_it_failed_stay_localised_and_the_failed_one_st
         mine = events[events["robot"] == rid]
         after = mine.loc[mine.index[mine["event"] == "fault"][0] + 1 :]
         assert after[~((after["event"] == "state") & (after["state"] == "failed"))].empty
-        i = [mav.unique_id for mav in m.mavs].index(rid)
+        (i,) = (mav.row for mav in m.agents_by_type[MAV] if mav.unique_id == rid)
         gone = [pos[i] for _t, pos, alive in m.deployment["trace"] if not alive[i]]
         assert all(np.array_equal(gone[0], x) for x in gone)  # it stays where it failed
     trace = m.deployment["trace"]

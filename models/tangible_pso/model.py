@@ -1,8 +1,9 @@
 """TangiblePSOModel: swarm distribution for surveillance by PSO whose particles must fly
 (Saska et al. 2016).
 
-Every PSO particle is a virtual swarm of n_r MAVs (Mesa agents in the framework's space; the
-altitude is their third coordinate, kept beside the space's x, y). The story of a run, one SimPy
+Every PSO particle is a virtual swarm of n_r MAVs (:class:`~models.tangible_pso.agents.VirtualMAV`
+agents in the framework's space; the altitude is their third coordinate, kept beside the space's
+x, y in the model's arrays, one row per virtual MAV). The story of a run, one SimPy
 process on the simulated clock (Sect. 5, Fig. 6):
 
 1. The population starts at the depot (Sect. 4) or, each particle, at random in a circle of
@@ -14,10 +15,10 @@ process on the simulated clock (Sect. 5, Fig. 6):
    where a constraint would break (the feasibility check); the realised positions p''_j(t) set
    the velocities (eq. 6) and are evaluated by the cost of eq. 1.
 3. After t_max iterations the solution is the history of the best particle.
-4. With ``deploy``: the real swarm (n_r more robots) flies that history, transition by
-   transition; an MAV may fail on the way (the fault injector, state "deploying"), and the
-   survivors fly on to their own planned places under the same feasibility check
-   (:mod:`models.tangible_pso.deployment`).
+4. With ``deploy``: the real swarm (n_r :class:`~models.tangible_pso.agents.MAV` agents) flies
+   that history, transition by transition; an MAV may fail on the way (the fault injector,
+   state "deploying"), and the survivors fly on to their own planned places under the same
+   feasibility check (:mod:`models.tangible_pso.deployment`).
 """
 
 import networkx as nx
@@ -33,6 +34,7 @@ from abm.robot import Robot
 from abm.styles import Layer, StateStyle
 from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso import published
+from models.tangible_pso.agents import MAV, VirtualMAV
 from models.tangible_pso.cost import CoverageCost
 from models.tangible_pso.deployment import Leg, replanned_leg
 from models.tangible_pso.feasibility import OUTCOMES, follow, localised
@@ -105,14 +107,12 @@ class TangiblePSOModel(SwarmModel):
         self.high = np.array([w - r, h - r, p.z_max])
         self.x = self._initial_positions()
         n_p, n = p.particles, p.n_mavs
-        self.robots = [
-            Robot(self, self.x[j, i, :2], "free", "fly") for j in range(n_p) for i in range(n)
-        ]
-        self.robot_ids = np.array([r.unique_id for r in self.robots])
-        for robot in self.robots:  # virtual MAVs: only the real swarm can fail
-            self.faults.exempt(robot)
-        self._state_idx = np.zeros(n_p * n, dtype=np.int8)
-        self.place(self.robot_ids, self.x[..., :2].reshape(-1, 2))
+        for j in range(n_p):  # in row order: VirtualMAV.row = j * n + i
+            for i in range(n):
+                VirtualMAV(self, j, i, self.x[j, i, :2])
+        #: The virtual MAVs' ids in row order, for moving them all at once in the space.
+        self._virtual_ids = np.array([r.unique_id for r in self.agents_by_type[VirtualMAV]])
+        self._state_idx = np.zeros(n_p * n, dtype=np.int8)  # each row's outcome, as OUTCOMES
         self.iteration = 0
         self.best_cost = np.full(n_p, np.inf)
         self.best_x = self.x.copy()
@@ -125,9 +125,9 @@ class TangiblePSOModel(SwarmModel):
         self.proposals_in_zone = 0
         self.conflicts = self.resolved = 0
         self._sample()
-        self.mavs: list[Robot] = []  # the real swarm, once it deploys
         self.deployment: dict = {}
-        self._deploying: simpy.Process | None = None
+        #: The real swarm's flight of the plan (a SimPy process), once it deploys.
+        self.flight: simpy.Process | None = None
         self.env.process(self._run())
 
     # ------------------------------------------------------------------ start
@@ -181,8 +181,10 @@ class TangiblePSOModel(SwarmModel):
     def _run(self):
         yield from self._optimise()
         if self.params.deploy:
-            self._deploying = self.env.process(self._deploy())
-            yield self._deploying
+            self.flight = self.env.process(self._fly_plan())
+            yield self.flight
+            # every MAV ends its own behaviour: "deployed", or earlier where it failed
+            yield self.env.all_of([mav.process for mav in self.agents_by_type[MAV]])
             self.finish("deployed")
         else:
             self.finish("iterations")
@@ -226,13 +228,15 @@ class TangiblePSOModel(SwarmModel):
             self._sample()
 
     # ------------------------------------------------------------------ the deployment
-    def _deploy(self):
-        """Fly the best particle's realised transitions with the real swarm; after a failure
-        the survivors stop, then fly on to their planned places of every later transition.
+    def _fly_plan(self):
+        """The real swarm flies the best particle's realised transitions together (each
+        :meth:`MAV.deploy <models.tangible_pso.agents.MAV.deploy>` waits for this); after a
+        failure the survivors stop, then fly on to their planned places of every later
+        transition.
         """
         p, g = self.params, self.g
         pos = self.history[0][g].copy()
-        self.mavs = [Robot(self, pos[i, :2], "deploying", "fly") for i in range(p.n_mavs)]
+        self._launch_swarm(pos)
         alive = np.ones(p.n_mavs, dtype=bool)
         d = self.deployment = {"failed_at": [], "localised_at_failure": [], "trace": []}
         d["trace"].append((self.env.now, pos.copy(), alive.copy()))
@@ -250,7 +254,9 @@ class TangiblePSOModel(SwarmModel):
                 except simpy.Interrupt:  # an MAV failed: everyone stops where it is
                     here = leg.positions(self.env.now - began)
                     pos[alive] = here
-                    now_alive = np.array([m.failure is None for m in self.mavs])
+                    now_alive = np.zeros_like(alive)
+                    for mav in self.agents_by_type[MAV]:
+                        now_alive[mav.row] = not mav.failed
                     survivors = pos[now_alive]
                     d["failed_at"].append(t)
                     d["localised_at_failure"].append(self._localised(survivors))
@@ -263,12 +269,16 @@ class TangiblePSOModel(SwarmModel):
                 break
             self._place_mavs(pos)
             d["trace"].append((self.env.now, pos.copy(), alive.copy()))
-        self._deploying = None
         self.deployed = pos
         self.deployed_alive = alive
-        for mav in self.mavs:
-            if mav.failure is None:
-                mav.set_state("deployed")
+
+    def _launch_swarm(self, pos: np.ndarray) -> None:
+        """The real swarm at the plan's first positions ``pos`` ``(n_r, 3)``, MAV i in row i,
+        each starting its behaviour (:meth:`MAV.deploy <models.tangible_pso.agents.MAV.deploy>`).
+        """
+        for i in range(self.params.n_mavs):
+            mav = MAV(self, i, pos[i, :2])
+            mav.start(mav.deploy(self.flight))
 
     def _survivors_leg(self, start: np.ndarray, goal: np.ndarray) -> Leg:
         p = self.params
@@ -283,23 +293,26 @@ class TangiblePSOModel(SwarmModel):
         return bool(len(swarm) == 0 or localised(swarm, p.neighbours, p.d_min, p.loc_range))
 
     def _place_mavs(self, pos: np.ndarray) -> None:
-        """The real MAVs' places in the space (a failed one stays where it failed)."""
-        ids = np.array([m.unique_id for m in self.mavs])
-        self.place(ids, pos[:, :2])
-        for mav, xy in zip(self.mavs, pos, strict=True):
-            mav.position = xy[:2].copy()
+        """The real MAVs' places in the space, each its row of ``pos`` (a failed one stays
+        where it failed).
+        """
+        for mav in self.agents_by_type[MAV]:
+            mav.position = pos[mav.row, :2].copy()
 
     def on_robot_failed(self, robot: Robot) -> None:
-        """A real MAV failed while it deployed: the deployment process stops the others."""
-        if self._deploying is not None and self._deploying.is_alive:
-            self._deploying.interrupt("mav failed")
+        """A real MAV failed while it deployed: the swarm's flight stops the others."""
+        if self.flight is not None and self.flight.is_alive:
+            self.flight.interrupt("mav failed")
 
     def _show(self, outcome: np.ndarray) -> None:
         """The virtual MAVs' new places in the space, and their states where they changed."""
-        self.place(self.robot_ids, self.x[..., :2].reshape(-1, 2))
+        self.place(self._virtual_ids, self.x[..., :2].reshape(-1, 2))
         flat = outcome.reshape(-1)
-        for k in np.nonzero(flat != self._state_idx)[0]:
-            self.robots[k].set_state(OUTCOMES[flat[k]])
+        changed = np.nonzero(flat != self._state_idx)[0]
+        if len(changed):
+            virtual = self.agents_by_type[VirtualMAV].to_list()  # row order
+            for k in changed:
+                virtual[k].set_state(OUTCOMES[flat[k]])
         self._state_idx = flat.copy()
 
     def _sample(self) -> None:
