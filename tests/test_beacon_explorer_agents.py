@@ -8,6 +8,8 @@ from collections import Counter
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from abm.robot import Robot
 from models.beacon_explorer import BeaconExplorerModel
@@ -174,3 +176,23 @@ def test_free_to_detach_fires_when_a_dead_end_beacon_may_redeploy_and_never_for_
     assert wanted.processed and 0.0 < times[0] < 20.0
     assert network.free_to_detach(robot.unique_id).triggered  # free already: at once
     assert not base_wanted.triggered  # the base never detaches
+
+
+@settings(max_examples=4, deadline=None)
+@given(
+    st.integers(0, 10_000),
+    st.sampled_from(["corridor", "open", "mixed"]),
+    st.lists(st.floats(1.0, 150.0), min_size=1, max_size=3),
+)
+def test_agents_are_the_counted_robots_at_any_time_of_any_run(seed, world, stops):
+    """Property: at any time of a run (faults and flat batteries included), ``model.agents``
+    holds the base and the N robots, and their states are the recorder's counts."""
+    model = BeaconExplorerModel(
+        world=world, seed=seed, fault_rate=1 / 400, battery_capacity=6000.0, trace_interval=None
+    )
+    for until in sorted(stops):
+        model.run(until=until)
+        assert len(model.agents_by_type[BaseBeacon]) == 1
+        assert len(model.agents_by_type[SwarmRobot]) == model.n_robots
+        counted = {s: n for s, n in model.recorder.counts.items() if n}
+        assert Counter(r.state for r in model.agents) == counted

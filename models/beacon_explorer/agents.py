@@ -12,9 +12,11 @@ steering (Fig. 4) in :mod:`models.beacon_explorer.explorer`, the beacons' flowch
 in :mod:`models.beacon_explorer.beacon`. Here is each robot's story between those steps.
 """
 
+from collections.abc import Generator
 from typing import TYPE_CHECKING
 
 import numpy as np
+import simpy
 
 from abm.robot import Robot
 
@@ -22,6 +24,9 @@ if TYPE_CHECKING:
     from models.beacon_explorer.model import BeaconExplorerModel
 
 __all__ = ["BaseBeacon", "SwarmRobot"]
+
+#: A robot behaviour: a SimPy generator of the events it waits on.
+Behaviour = Generator[simpy.Event, object, None]
 
 
 class BaseBeacon(Robot):
@@ -64,7 +69,7 @@ class SwarmRobot(Robot):
         self.index = index
         self.guide: int | None = None
 
-    def search(self):
+    def search(self) -> Behaviour:
         """The robot's whole story: take off, then explore and serve as a beacon in turn.
 
         Sect. 3.4 and Fig. 4 (explorers), Sect. 3.3 "Redeployment phase" (beacons revert to
@@ -78,7 +83,7 @@ class SwarmRobot(Robot):
             position = yield from self.explore(position)
             yield from self.serve_as_beacon(position)
 
-    def take_off(self):
+    def take_off(self) -> Behaviour:
         """Temporal incremental deployment (Sect. 3.4.1): wait on the ground until i * t,
         then take off and ascend to the flying altitude.
         """
@@ -89,7 +94,7 @@ class SwarmRobot(Robot):
         model.recorder.log("launch", self.unique_id)
         yield self.env.timeout(model.params.climb_time)
 
-    def explore(self, position: np.ndarray):
+    def explore(self, position: np.ndarray) -> Generator[simpy.Event, object, np.ndarray]:
         """Fly from ``position`` following the beacons' desired directions (Fig. 4) until
         |T| <= eps at a spot no other beacon holds; returns that spot.
 
@@ -110,7 +115,7 @@ class SwarmRobot(Robot):
             if p.report_taken:
                 model.beacons.spot_reported_taken(self.guide, position)
 
-    def serve_as_beacon(self, position: np.ndarray):
+    def serve_as_beacon(self, position: np.ndarray) -> Behaviour:
         """Attach at ``position`` and serve as a beacon until free to redeploy, then detach
         and be an explorer again (Sect. 3.3, "Redeployment phase").
 
