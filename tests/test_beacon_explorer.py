@@ -72,7 +72,7 @@ def test_energy_ledger_equals_integral_of_each_robots_power(corridor_run):
     power = {"ground": p.power_ground, "flight": p.power_flight, "beacon": p.power_beacon}
     assert power == {"ground": 0.5, "flight": 120.0, "beacon": 5.0}
     total = 0.0
-    for robot in corridor_run.robots:
+    for robot in (r.unique_id for r in corridor_run.agents):
         segments = [(t, m) for t, r, m in ledger.timeline if r == robot] + [(end, None)]
         expected = sum(power[m] * (t1 - t0) for (t0, m), (t1, _) in pairwise(segments))
         assert ledger.energy(robot) == pytest.approx(expected, rel=1e-12)
@@ -216,7 +216,7 @@ def settled_network(cells, base, others, seed=0):
     model = BeaconExplorerModel(
         world=world, n_robots=len(others), launch_period=1e4, seed=seed, trace_interval=None
     )
-    robots = [r for r in model.robots.values() if r.state == "ground"]
+    robots = list(model.agents.select(lambda r: r.state == "ground"))
     for robot, position in zip(robots, others, strict=True):
         model.beacons.attach(robot.unique_id, np.array(position))
     model.run(until=20.0)
@@ -270,7 +270,7 @@ def test_a_flat_battery_fails_the_robot_after_exactly_its_charge(seed, world, ca
     )
     model.run()
     used = model.ledger.frame().groupby("robot").energy.sum()
-    failed = [r.unique_id for r in model.robots.values() if r.state == "failed"]
+    failed = [r.unique_id for r in model.agents if r.state == "failed"]
     assert model.base.unique_id not in failed  # the base is not battery-limited
     for rid in failed:
         assert used[rid] == pytest.approx(capacity, rel=1e-9)

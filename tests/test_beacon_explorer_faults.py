@@ -47,7 +47,8 @@ def test_a_failed_beacon_has_no_further_events_and_hop_counts_heal_to_bfs(seed, 
         assert model.events().query("event == 'fault_skipped'").shape[0] == 1
         return
     (rid,) = failed
-    assert model.robots[rid].failure.state == "beacon"
+    (robot,) = model.agents.select(lambda r: r.unique_id == rid)
+    assert robot.failure.state == "beacon"
     assert rid not in model.beacons.beacons and rid not in model.comms.graph
     assert rid not in model.beacons.lattice and rid not in model.beacons.forwards.values
     events = model.events()
@@ -96,7 +97,8 @@ def test_repair_readvertises_the_hole_and_without_it_the_area_counts_as_searched
     for other, direction in holes:
         assert (direction in other.searched) is not repair
     model.run(until=model.env.now + 30.0)
-    spot = model.robots[victim].position
+    (robot,) = model.agents.select(lambda r: r.unique_id == victim)
+    spot = robot.position
     _ids, pos, vectors, _empty = network.signals()
     refilled = (np.hypot(*(pos - spot).T) < 1.0).any()
     advertised = (np.hypot(*(pos + vectors - spot).T) < 1.0).any()

@@ -14,8 +14,9 @@ from models.stigmergy.agents import UAV
 def test_removing_robots_keeps_positions_right_and_the_run_going():
     model = BeaconExplorerModel(world="open", seed=4, launch_period=2.0, trace_interval=None)
     model.run(until=30.0)
-    flyers = [model.robots[i] for i in model.physics.ids.tolist()]
-    waiting = [r for r in model.robots.values() if r.state == "ground"]
+    by_id = {r.unique_id: r for r in model.agents}
+    flyers = [by_id[i] for i in model.physics.ids.tolist()]
+    waiting = [r for r in model.agents if r.state == "ground"]
     assert len(flyers) >= 2 and len(waiting) >= 2
     gone = [waiting[0], flyers[0]]  # an early row and a flying one
     energy = {r.unique_id: model.ledger.energy(r.unique_id) for r in gone}
@@ -26,7 +27,7 @@ def test_removing_robots_keeps_positions_right_and_the_run_going():
         assert model.ledger.energy(rid) == pytest.approx(used)  # no power after removal
         assert rid not in model.physics.ids
     for rid, pos in zip(model.physics.ids.tolist(), model.physics.pos, strict=True):
-        assert np.array_equal(model.robots[rid].position, pos)  # the space mirrors physics
+        assert np.array_equal(by_id[rid].position, pos)  # the space mirrors physics
     counts = model.state_counts()
     total = counts[list(model.STATES)].sum(axis=1)
     assert total.iloc[-1] == model.n_robots + 1 - 2

@@ -15,6 +15,7 @@ from functools import cache
 
 import networkx as nx
 import numpy as np
+import simpy
 from numba import njit
 
 from abm import portable
@@ -69,6 +70,8 @@ class Beacon:
     redeploying: bool = False
     frontier: bool = False
     may_detach: bool = False
+    #: what its robot waits on to redeploy (:meth:`BeaconNetwork.free_to_detach`)
+    detach_wanted: simpy.Event | None = None
 
 
 class BeaconNetwork:
@@ -81,7 +84,6 @@ class BeaconNetwork:
         rng: the model's generator (sensor noise).
         params: the algorithm's constants.
         control_period: delay between a wake-up and the controller's reaction (s).
-        on_may_detach: called with a robot id whenever its beacon becomes free to detach.
 
     """
 
@@ -93,7 +95,6 @@ class BeaconNetwork:
         rng: np.random.Generator,
         params: BeaconExplorerParams,
         control_period: float,
-        on_may_detach: Callable[[int], None],
     ) -> None:
         self.env = env
         self._call_later = scheduler(env)
@@ -102,7 +103,6 @@ class BeaconNetwork:
         self.rng = rng
         self.params = params
         self.control_period = control_period
-        self.on_may_detach = on_may_detach
         self.beacons: dict[int, Beacon] = {}
         self.base: int | None = None
         # The lattice, kept up to date incrementally (see _update_lattice): each beacon's pick
@@ -450,10 +450,20 @@ class BeaconNetwork:
             self.version += 1
             for n in self.lattice_neighbours(robot):
                 self.wake_later(n)
-        if may_detach and not beacon.may_detach:
-            beacon.may_detach = True
-            self.on_may_detach(robot)
+        wanted = beacon.detach_wanted
+        if may_detach and not beacon.may_detach and wanted is not None and not wanted.triggered:
+            wanted.succeed()
         beacon.may_detach = may_detach
+
+    def free_to_detach(self, robot: int) -> simpy.Event:
+        """An event that fires once beacon ``robot`` is free to detach (Fig. 2's last step:
+        redeploying, every neighbour's forwards hop count lower or equal); at once if it is.
+        """
+        beacon = self.beacons[robot]
+        beacon.detach_wanted = wanted = self.env.event()
+        if beacon.may_detach:
+            wanted.succeed()
+        return wanted
 
     def wake_later(self, robot: int) -> None:
         """Wake a beacon once a message has reached it."""

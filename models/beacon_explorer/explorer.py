@@ -11,6 +11,7 @@ supplying every noise draw.
 """
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -59,6 +60,8 @@ class ExplorerController:
         rng: the model's generator (sensor noise).
         params: the algorithm's constants.
         physics: the physics process whose flyers this controls.
+        stopped_to_attach: called as ``stopped_to_attach(robot_id, guide_id)`` for each flyer
+            the controller stops to attach, with the beacon whose spot it reached.
 
     """
 
@@ -69,13 +72,13 @@ class ExplorerController:
         rng: np.random.Generator,
         params: BeaconExplorerParams,
         physics: Physics,
+        stopped_to_attach: Callable[[int, int], None],
     ) -> None:
         self.arena = arena
         self.beacons = beacons
         self.rng = rng
+        self.stopped_to_attach = stopped_to_attach
         self._version = -1
-        #: robot id -> the beacon whose spot it flew to when it last stopped to attach
-        self.guide_at_attach: dict[int, int] = {}
         self._signals = None
         self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
         physics.add_flyer_state("T", 2)
@@ -145,7 +148,7 @@ class ExplorerController:
             self._constants,
         )
         for row in np.nonzero(attach)[0]:
-            self.guide_at_attach[int(physics.ids[row])] = int(physics.flyer_state["guide"][row, 0])
+            self.stopped_to_attach(int(physics.ids[row]), int(physics.flyer_state["guide"][row, 0]))
         return desired, attach
 
 

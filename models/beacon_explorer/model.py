@@ -5,10 +5,12 @@ explorer i takes off at i * t_launch, follows beacon to beacon, attaches where a
 required and becomes one; beacons in searched-out areas detach and redeploy. The run ends when
 the search is complete (all free area covered), when it cannot progress (no beacon can
 redeploy and no explorer can be placed), or at the time limit.
+
+The robots and their stories are in :mod:`models.beacon_explorer.agents`; this module builds
+the swarm, records what the robots report, and watches for the end of the run.
 """
 
 import numpy as np
-import simpy
 
 from abm.arena import Arena
 from abm.coverage import CoverageRaster, raster_bytes
@@ -19,6 +21,7 @@ from abm.physics import FlightParams
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
 from models.beacon_explorer import published
+from models.beacon_explorer.agents import BaseBeacon, SwarmRobot
 from models.beacon_explorer.beacon import BeaconNetwork
 from models.beacon_explorer.explorer import ExplorerController
 from models.beacon_explorer.params import SWARM_SIZE, BeaconExplorerParams
@@ -93,15 +96,11 @@ class BeaconExplorerModel(SwarmModel):
         self.launch_period = p.launch_period
         self.n_robots = p.n_robots or SWARM_SIZE.get((self.world.kind, self.complexity), 20)
         self.coverage = CoverageRaster(self.arena, p.sensor_range, p.coverage_pixel)
-        self.beacons = BeaconNetwork(
-            self.env, self.arena, self.comms, self.rng, p, self.physics.dt, self._may_detach
-        )
+        self.beacons = BeaconNetwork(self.env, self.arena, self.comms, self.rng, p, self.physics.dt)
         self.beacons.sensed = self.faults.sensed  # a beacon's distance sensors may be faulty
         self.physics.controller = ExplorerController(
-            self.arena, self.beacons, self.rng, p, self.physics
+            self.arena, self.beacons, self.rng, p, self.physics, self._stopped_to_attach
         )
-        self.robots: dict[int, Robot] = {}
-        self._detach_wanted: dict[int, object] = {}
         self.battery = (
             None
             if p.battery_capacity is None
@@ -136,111 +135,60 @@ class BeaconExplorerModel(SwarmModel):
         return World(arena, start, "bitmap", p.level, np.stack([ix, iy], axis=1), None)
 
     def _build_swarm(self) -> None:
+        """The base beacon at the start, attached, and the N robots waiting below it, each
+        running its story (:meth:`SwarmRobot.search`).
+        """
         start = self.world.start
-        base = Robot(self, start, "beacon", self._beacon_mode())
-        if self.battery is not None:
-            self.battery.exempt(base.unique_id)  # see ``battery_capacity``
-        self.faults.exempt(base)  # the powered, pre-deployed base station
-        self.base = base
-        self.robots[base.unique_id] = base
-        self.recorder.log("attach", base.unique_id, x=start[0], y=start[1])
-        self.beacons.attach(base.unique_id, start, is_base=True)
-        self.coverage.stamp(start, self.env.now)
+        self.beacon_attached(BaseBeacon(self, start), start)
         for i in range(1, self.n_robots + 1):
-            robot = Robot(self, start, "ground", "ground")
-            self.robots[robot.unique_id] = robot
-            robot.start(self._explorer_life(robot, i))
+            robot = SwarmRobot(self, start, i)
+            robot.start(robot.search())
 
-    def _beacon_mode(self) -> str:
+    @property
+    def beacon_mode(self) -> str:
+        """The power mode of a beacon: "beacon" (attached to the ceiling) or "hover"."""
         return "hover" if self.params.hover_beacons else "beacon"
 
-    # ------------------------------------------------------------------ behaviour
-    def _explorer_life(self, robot: Robot, index: int):
-        """One robot's story (Fig. 4): wait, take off, follow beacons, attach, maybe redeploy.
+    @property
+    def base(self) -> BaseBeacon:
+        """The pre-deployed base beacon."""
+        (base,) = self.agents_by_type[BaseBeacon]
+        return base
 
-        A flat battery ends it wherever it is (see :meth:`_battery_empty`).
+    # ------------------------------------------------------------------ what robots report
+    def beacon_attached(self, robot: Robot, position: np.ndarray) -> None:
+        """``robot`` attached at ``position`` (m) and serves as a beacon: it is logged, joins
+        the beacon network, its sensors cover the area around it, and the stall watch
+        restarts (an attach is progress).
         """
-        try:
-            yield from self._explore(robot, index)
-        except simpy.Interrupt:
-            return
+        self.recorder.log("attach", robot.unique_id, x=position[0], y=position[1])
+        self._stall_mark = (self.env.now, self.collisions)
+        self.beacons.attach(robot.unique_id, position, is_base=isinstance(robot, BaseBeacon))
+        self.coverage.stamp(position, self.env.now)
 
-    def _explore(self, robot: Robot, index: int):
-        yield self.env.timeout(index * self.launch_period)
-        robot.set_state("explorer")
-        robot.set_mode("flight")
-        self.recorder.log("launch", robot.unique_id)
-        yield self.env.timeout(self.params.climb_time)
-        position = self.world.start + self.rng.normal(0.0, 0.1, 2)
-        position = np.where(self.arena.is_free(position[None])[0], position, self.world.start)
-        while True:
-            arrived = self.physics.fly(robot.unique_id, position)
-            yield arrived
-            position = robot.position.copy()
-            yield self.env.timeout(self.params.attach_time)
-            if self._beacon_near(position, self.params.interspace / 2):
-                # Another beacon holds this spot (one attached first, or its advertiser cannot
-                # see it behind a pillar): tell the advertiser, then fly on.
-                if self.params.report_taken:
-                    guide = self.physics.controller.guide_at_attach.get(robot.unique_id)
-                    self.beacons.spot_reported_taken(guide, position)
-                continue
-            robot.set_state("beacon")
-            robot.set_mode(self._beacon_mode())
-            self.recorder.log("attach", robot.unique_id, x=position[0], y=position[1])
-            self._stall_mark = (self.env.now, self.collisions)
-            self.beacons.attach(robot.unique_id, position)
-            self.coverage.stamp(position, self.env.now)
-            yield from self._beacon_until_detach(robot)
-            self.beacons.detach(robot.unique_id)
-            robot.set_state("explorer")
-            robot.set_mode("flight")
-            self.recorder.log("detach", robot.unique_id)
-
-    def _beacon_until_detach(self, robot: Robot):
-        """Wait until this beacon may detach, one inter-launch period passed, no explorer near."""
-        rid = robot.unique_id
-        while True:
-            wanted = self.env.event()
-            self._detach_wanted[rid] = wanted
-            if self.beacons.beacons[rid].may_detach:
-                wanted.succeed()
-            yield wanted
-            yield self.env.timeout(self.launch_period)
-            beacon = self.beacons.beacons[rid]
-            if beacon.may_detach and not self._explorer_near(beacon.position):
-                del self._detach_wanted[rid]
-                return
+    def _stopped_to_attach(self, robot_id: int, guide: int) -> None:
+        """The explorer controller stopped a flyer to attach at beacon ``guide``'s spot."""
+        self._robot(robot_id).guide = guide
 
     def _battery_empty(self, robot_id: int) -> None:
         """A battery ran flat: the robot fails where it is, whatever it was doing."""
-        self.faults.fail(self.robots[robot_id], "battery")
+        self.faults.fail(self._robot(robot_id), "battery")
+
+    def _robot(self, robot_id: int) -> Robot:
+        """The robot of an id, for the callbacks that name robots by id (the battery, the
+        explorer controller): found through its row of the space, not an index of our own.
+        """
+        return self.space.active_agents[int(self.rows_of([robot_id])[0])]
 
     def on_robot_failed(self, robot: Robot) -> None:
-        """A robot failed (a fault or a flat battery): its pending detach is forgotten, and
-        the beacon network follows (:func:`repair.robot_failed`).
+        """A robot failed (a fault or a flat battery): the beacon network follows
+        (:func:`repair.robot_failed`).
         """
-        self._detach_wanted.pop(robot.unique_id, None)
-        robot_failed(self, robot)
+        robot_failed(self.beacons, robot.unique_id, self.params.repair)
 
     def on_link_fault(self, a: object, b: object, up: bool) -> None:
         """A link outage began or ended: see :func:`repair.link_fault`."""
-        link_fault(self, a, b)
-
-    def _may_detach(self, robot: int) -> None:
-        wanted = self._detach_wanted.get(robot)
-        if wanted is not None and not wanted.triggered:
-            wanted.succeed()
-
-    def _beacon_near(self, position: np.ndarray, radius: float) -> bool:
-        _ids, pos, _vectors, _to_empty = self.beacons.signals()
-        return bool((np.hypot(*(pos - position).T) < radius).any())
-
-    def _explorer_near(self, position: np.ndarray) -> bool:
-        if self.physics.n_flying == 0:
-            return False
-        d = np.hypot(*(self.physics.pos - position).T)
-        return bool((d < self.params.interspace).any())
+        link_fault(self.beacons, a, b)
 
     def _monitor(self):
         """Check once per period whether the search is over.

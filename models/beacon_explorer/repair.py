@@ -10,25 +10,20 @@ hole; off, the neighbours take the area beyond it as searched, as for any neighb
 leaves in the paper's controller.
 """
 
-from typing import TYPE_CHECKING
-
-from abm.robot import Robot
-
-if TYPE_CHECKING:
-    from models.beacon_explorer.model import BeaconExplorerModel
+from models.beacon_explorer.beacon import BeaconNetwork
 
 __all__ = ["link_fault", "robot_failed"]
 
 
-def robot_failed(model: "BeaconExplorerModel", robot: Robot) -> None:
-    """Drop a failed robot from the beacon network (a beacon)."""
-    rid = robot.unique_id
-    if rid in model.beacons.beacons:
-        model.beacons.detach(rid, searched=not model.params.repair)
+def robot_failed(network: BeaconNetwork, robot: int, repair: bool) -> None:
+    """Drop a failed robot from the beacon network (if it was a beacon); ``repair`` says
+    whether its neighbours advertise its spot again or take the area beyond it as searched.
+    """
+    if robot in network.beacons:
+        network.detach(robot, searched=not repair)
 
 
-def link_fault(model: "BeaconExplorerModel", a: object, b: object) -> None:
+def link_fault(network: BeaconNetwork, a: object, b: object) -> None:
     """A link between two beacons went down or came back: the lattice follows the radio."""
-    beacons = model.beacons.beacons
-    if a in beacons and b in beacons:
-        model.beacons.links_changed()
+    if a in network.beacons and b in network.beacons:
+        network.links_changed()
