@@ -421,6 +421,19 @@ class SwarmModel(mesa.Model):
         """
         self.space.agent_positions[self.rows_of(ids)] = positions
 
+    def robot(self, robot_id: int) -> Robot:
+        """The robot with this id (for callbacks that name robots by id, such as a battery's
+        or a controller's), found through its row of the space.
+
+        Raises:
+            KeyError: no robot in the model has this id (it was removed, or never made).
+
+        """
+        rows = self._row_of
+        if not 0 <= robot_id < len(rows) or rows[robot_id] < 0:
+            raise KeyError(f"no robot {robot_id} in the model")
+        return self.space.active_agents[int(rows[robot_id])]
+
     def rows_of(self, ids: np.ndarray) -> np.ndarray:
         """The rows of ``space.agent_positions`` that hold the agents ``ids`` (for a model's
         vectorised work on its robots' positions; valid until an agent leaves the space).

@@ -102,3 +102,16 @@ def test_without_robot_or_sensor_faults_nothing_follows_the_robots_state():
     fallible = FallibleTinyModel(seed=1, fault_rate=0.01)
     assert plain.lifecycle.subscribers("state") == ()
     assert fallible.lifecycle.subscribers("state") == (fallible.faults.state_changed,)
+
+
+def test_a_robot_is_found_by_its_id_until_it_is_removed():
+    model = TinyModel(seed=2, walkers=6, launch_period=1.0)
+    model.run(until=8.0)
+    walkers = list(model.agents_by_type[Walker])
+    assert all(model.robot(w.unique_id) is w for w in walkers)
+    walkers[1].remove()
+    with pytest.raises(KeyError, match=f"no robot {walkers[1].unique_id}"):
+        model.robot(walkers[1].unique_id)
+    assert all(model.robot(w.unique_id) is w for w in walkers if w is not walkers[1])
+    with pytest.raises(KeyError):
+        model.robot(10_000)

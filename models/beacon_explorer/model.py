@@ -168,17 +168,11 @@ class BeaconExplorerModel(SwarmModel):
 
     def _stopped_to_attach(self, robot_id: int, guide: int) -> None:
         """The explorer controller stopped a flyer to attach at beacon ``guide``'s spot."""
-        self._robot(robot_id).guide = guide
+        self.robot(robot_id).guide = guide
 
     def _battery_empty(self, robot_id: int) -> None:
         """A battery ran flat: the robot fails where it is, whatever it was doing."""
-        self.faults.fail(self._robot(robot_id), "battery")
-
-    def _robot(self, robot_id: int) -> Robot:
-        """The robot of an id, for the callbacks that name robots by id (the battery, the
-        explorer controller): found through its row of the space, not an index of our own.
-        """
-        return self.space.active_agents[int(self.rows_of([robot_id])[0])]
+        self.faults.fail(self.robot(robot_id), "battery")
 
     def on_robot_failed(self, robot: Robot) -> None:
         """A robot failed (a fault or a flat battery): the beacon network follows
