@@ -7,11 +7,11 @@ well-mixed diagnostic looks at the fitted runs. Everything is written beside a f
 ``rates.csv`` (each transition's hazard family and coefficients with standard errors and 95 %
 intervals), ``fit.csv`` (per state: held-out RMSD as a share of the swarm, the RMSD a perfect
 model would still show with so few runs, band coverage), ``mixing.csv`` when the runs kept
-positions, and one HTML page with the state graph drawn. Rates across swept parameters are not
-fitted yet: one condition per call.
+positions, and one HTML page with the state graph drawn. Rates across swept parameters, fitted
+on some grid points and predicting the others, are :mod:`analysis.rate_across`.
 """
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,7 +38,14 @@ from analysis.macroscopic import (  # noqa: E402
     well_mixed,
 )
 
-__all__ = ["RateFit", "fit_rate_equations", "summary_lines", "write_rate_fit"]
+__all__ = [
+    "RateFit",
+    "fit_rate_equations",
+    "plot_curves",
+    "run_logs",
+    "summary_lines",
+    "write_rate_fit",
+]
 
 
 @dataclass(frozen=True)
@@ -55,6 +62,19 @@ class RateFit:
 
 def _one_run(model: str, seed: int, params: Mapping[str, object]) -> RunLog:
     return collect_runs(model, [seed], params)[0]
+
+
+def run_logs(
+    target: str, seeds: Sequence[int], params: Mapping[str, object], workers: int = 1
+) -> list[RunLog]:
+    """The run logs of ``target`` ("module:Class") at ``params``, one per seed, on ``workers``
+    local processes.
+    """
+    if workers > 1:
+        with process_pool(workers) as pool:
+            n = len(seeds)
+            return list(pool.map(_one_run, [target] * n, seeds, [dict(params)] * n))
+    return collect_runs(target, seeds, params)
 
 
 def fit_rate_equations(
@@ -80,14 +100,7 @@ def fit_rate_equations(
         raise ConfigError(f"--held must be at least 1, got {held}")
     cls(seed=seed, **dict(params))  # bad parameters stop here, before any run
     seeds = list(range(seed, seed + runs + held))
-    target = f"{cls.__module__}:{cls.__qualname__}"
-    if workers > 1:
-        with process_pool(workers) as pool:
-            logs = list(
-                pool.map(_one_run, [target] * len(seeds), seeds, [dict(params)] * len(seeds))
-            )
-    else:
-        logs = collect_runs(target, seeds, params)
+    logs = run_logs(f"{cls.__module__}:{cls.__qualname__}", seeds, params, workers)
     fitted, heldout = logs[:runs], logs[runs:]
     model = fit_rates(fitted)
     checks = check_heldout(model, heldout, np.random.default_rng(seed))
@@ -113,7 +126,7 @@ def write_rate_fit(result: RateFit, out: Path, title: str) -> list[Path]:
     if result.mixing.computable:
         paths.append(out / "mixing.csv")
         result.mixing.table.to_csv(paths[-1], index=False)
-    paths.append(_curves(result, out / "curves.png", title))
+    paths.append(plot_curves([checks], [""], list(result.model.states), out / "curves.png", title))
     paths.append(_page(result, out / "rates_report.html", title, paths[-1]))
     return paths
 
@@ -178,26 +191,31 @@ def _graph_figure(graph: object) -> str:
     return data
 
 
-def _curves(result: RateFit, path: Path, title: str) -> Path:
-    """Per state: the held-out runs, their mean, the mean-field ODE and the 90 % band."""
-    checks = result.checks
-    states = list(result.model.states)
-    grid = checks.expected["time"].to_numpy()
-    fig, axes = plt.subplots(1, len(states), figsize=(4.2 * len(states), 3.6), squeeze=False)
-    for i, (ax, state) in enumerate(zip(axes[0], states, strict=True)):
-        for run in checks.observed[:, :, i]:
-            ax.plot(grid, run, color="0.75", lw=0.7)
-        ax.fill_between(grid, checks.band.low[state], checks.band.high[state],
-                        color="#00798c", alpha=0.25, lw=0, label="90 % band")  # fmt: skip
-        ax.plot(grid, checks.observed[:, :, i].mean(axis=0), color="black", lw=1.4,
-                label="held-out runs, mean")  # fmt: skip
-        ax.plot(grid, checks.expected[state], color="#d1495b", lw=1.4, ls="--",
-                label="mean-field ODE")  # fmt: skip
-        rmsd = float(checks.table.loc[checks.table["state"] == state, "rmsd"].iloc[0])
-        ax.set_title(f"{state} (RMSD {100 * rmsd:.1f} % of N)", fontsize=10)
-        ax.set_xlabel("time (s)")
-        ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("robots")
+def plot_curves(
+    checks: Sequence[Checks], labels: Sequence[str], states: Sequence[str], path: Path, title: str
+) -> Path:
+    """One row of panels per checked condition, one panel per state: the held-out runs, their
+    mean, the mean-field ODE and the 90 % band.
+    """
+    rows, cols = len(checks), len(states)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False)
+    for r, (check, label) in enumerate(zip(checks, labels, strict=True)):
+        grid = check.expected["time"].to_numpy()
+        for i, (ax, state) in enumerate(zip(axes[r], states, strict=True)):
+            for run in check.observed[:, :, i]:
+                ax.plot(grid, run, color="0.75", lw=0.7)
+            ax.fill_between(grid, check.band.low[state], check.band.high[state],
+                            color="#00798c", alpha=0.25, lw=0, label="90 % band")  # fmt: skip
+            ax.plot(grid, check.observed[:, :, i].mean(axis=0), color="black", lw=1.4,
+                    label="held-out runs, mean")  # fmt: skip
+            ax.plot(grid, check.expected[state], color="#d1495b", lw=1.4, ls="--",
+                    label="mean-field ODE")  # fmt: skip
+            rmsd = float(check.table.loc[check.table["state"] == state, "rmsd"].iloc[0])
+            head = f"{label}\n" if label else ""
+            ax.set_title(f"{head}{state} (RMSD {100 * rmsd:.1f} % of N)", fontsize=9)
+            ax.set_xlabel("time (s)")
+            ax.grid(alpha=0.3)
+        axes[r][0].set_ylabel("robots")
     axes[0][-1].legend(frameon=False, fontsize=8)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()

@@ -46,6 +46,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--held", type=int, default=3, help="rate equations: held-out runs that check them [3]"
     )
+    parser.add_argument(
+        "--held-points",
+        type=int,
+        default=1,
+        help="rate equations with --grid: interior grid points held out of the fit and "
+        "predicted [1]",
+    )
     parser.add_argument("--seed", type=seed_argument, default=0, help="the sweep seed [0]")
     parser.add_argument(
         "--workers", type=int, default=min(2, os.cpu_count() or 1), help="local processes"
@@ -137,19 +144,41 @@ def _rates(args: argparse.Namespace, cls: type, name: str) -> int:
     from analysis.cli.flags import parse_assignment
     from analysis.rate_fit import fit_rate_equations, summary_lines, write_rate_fit
 
-    if args.grid:
-        raise ConfigError(
-            "--grid: rate equations are fitted to one condition (rates regressed across "
-            "parameters are not built yet); set it with --set NAME=VALUE"
-        )
     if args.read is not None:
         raise ConfigError("--read: rate equations need the event logs, which sweeps do not keep")
     params = {k: v[0] for k, v in (parse_assignment(cls.Params, text) for text in args.set)}
     out = args.out or Path("out/fit") / name
+    if args.grid:
+        return _rates_across(args, cls, name, params, out)
     start = time.perf_counter()
     result = fit_rate_equations(cls, params, args.seed, args.runs, args.held, args.workers)
     title = f"{name}: {args.runs} runs fitted, {args.held} held out (seeds from {args.seed})"
     paths = write_rate_fit(result, out, title)
+    print(*summary_lines(result), sep="\n")
+    print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
+    print("", *(f"wrote {p}" for p in paths), sep="\n")
+    return 0
+
+
+def _rates_across(args: argparse.Namespace, cls: type, name: str, fixed: dict, out: Path) -> int:
+    """Rate equations across the grid: fitted on most points, predicting the held-out ones."""
+    from abm.errors import ConfigError
+    from analysis.cli.flags import parse_assignment
+    from analysis.rate_across import fit_rates_across, summary_lines, write_across
+
+    grid = dict(parse_assignment(cls.Params, text, many=True) for text in args.grid)
+    both = sorted(set(grid) & set(fixed))
+    if both:
+        raise ConfigError(f"{', '.join(both)}: both swept (--grid) and fixed (--set); pick one")
+    start = time.perf_counter()
+    result = fit_rates_across(
+        cls, grid, fixed, args.seed, args.runs, args.held, args.held_points, args.workers
+    )
+    title = (
+        f"{name}: rates across {', '.join(grid)}; {args.runs} runs fitted and {args.held} held "
+        f"out per fitted point (seeds from {args.seed})"
+    )
+    paths = write_across(result, out, title)
     print(*summary_lines(result), sep="\n")
     print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
     print("", *(f"wrote {p}" for p in paths), sep="\n")

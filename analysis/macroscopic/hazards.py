@@ -18,8 +18,14 @@ offset ``log(exposure)``. The families:
   column the model records (coverage, pheromone level, ...).
 - ``piecewise``: ``log lambda = b_p`` on each of ``PIECES`` equal pieces of [0, T]; a piece
   without any transition has rate 0 (its MLE) and is left out of the regression.
+
+Fitted across conditions (:mod:`analysis.macroscopic.across`), the constant, counts and time
+families take further log-linear terms, the *effects* of the swept parameters: ``log lambda =
+(family's terms) + sum_p g_p x_p`` with ``x_p`` a standardised parameter value (or a 0/1 level
+of a categorical one). :meth:`Hazard.at` folds them into the intercept for one condition.
 """
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Mapping, Sequence
@@ -50,6 +56,10 @@ class Hazard:
         events: transitions the fit saw.
         exposure: robot-seconds in ``source`` the fit saw.
         score: held-out log-likelihood per held-out run that chose the family (NaN if unscored).
+        names: the coefficients' names.
+        effects: the exposure columns of the parameter effects whose coefficients follow the
+            family's (empty for a fit of one condition); a column ``x:<name>`` gives the
+            coefficient ``effect_of_<name>``.
 
     """
 
@@ -63,6 +73,7 @@ class Hazard:
     exposure: float = 0.0
     score: float = float("nan")
     names: tuple[str, ...] = field(default=())
+    effects: tuple[str, ...] = ()
 
     @property
     def variable(self) -> str | None:
@@ -75,6 +86,8 @@ class Hazard:
         """lambda_ij (1/s) at time(s) ``t`` with state counts and covariate values given by
         name (arrays broadcast together).
         """
+        if self.effects:
+            raise ValueError("a hazard fitted across conditions gives rates at a condition: at()")
         b = self.params
         kind = self.family.split(":", 1)[0]
         t = np.asarray(t, dtype=float)
@@ -93,6 +106,18 @@ class Hazard:
             return np.exp(b[0] + b[1] * z)
         piece = np.clip((t / self.scale[0] * PIECES).astype(int), 0, PIECES - 1)
         return np.exp(b[piece])
+
+    def at(self, values: Mapping[str, float]) -> "Hazard":
+        """The hazard at one condition: the effects times ``values`` (by effect column) added
+        to the intercept.
+        """
+        own = len(self.params) - len(self.effects)
+        shift = sum(g * values[e] for g, e in zip(self.params[own:], self.effects, strict=True))
+        params = self.params[:own].copy()
+        params[0] += shift
+        return dataclasses.replace(
+            self, params=params, bse=self.bse[:own], names=self.names[:own], effects=()
+        )
 
     def table(self) -> pd.DataFrame:
         """One row per coefficient: name, estimate, standard error and 95 % interval."""
@@ -122,9 +147,18 @@ def candidate_families(states: Sequence[str], source: str, covariates: Sequence[
 
 
 def _design(
-    rows: pd.DataFrame, family: str, scale: tuple[float, ...]
+    rows: pd.DataFrame, family: str, scale: tuple[float, ...], effects: Sequence[str] = ()
 ) -> tuple[np.ndarray, np.ndarray]:
     """(design matrix, rows whose rate the family does not force to 0)."""
+    x, live = _family_design(rows, family, scale)
+    if effects:
+        x = np.column_stack([x, rows[list(effects)].to_numpy(dtype=float)])
+    return x, live
+
+
+def _family_design(
+    rows: pd.DataFrame, family: str, scale: tuple[float, ...]
+) -> tuple[np.ndarray, np.ndarray]:
     kind, _, variable = family.partition(":")
     ones = np.ones(len(rows))
     if kind == "constant":
@@ -155,9 +189,15 @@ def _names(family: str) -> tuple[str, ...]:
 
 
 def fit_hazard(
-    rows: pd.DataFrame, source: str, target: str, family: str, horizon: float
+    rows: pd.DataFrame,
+    source: str,
+    target: str,
+    family: str,
+    horizon: float,
+    effects: Sequence[str] = (),
 ) -> Hazard | None:
-    """Fit ``family`` to the exposure rows of ``source`` (transitions to ``target``).
+    """Fit ``family`` to the exposure rows of ``source`` (transitions to ``target``), with the
+    parameter effects of the columns ``effects`` (constant, counts and time families only).
 
     Returns None when the family cannot be fitted to these rows (a covariate without
     spread, a count never above 0 while a transition happened, no convergence).
@@ -165,6 +205,8 @@ def fit_hazard(
     y_all = rows[f"to:{target}"].to_numpy(dtype=float)
     scale: tuple[float, ...] = (horizon,)
     kind, _, variable = family.partition(":")
+    if effects and kind not in ("constant", "counts", "time"):
+        raise ValueError(f"parameter effects need a constant, counts or time family: {family}")
     if kind == "covariate":
         values = rows[variable].to_numpy(dtype=float)
         weights = rows["exposure"].to_numpy()
@@ -173,7 +215,7 @@ def fit_hazard(
         if not np.isfinite(sd) or sd == 0:
             return None
         scale = (mean, sd)
-    x, live = _design(rows, family, scale)
+    x, live = _design(rows, family, scale, effects)
     x, y = x[live], y_all[live]
     offset = np.log(rows["exposure"].to_numpy()[live])
     params = np.full(x.shape[1], -np.inf)
@@ -184,10 +226,10 @@ def fit_hazard(
         keep = (x[:, ~used].sum(axis=1) == 0) if (~used).any() else np.ones(len(y), bool)
         x, y, offset = x[keep][:, used], y[keep], offset[keep]
     fitted = _glm(x, y, offset)
-    if fitted is not None and fitted[0][-1] > 0 and y_all[~live].sum() > 0:
+    if fitted is not None and y_all[~live].sum() > 0 and fitted[0][1] > 0:
         return None  # a rate 0 with no robot in k, yet a transition happened then
     if fitted is not None and kind == "counts" and fitted[0][1] <= 0 and (~live).any():
-        x_all, _ = _design(rows, family, scale)  # inhibition: empty bins count as n = 1
+        x_all, _ = _design(rows, family, scale, effects)  # inhibition: empty bins as n = 1
         offset_all = np.log(rows["exposure"].to_numpy())
         fitted = _glm(x_all, y_all, offset_all)
         if fitted is not None and fitted[0][1] > 0:
@@ -204,7 +246,8 @@ def fit_hazard(
         scale,
         events=int(y_all.sum()),
         exposure=float(rows["exposure"].sum()),
-        names=_names(family),
+        names=_names(family) + tuple(f"effect_of_{e.split(':', 1)[-1]}" for e in effects),
+        effects=tuple(effects),
     )
 
 
@@ -230,7 +273,7 @@ def heldout_loglik(hazard: Hazard, rows: pd.DataFrame) -> float:
     rate 0 where a transition happened).
     """
     y = rows[f"to:{hazard.target}"].to_numpy(dtype=float)
-    x, live = _design(rows, hazard.family, hazard.scale)
+    x, live = _design(rows, hazard.family, hazard.scale, hazard.effects)
     if hazard.family.startswith("counts:") and hazard.params[1] <= 0:
         live = np.ones(len(rows), dtype=bool)  # inhibition: an empty k reads as n = 1
     if hazard.family == "piecewise":

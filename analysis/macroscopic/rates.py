@@ -21,7 +21,7 @@ from analysis.macroscopic.design import covariate_names, exposure_table
 from analysis.macroscopic.hazards import Hazard, candidate_families, fit_hazard, heldout_loglik
 from analysis.macroscopic.logs import LAUNCH, RunLog, transitions
 
-__all__ = ["LAUNCH_MODES", "RateModel", "fit_rates"]
+__all__ = ["LAUNCH_MODES", "RateModel", "Sources", "fit_rates", "select_family", "sources_of"]
 
 #: How launches enter the macroscopic model: the launch times observed in the fitted runs, or
 #: a constant rate per launch stream fitted between its first and last launch.
@@ -75,6 +75,22 @@ class RateModel:
         )
 
 
+@dataclass(frozen=True)
+class Sources:
+    """The known sources of some runs: each run's launch schedule and the launch streams."""
+
+    schedules: tuple[pd.DataFrame, ...]
+    streams: pd.DataFrame
+
+
+def sources_of(logs: Sequence[RunLog]) -> Sources:
+    """The launch schedules of ``logs`` (robots that appear, scheduled moves) and their
+    streams: the sources a rate model takes as known.
+    """
+    schedules = tuple(_schedule(log) for log in logs)
+    return Sources(schedules, _streams(schedules))
+
+
 def _schedule(log: RunLog) -> pd.DataFrame:
     moves = transitions(log)
     known = moves[(moves["source"] == LAUNCH) | moves["launch"].astype(bool)]
@@ -108,14 +124,18 @@ def _covariate_paths(
     return paths
 
 
-def _select(
+def select_family(
     tables: Sequence[pd.DataFrame],
     source: str,
     target: str,
     families: Sequence[str],
     horizon: float,
+    effects: Sequence[str] = (),
 ) -> tuple[str, float]:
-    """The family with the best two-fold held-out log-likelihood (per held-out run)."""
+    """The family with the best two-fold held-out log-likelihood (per held-out run), runs
+    split into even and odd (``tables``: one exposure table per run); ``effects`` as in
+    :func:`~analysis.macroscopic.hazards.fit_hazard`.
+    """
     folds = [
         (pd.concat(tables[0::2]), pd.concat(tables[1::2])),
         (pd.concat(tables[1::2]), pd.concat(tables[0::2])),
@@ -128,7 +148,7 @@ def _select(
             rows_test = test[test["state"] == source]
             if rows_train.empty or rows_test.empty:
                 continue
-            hazard = fit_hazard(rows_train, source, target, family, horizon)
+            hazard = fit_hazard(rows_train, source, target, family, horizon, effects)
             if hazard is None:
                 score = -math.inf
                 break
@@ -174,20 +194,20 @@ def fit_rates(
     hazards = []
     for (source, target), _ in hazard_moves.groupby(["source", "target"], sort=True):
         families = candidate_families(states, source, names)
-        family, score = _select(tables, source, target, families, horizon)
+        family, score = select_family(tables, source, target, families, horizon)
         rows = every[every["state"] == source]
         fitted = fit_hazard(rows, source, target, family, horizon)
         if fitted is None:  # the chosen family cannot be fitted to all runs together
             fitted = fit_hazard(rows, source, target, "constant", horizon)
         hazards.append(dataclasses.replace(fitted, score=score))
-    schedules = tuple(_schedule(log) for log in logs)
+    sources = sources_of(logs)
     grid = np.arange(0.0, horizon + bin_width, bin_width)
     return RateModel(
         states=states,
         hazards=tuple(hazards),
-        schedules=schedules,
+        schedules=sources.schedules,
         launches=launches,
-        streams=_streams(schedules),
+        streams=sources.streams,
         horizon=horizon,
         swarm_size=max(log.swarm_size for log in logs),
         covariate_times=grid,
