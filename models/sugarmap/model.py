@@ -358,10 +358,12 @@ class SugarMapModel(SwarmModel):
     def _estimate(self, heading, turn, speed, moving) -> None:
         """S3-S4: signatures at the true positions, then each explorer's particle filter."""
         visible = np.zeros((len(self.pos), len(self.anchor_ids)), dtype=bool)
-        for e, rid in enumerate(self.explorer_ids):
-            if int(rid) not in self.comms.graph:  # failed: it measures nothing
+        anchors = self.anchor_ids.tolist()
+        for e, rid in enumerate(self.explorer_ids.tolist()):
+            if rid not in self.comms.graph:  # failed: it measures nothing
                 continue
-            visible[e] = np.isin(self.anchor_ids, self.comms.neighbours(int(rid)))
+            heard = set(self.comms.neighbours(rid))
+            visible[e] = [a in heard for a in anchors]  # the anchors it hears, by row
         signatures = self.rtof.measure(self.pos, visible, self.rng)
         self.filter.predict(
             self.rng, heading, turn, speed, moving & ~self.blocked, dt=self.params.dt
