@@ -1,6 +1,9 @@
 """SugarMapModel: location-less coverage by a micro-aerial swarm (Purohit et al. 2013).
 
-The story of a run, as SimPy processes on the 1 s tick (Sect. 3, 4.1):
+The story of a run, as SimPy processes on the 1 s tick (Sect. 3, 4.1). The robots are the
+paper's two roles (:mod:`models.sugarmap.agents`), ``model.agents_by_type[Anchor]`` and
+``[Explorer]`` in row order; the work of a tick over all robots of a role runs here, vectorised
+over the rows of the model's arrays, and each robot does its own part of the flowchart.
 
 1. **Dispersion** (Fig. 3): the anchors take off from the entrance on random headings; every
    dispersion period each flying anchor asks the others for an RToF reading: if one does not
