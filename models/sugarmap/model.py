@@ -433,13 +433,14 @@ class SugarMapModel(SwarmModel):
         if self.filter is not None:
             g = self._navigable_estimate()
             truth = self.coverage.covered[free]
+            false = self.false_matches
             values.update(
                 coverage_est=100.0 * float((g[free] >= self.params.cover_th).mean()),
                 map_error=float(np.abs(g[free] - truth).mean()),
                 pose_error=float(np.hypot(*(self.filter.mean_positions() - self.pos).T).mean()),
                 signatures=int(self.filter.n_stored.sum()),
-                matches=self.true_matches + self.false_matches,
-                false_matches=self.false_matches,
+                matches=self.true_matches + false,
+                false_matches=false,
             )
         self.recorder.sample(**values)
 
