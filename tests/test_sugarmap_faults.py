@@ -8,6 +8,7 @@ import pytest
 
 from abm.errors import ConfigError
 from models.sugarmap import SugarMapModel
+from models.sugarmap.agents import Anchor, Explorer
 
 #: The testbed set-up of the contract tests, long enough for faults after the deployment.
 SMALL = {"arena": "testbed", "n_anchors": 5, "n_explorers": 2, "init_cutoff": 60.0}
@@ -35,7 +36,7 @@ def test_a_failed_anchor_is_missing_from_every_later_signature_and_has_no_events
     m.run()
     (anchor,) = _failed(m)
     assert _events_after_fault(m, anchor).empty
-    column = m.anchor_ids[anchor]
+    (column,) = [r.row for r in m.agents_by_type[Anchor] if r.unique_id == anchor]
     f = m.filter
     later = [
         f.signatures[e, j, column]
@@ -59,7 +60,7 @@ def test_with_every_anchor_failed_the_explorers_stop_and_coverage_freezes():
     m = SugarMapModel(seed=5, horizon=250.0, fault_times=times, fault_states=("anchor",), **SMALL)
     m.run()
     assert m.summary()["failed_anchors"] == 5
-    assert all(r.state == "stopped" for r in m.explorer_robots)
+    assert all(r.state == "stopped" for r in m.agents_by_type[Explorer])
     samples = m.samples()
     after = samples.loc[samples["time"] > 106.0, "coverage"]
     assert after.nunique() == 1  # nothing is covered once no anchor answers
@@ -71,7 +72,7 @@ def test_a_failed_explorer_stays_where_it_failed_and_the_others_go_on():
     )
     m.run(until=121.0)
     (rid,) = _failed(m)
-    e = [r.unique_id for r in m.explorer_robots].index(rid)
+    (e,) = [r.row for r in m.agents_by_type[Explorer] if r.unique_id == rid]
     where = m.pos[e].copy()
     others = np.delete(m.pos, e, axis=0).copy()
     m.run()
@@ -85,7 +86,7 @@ def test_by_default_only_anchors_fail_and_one_failing_in_flight_falls_where_it_i
     m = SugarMapModel(seed=6, horizon=100.0, fault_rate=0.01, trace_interval=1.0, **SMALL).run()
     events = m.events()
     failed = events[events["event"] == "fault"]
-    anchors = {r.unique_id for r in m.anchor_robots}
+    anchors = {r.unique_id for r in m.agents_by_type[Anchor]}
     assert set(failed["robot"].astype(int)) <= anchors
     in_flight = failed[failed["state"] == "dispersing"]
     assert len(in_flight) > 0

@@ -1,6 +1,9 @@
 """SugarMapModel: location-less coverage by a micro-aerial swarm (Purohit et al. 2013).
 
-The story of a run, as SimPy processes on the 1 s tick (Sect. 3, 4.1):
+The story of a run, as SimPy processes on the 1 s tick (Sect. 3, 4.1). The robots are the
+paper's two roles (:mod:`models.sugarmap.agents`), ``model.agents_by_type[Anchor]`` and
+``[Explorer]`` in row order; the work of a tick over all robots of a role runs here, vectorised
+over the rows of the model's arrays, and each robot does its own part of the flowchart.
 
 1. **Dispersion** (Fig. 3): the anchors take off from the entrance on random headings; every
    dispersion period each flying anchor asks the others for an RToF reading: if one does not
@@ -33,6 +36,7 @@ from abm.model import SwarmModel
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
 from models.sugarmap import published
+from models.sugarmap.agents import Anchor, Explorer
 from models.sugarmap.arenas import load_arena, start_cells
 from models.sugarmap.baselines import OMSTC, BounceWalk, lattice_turns
 from models.sugarmap.params import SugarMapParams
@@ -45,8 +49,6 @@ __all__ = ["CHECKPOINTS", "SugarMapModel"]
 
 #: Coverage times (tau, s) the summary reports coverage at (those within the horizon).
 CHECKPOINTS = (90, 180, 250, 400, 500, 1000, 1500, 2000, 3000)
-#: A match whose two true positions are farther apart than this is a false match (m).
-FALSE_MATCH = 2.0
 
 
 class SugarMapModel(SwarmModel):
@@ -101,13 +103,17 @@ class SugarMapModel(SwarmModel):
         self.starts = (np.array(cells, dtype=float) + 0.5) * self.cell
         self.t_deploy: float | None = None
         self.cutoff_fired = False
-        self.anchor_robots = [
-            Robot(self, self._entrance(i), "dispersing", "fly") for i in range(p.anchors)
-        ]
-        self.explorer_robots = [Robot(self, s, "waiting", "fly") for s in self.starts]
-        if not set(p.fault_states) & {"exploring", "stopped"}:
-            for robot in self.explorer_robots:  # by default only the anchors fail
-                self.faults.exempt(robot)
+        for row in range(p.anchors):
+            Anchor(self, self._entrance(row), row)
+        for row, start in enumerate(self.starts):
+            explorer = Explorer(self, start, row)
+            if not set(p.fault_states) & {"exploring", "stopped"}:
+                self.faults.exempt(explorer)  # by default only the anchors fail
+        anchors = self.agents_by_type.get(Anchor, ())  # the baselines deploy none
+        #: the anchors' ids and positions (m) by row, and which of them still fly (Fig. 3)
+        self.anchor_ids = np.array([a.unique_id for a in anchors], dtype=int)
+        self.anchor_pos = np.array([a.position for a in anchors]).reshape(-1, 2)
+        self.flying = np.ones(len(anchors), dtype=bool)  # a failure in flight clears its row
         self.grid = MapGrid.around(arena.width, arena.height, self.cell, p.margin)
         self.filter: ParticleFilter | None = None
         self.env.process(self._run())
@@ -135,7 +141,8 @@ class SugarMapModel(SwarmModel):
     def _run(self):
         yield from self._disperse()
         self.t_deploy = self.env.now
-        self.recorder.log("deployed", cutoff=self.cutoff_fired, anchors=len(self.anchor_robots))
+        anchors = len(self.agents_by_type.get(Anchor, ()))
+        self.recorder.log("deployed", cutoff=self.cutoff_fired, anchors=anchors)
         self._start_coverage()
         horizon = self.params.horizon
         while self.env.now - self.t_deploy < horizon - 1e-9:
@@ -144,18 +151,21 @@ class SugarMapModel(SwarmModel):
         self.finish("horizon")
 
     def _disperse(self):
-        """Fig. 3, constrained dispersion of the anchors (README "Choices": dispersion)."""
+        """Fig. 3, constrained dispersion of the anchors (README "Choices": dispersion).
+
+        The flight legs of all flying anchors advance together, one tick at a time, over the
+        rows of ``anchor_pos``, their headings and ``flying``; at the end of every leg
+        (each dispersion period) every anchor that flew it makes its own RToF check
+        (:meth:`Anchor.check <models.sugarmap.agents.Anchor.check>`), in row order.
+        """
         p = self.params
-        robots = self.anchor_robots
-        ids = [r.unique_id for r in robots]
-        if not robots:
+        anchors = self.agents_by_type.get(Anchor, ())
+        if not anchors:
             return
-        for robot in robots:
-            self.comms.add(robot.unique_id, robot.position.copy())
-            self.recorder.log("launch", robot.unique_id)
-        pos = np.array([r.position for r in robots])
-        heading = self.rng.uniform(0.0, 360.0, len(robots))
-        self._flying = flying = np.ones(len(robots), dtype=bool)  # a failure clears its row
+        for anchor in anchors:
+            anchor.launch()
+        ids, pos, flying = self.anchor_ids, self.anchor_pos, self.flying
+        heading = self.rng.uniform(0.0, 360.0, len(anchors))
         proximity = p.proximity_for(self.arena.free_area)
         start, next_check = self.env.now, self.env.now + p.dispersion_period
         while flying.any() and self.env.now - start < p.init_cutoff - 1e-9:
@@ -165,41 +175,27 @@ class SugarMapModel(SwarmModel):
             pos[rows], blocked = bump_moves(self.arena, pos[rows], heading[rows], step)
             heading[rows[blocked]] = self.rng.uniform(0.0, 360.0, int(blocked.sum()))
             for r in rows:
-                self.comms.move(ids[r], pos[r])
-            self.place(np.array(ids)[rows], pos[rows])
+                self.comms.move(int(ids[r]), pos[r])
+            self.place(ids[rows], pos[rows])
             if self.env.now < next_check - 1e-9:
                 continue
             next_check = self.env.now + p.dispersion_period
-            for r in rows:
-                heading[r] = self._check(r, ids, pos, heading[r], proximity, flying)
+            leg_flown = flying.copy()
+            for anchor in anchors:
+                if leg_flown[anchor.row]:
+                    turn = anchor.check(ids, pos, heading[anchor.row], proximity)
+                    if turn is None:
+                        self._land(anchor)
+                    else:
+                        heading[anchor.row] = turn
         self.cutoff_fired = bool(flying.any())
-        for r in np.nonzero(flying)[0]:
-            self._land(r)
+        for anchor in anchors:  # InitCutoff: the rest land where they are
+            if flying[anchor.row]:
+                self._land(anchor)
 
-    def _check(self, r, ids, pos, heading, proximity, flying) -> float:
-        """One anchor's RToF check (D9-D15): retrace, land, or a new random heading."""
-        others = [i for i in range(len(ids)) if i != r]
-        if not others:
-            self._land(r, flying)
-            return heading
-        linked = set(self.comms.neighbours(ids[r]))
-        if any(ids[o] not in linked for o in others):
-            return (heading + 180.0) % 360.0  # an anchor did not answer: retrace
-        rtof = np.hypot(*(pos[others] - pos[r]).T) + self.rng.normal(
-            0.0, self.params.rtof_noise, len(others)
-        )
-        if rtof.min() > proximity:
-            self._land(r, flying)
-            return heading
-        return float(self.rng.uniform(0.0, 360.0))
-
-    def _land(self, r: int, flying: np.ndarray | None = None) -> None:
-        robot = self.anchor_robots[r]
-        if flying is not None:
-            flying[r] = False
-        robot.set_state("anchor")
-        robot.set_mode("landed")
-        self.recorder.log("land", robot.unique_id, x=robot.position[0], y=robot.position[1])
+    def _land(self, anchor: Anchor) -> None:
+        self.flying[anchor.row] = False
+        anchor.land()
 
     def _noise(self, share: float, n: int) -> np.ndarray:
         """N standard-normal draws times ``share`` and the noise scale (a relative error)."""
@@ -208,8 +204,9 @@ class SugarMapModel(SwarmModel):
     # ------------------------------------------------------------------ coverage phase
     def _start_coverage(self) -> None:
         p = self.params
-        n = len(self.explorer_robots)
-        self.explorer_ids = np.array([r.unique_id for r in self.explorer_robots])
+        explorers = self.agents_by_type[Explorer]
+        n = len(explorers)
+        self.explorer_ids = np.array([r.unique_id for r in explorers])
         self.pos = self.starts.copy()
         # executed heading (deg), all face north (README "Choices": start)
         self.truth_heading = np.zeros(n)
@@ -219,18 +216,14 @@ class SugarMapModel(SwarmModel):
         self.idle = np.zeros(n, dtype=bool)
         self.last_cell = np.full((n, 2), -1)  # no cell yet: the start cell is an entry
         self.entries = 0
-        self.true_matches = self.false_matches = 0
-        for robot in self.explorer_robots:
-            robot.set_state("exploring")
-            self.comms.add(robot.unique_id, robot.position.copy())
+        for explorer in explorers:
+            explorer.deploy()
         self.coverage.stamp(self.pos, self.env.now)
         self._count_entries()
-        self.anchor_ids = {r.unique_id: i for i, r in enumerate(self.anchor_robots)}
-        anchors = np.array([r.position for r in self.anchor_robots]).reshape(-1, 2)
+        anchors = np.array([r.position for r in self.agents_by_type.get(Anchor, ())]).reshape(-1, 2)
         self.rtof = RToF(
             anchors, p.rtof_noise, p.rtof_bias, (self.arena.width, self.arena.height), self.rng
         )
-        self.planners = []
         self.bounce = None
         self.omstc = None
         if p.algorithm == "sugarmap":
@@ -249,19 +242,16 @@ class SugarMapModel(SwarmModel):
                 min_match_age=p.resolved("min_match_age"),
                 sig_norm=p.resolved("sig_norm"),
             )
-            self.stored_truth = [[] for _ in range(n)]
             ix, iy = self.grid.cells(self.starts)
-            self.planners = [
-                CoveragePlanner(
-                    (int(x), int(y)),
+            for explorer in explorers:
+                explorer.planner = CoveragePlanner(
+                    (int(ix[explorer.row]), int(iy[explorer.row])),
                     cover_th=p.cover_th,
                     backtrack=p.resolved("backtrack"),
                     beta=p.resolved("beta"),
                     blocked_ttl=p.resolved("blocked_ttl"),
                     pick=p.resolved("pick"),
                 )
-                for x, y in zip(ix, iy, strict=True)
-            ]
             self.global_map = global_map(self.filter.node_maps())
         elif p.algorithm == "random_walk" and p.resolved("random_walk") == "bounce":
             self.bounce = BounceWalk(n, self.rng)
@@ -309,8 +299,11 @@ class SugarMapModel(SwarmModel):
                     heading[e], speed[e] = cmd
         else:
             cells = self._planner_cells()
-            for e in np.nonzero(self.active)[0]:
-                target = self.planners[e].decide(cells[e], self.global_map, self.env.now, self.rng)
+            for explorer in self.agents_by_type[Explorer]:
+                e = explorer.row
+                if not self.active[e]:
+                    continue
+                target = explorer.planner.decide(cells[e], self.global_map, self.env.now, self.rng)
                 self.idle[e] = target is None
                 if target is None:
                     moving[e] = False
@@ -343,12 +336,12 @@ class SugarMapModel(SwarmModel):
         distance = np.where(moving, np.maximum(speed * (1.0 + n_v), 0.0) * p.dt, 0.0)
         new, blocked = bump_moves(self.arena, self.pos, self.truth_heading, distance)
         self.blocked = blocked & moving
-        for e in np.nonzero(self.blocked)[0]:
-            self.collision("wall", int(self.explorer_ids[e]))
-            if self.planners:
-                self.planners[e].blocked(self.env.now)
-            if self.omstc is not None:
-                self.omstc.blocked(e)
+        if self.blocked.any():
+            for explorer in self.agents_by_type[Explorer]:
+                if self.blocked[explorer.row]:
+                    explorer.bumped()
+                    if self.omstc is not None:
+                        self.omstc.blocked(explorer.row)
         self.pos = new
         go = moving & ~self.blocked
         rad = np.radians(heading)
@@ -367,33 +360,27 @@ class SugarMapModel(SwarmModel):
 
     def _estimate(self, heading, turn, speed, moving) -> None:
         """S3-S4: signatures at the true positions, then each explorer's particle filter."""
-        visible = np.zeros((len(self.pos), len(self.anchor_robots)), dtype=bool)
-        for e, rid in enumerate(self.explorer_ids):
-            if int(rid) not in self.comms.graph:  # failed: it measures nothing
+        visible = np.zeros((len(self.pos), len(self.anchor_ids)), dtype=bool)
+        anchors = self.anchor_ids.tolist()
+        for e, rid in enumerate(self.explorer_ids.tolist()):
+            if rid not in self.comms.graph:  # failed: it measures nothing
                 continue
-            for other in self.comms.neighbours(int(rid)):
-                if other in self.anchor_ids:
-                    visible[e, self.anchor_ids[other]] = True
+            heard = set(self.comms.neighbours(rid))
+            visible[e] = [a in heard for a in anchors]  # the anchors it hears, by row
         signatures = self.rtof.measure(self.pos, visible, self.rng)
         self.filter.predict(
             self.rng, heading, turn, speed, moving & ~self.blocked, dt=self.params.dt
         )
-        for e in range(len(self.pos)):
+        for explorer in self.agents_by_type[Explorer]:
+            e = explorer.row
             if not self.active[e]:
                 continue
             if not visible[e].any():  # no anchor in range: stop (README "Choices": stop rule)
                 self.active[e] = False
-                self.explorer_robots[e].set_state("stopped")
-                self.recorder.log("stopped", int(self.explorer_ids[e]))
+                explorer.stop()
                 continue
             match = self.filter.correct(self.rng, e, signatures[e], self.env.now)
-            truth = self.stored_truth[e]
-            if match.matched:
-                gap = np.hypot(*(self.pos[e] - truth[match.index]))
-                self.false_matches += int(gap > FALSE_MATCH)
-                self.true_matches += int(gap <= FALSE_MATCH)
-            else:
-                truth.append(self.pos[e].copy())
+            explorer.record(match, self.pos[e])
         self.global_map = global_map(self.filter.node_maps())
 
     def on_robot_failed(self, robot: Robot) -> None:
@@ -411,10 +398,10 @@ class SugarMapModel(SwarmModel):
         An explorer: it stops where it is; its NodeMap keeps what its particles believed it
         covered, so the GlobalMap still holds its past coverage.
         """
-        if robot in self.explorer_robots:  # only deployed explorers can fail
-            self.active[self.explorer_robots.index(robot)] = False
+        if isinstance(robot, Explorer):  # only deployed explorers can fail
+            self.active[robot.row] = False
         elif robot.failure.state == "dispersing":  # it falls where it is
-            self._flying[self.anchor_robots.index(robot)] = False
+            self.flying[robot.row] = False
 
     def layers(self) -> list[Layer]:
         """The brain's belief over the arena: the GlobalMap and every particle (SugarMap)."""
@@ -446,13 +433,14 @@ class SugarMapModel(SwarmModel):
         if self.filter is not None:
             g = self._navigable_estimate()
             truth = self.coverage.covered[free]
+            false = self.false_matches
             values.update(
                 coverage_est=100.0 * float((g[free] >= self.params.cover_th).mean()),
                 map_error=float(np.abs(g[free] - truth).mean()),
                 pose_error=float(np.hypot(*(self.filter.mean_positions() - self.pos).T).mean()),
                 signatures=int(self.filter.n_stored.sum()),
-                matches=self.true_matches + self.false_matches,
-                false_matches=self.false_matches,
+                matches=self.true_matches + false,
+                false_matches=false,
             )
         self.recorder.sample(**values)
 
@@ -505,10 +493,23 @@ class SugarMapModel(SwarmModel):
                 false_match_rate=self.false_matches / matches if matches else np.nan,
                 stopped=self.recorder.counts["stopped"],
             )
-        failed = set(self.faults.failed)
-        out["failed_anchors"] = sum(r.unique_id in failed for r in self.anchor_robots)
-        out["failed_explorers"] = sum(r.unique_id in failed for r in self.explorer_robots)
+        out["failed_anchors"] = sum(r.failed for r in self.agents_by_type.get(Anchor, ()))
+        out["failed_explorers"] = sum(r.failed for r in self.agents_by_type[Explorer])
         return out
+
+    @property
+    def true_matches(self) -> int:
+        """Revisit matches within :data:`~models.sugarmap.agents.FALSE_MATCH` of the truth, over
+        all explorers.
+        """
+        return sum(r.true_matches for r in self.agents_by_type[Explorer])
+
+    @property
+    def false_matches(self) -> int:
+        """False revisit matches (the two true positions farther apart than
+        :data:`~models.sugarmap.agents.FALSE_MATCH`), over all explorers.
+        """
+        return sum(r.false_matches for r in self.agents_by_type[Explorer])
 
 
 #: The states in which a SugarMap robot may fail: an anchor in flight or landed, an explorer
