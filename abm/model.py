@@ -421,6 +421,14 @@ class SwarmModel(mesa.Model):
         """
         self.space.agent_positions[self.rows_of(ids)] = positions
 
+    def robots_of(self, role: type[Robot]) -> mesa.agent.AgentSet:
+        """The robots of class ``role`` in creation order: Mesa's ``agents_by_type[role]``, or
+        an empty AgentSet while the model has made none (a baseline without anchors, a swarm
+        not deployed yet), where ``agents_by_type`` has no key.
+        """
+        found = self.agents_by_type.get(role)
+        return found if found is not None else mesa.agent.AgentSet([], random=self.random)
+
     def robot(self, robot_id: int) -> Robot:
         """The robot with this id (for callbacks that name robots by id, such as a battery's
         or a controller's), found through its row of the space.

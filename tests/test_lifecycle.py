@@ -115,3 +115,11 @@ def test_a_robot_is_found_by_its_id_until_it_is_removed():
     assert all(model.robot(w.unique_id) is w for w in walkers if w is not walkers[1])
     with pytest.raises(KeyError):
         model.robot(10_000)
+
+
+def test_robots_of_a_role_is_an_empty_agentset_before_the_first_is_made():
+    model = TinyModel(seed=2, walkers=3, launch_period=5.0)
+    assert len(model.robots_of(Walker)) == 0
+    model.run(until=11.0)
+    assert list(model.robots_of(Walker)) == list(model.agents_by_type[Walker])
+    assert len(model.robots_of(Walker)) == 2

@@ -109,7 +109,7 @@ class SugarMapModel(SwarmModel):
             explorer = Explorer(self, start, row)
             if not set(p.fault_states) & {"exploring", "stopped"}:
                 self.faults.exempt(explorer)  # by default only the anchors fail
-        anchors = self.agents_by_type.get(Anchor, ())  # the baselines deploy none
+        anchors = self.robots_of(Anchor)  # the baselines deploy none
         #: the anchors' ids and positions (m) by row, and which of them still fly (Fig. 3)
         self.anchor_ids = np.array([a.unique_id for a in anchors], dtype=int)
         self.anchor_pos = np.array([a.position for a in anchors]).reshape(-1, 2)
@@ -141,7 +141,7 @@ class SugarMapModel(SwarmModel):
     def _run(self):
         yield from self._disperse()
         self.t_deploy = self.env.now
-        anchors = len(self.agents_by_type.get(Anchor, ()))
+        anchors = len(self.robots_of(Anchor))
         self.recorder.log("deployed", cutoff=self.cutoff_fired, anchors=anchors)
         self._start_coverage()
         horizon = self.params.horizon
@@ -159,7 +159,7 @@ class SugarMapModel(SwarmModel):
         (:meth:`Anchor.check <models.sugarmap.agents.Anchor.check>`), in row order.
         """
         p = self.params
-        anchors = self.agents_by_type.get(Anchor, ())
+        anchors = self.robots_of(Anchor)
         if not anchors:
             return
         for anchor in anchors:
@@ -220,7 +220,7 @@ class SugarMapModel(SwarmModel):
             explorer.deploy()
         self.coverage.stamp(self.pos, self.env.now)
         self._count_entries()
-        anchors = np.array([r.position for r in self.agents_by_type.get(Anchor, ())]).reshape(-1, 2)
+        anchors = np.array([r.position for r in self.robots_of(Anchor)]).reshape(-1, 2)
         self.rtof = RToF(
             anchors, p.rtof_noise, p.rtof_bias, (self.arena.width, self.arena.height), self.rng
         )
@@ -493,7 +493,7 @@ class SugarMapModel(SwarmModel):
                 false_match_rate=self.false_matches / matches if matches else np.nan,
                 stopped=self.recorder.counts["stopped"],
             )
-        out["failed_anchors"] = sum(r.failed for r in self.agents_by_type.get(Anchor, ()))
+        out["failed_anchors"] = sum(r.failed for r in self.robots_of(Anchor))
         out["failed_explorers"] = sum(r.failed for r in self.agents_by_type[Explorer])
         return out
 
