@@ -39,7 +39,8 @@ class Robot(ContinuousSpaceAgent):
 
     Args:
         model: the swarm model.
-        position: where the robot starts (m).
+        position: where the robot starts (m); None when the model places its robots itself,
+            all at once (:meth:`~abm.model.SwarmModel.place`), before they move.
         state: its first state (one of ``model.STATES``).
         mode: its first power mode; None for a robot whose energy is not modelled (it then
             has no mode, and draws nothing).
@@ -47,11 +48,16 @@ class Robot(ContinuousSpaceAgent):
     """
 
     def __init__(
-        self, model: "SwarmModel", position: np.ndarray, state: str, mode: str | None = None
+        self,
+        model: "SwarmModel",
+        position: np.ndarray | None,
+        state: str,
+        mode: str | None = None,
     ) -> None:
         super().__init__(model.space, model)
         model.joined_space(self.unique_id)
-        self.position = np.asarray(position, dtype=float)
+        if position is not None:
+            self.position = np.asarray(position, dtype=float)
         self.state: str | None = None
         self.process: simpy.Process | None = None
         self.failure: Failure | None = None

@@ -21,14 +21,13 @@ class Bird(Robot):
     the flock's velocity array, where the bird's rows are.
 
     Args:
-        model: the flocking model.
-        position: where the bird starts (m).
+        model: the flocking model (which places all birds at once).
         row: its row in the space's position array and the flock's velocity array.
 
     """
 
-    def __init__(self, model: "FlockingModel", position: np.ndarray, row: int) -> None:
-        super().__init__(model, position, "flying")
+    def __init__(self, model: "FlockingModel", row: int) -> None:
+        super().__init__(model, None, "flying")
         self.row = row
 
     @property

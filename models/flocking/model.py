@@ -52,8 +52,8 @@ class FlockingModel(SwarmModel):
         heading = self.rng.uniform(-1.0, 1.0, (p.birds, 2))
         #: Unit velocity of every bird, one row per bird (the rows of the Mesa space).
         self.velocity = heading / np.linalg.norm(heading, axis=1)[:, None]
-        for row in range(p.birds):
-            Bird(self, positions[row], row)
+        birds = [Bird(self, row) for row in range(p.birds)]
+        self.place(np.array([bird.unique_id for bird in birds]), positions)
         self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
         self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
         #: Neighbours each bird saw at its last update.
