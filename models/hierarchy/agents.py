@@ -169,6 +169,11 @@ class TreeRobot(Member, Robot):
         """Its name on the comm network: its robot id."""
         return self.unique_id
 
+    @property
+    def row(self) -> int:
+        """Its row in the model's arrays of all robots (``model.space.agent_positions``)."""
+        return int(self.model.rows_of(np.asarray(self.unique_id)))
+
     def drive(self, waypoints: np.ndarray):
         """Drive the waypoints through the physics (a SimPy generator); the radio link moves
         with the body.
