@@ -176,7 +176,8 @@ class HierarchyModel(SwarmModel):
         self._scout_of = np.full(max(self.agents.get("unique_id")) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
         self._scout_rows = self.rows_of(ids)
-        self._parent_of = scouts.get("parent")  # as first linked (README "Choices": diagnostics)
+        # first parents (README "Choices": wave-order and proximity diagnostics)
+        self._parent_of = scouts.get("parent")
         self.env.process(self.queen.life())
         # a robot's life runs as its process: a failure of the body interrupts it
         self.agents.do(lambda robot: robot.start(robot.life()))
