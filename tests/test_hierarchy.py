@@ -8,6 +8,7 @@ import pytest
 
 from abm.errors import ConfigError, LinkError
 from models.hierarchy import HierarchyModel
+from models.hierarchy.agents import Worker
 from models.hierarchy.model import QUEEN
 from models.hierarchy.protocol import MoveMsg, PointMsg, rle_bytes
 
@@ -37,17 +38,17 @@ def test_every_message_travels_one_tree_edge_never_between_siblings_or_across_le
 
 
 def test_a_node_cannot_address_a_sibling(run):
-    scouts = run.workers[0].children
-    a, b = (run.workers[0].links[k] for k in scouts[:2])
+    first, second = run.agents_by_type[Worker][:2]
+    a, b = (first.links[k] for k in first.children[:2])
     with pytest.raises(LinkError):
         run.comms.send(a, b, PointMsg(0.0, 0.0, 0.0), run.deliver, kind="POINT")
-    w1, w2 = run.workers[0].id, run.workers[1].id
+    w1, w2 = first.id, second.id
     with pytest.raises(LinkError):
         run.comms.send(w1, w2, MoveMsg(np.zeros((1, 2))), run.deliver, kind="MOVE")
 
 
 def test_every_address_book_is_exactly_parent_and_children(run):
-    for node in run.nodes.values():
+    for node in [run.queen, *run.agents]:
         children = run.tree.children(node.id)
         expected = set(range(1, len(children) + 1)) | ({0} if node.id != QUEEN else set())
         assert set(node.links) == expected

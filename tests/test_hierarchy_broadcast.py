@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from abm.comms import MessageLog
 from models.hierarchy import HierarchyModel
 from models.hierarchy.claims import TESTS
-from models.hierarchy.flat import HOLDER, disseminate
+from models.hierarchy.flat import FlatScout, disseminate
 from models.hierarchy.protocol import PointMsg
 
 SMALL = dict(workers=2, scouts_per_worker=2, world_size=4.0, worker_spacing=1.6)
@@ -46,13 +46,13 @@ def test_a_flat_dissemination_is_one_transmission_from_its_origin(topology):
     """FC: the n - 1 copies are one broadcast. Ring: the origin's first hop both ways is one
     broadcast; each relay's hop, one transmission more (n - 2 in all, once relayed)."""
     model = HierarchyModel(topology=topology, seed=3, **SMALL)
-    origin = model.scouts[0].id
+    origin = model.agents_by_type[FlatScout][0].id
     disseminate(model, origin, PointMsg(1.0, 1.0, 0.01))
-    log, others = model.comms.log, len(model.nodes) - 1
+    log, others = model.comms.log, len(model.agents)  # every scout, the holder apart
     sent = others if topology == "fc" else 2  # FC: to all at once; ring: both neighbours
     assert len(log) == sent and log.transmissions() == 1
     heard = []
-    holder = model.nodes[HOLDER]
+    holder = model.queen
     holder.receive = lambda src, msg: heard.append(msg)  # the map holder's reply is not tested
     model.env.run(until=1e-9)  # the copies arrive, the ring's relays forward
     frame = log.frame()

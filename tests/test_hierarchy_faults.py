@@ -7,6 +7,7 @@ import pytest
 
 from abm.errors import ConfigError
 from models.hierarchy import HierarchyModel
+from models.hierarchy.agents import Scout, Worker
 from models.hierarchy.params import WORKER_STATES
 
 #: The contract tests' small set-up: 2 workers x 2 scouts in a 4 m room (about 120 s).
@@ -22,8 +23,9 @@ def _tree_edges_at_start(model: HierarchyModel) -> tuple[set, pd.DataFrame]:
     re-attachments (time, robot, old parent) that changed it."""
     events = model.events()
     moves = events.loc[events["event"] == "reattach", ["time", "robot", "old_parent"]]
-    start = {("operator", "queen")} | {("queen", str(w.id)) for w in model.workers}
-    for w in model.workers:
+    workers = model.agents_by_type[Worker]
+    start = {("operator", "queen")} | {("queen", str(w.id)) for w in workers}
+    for w in workers:
         left = moves.loc[moves["old_parent"] == w.id, "robot"].astype(int).tolist()
         start |= {(str(w.id), str(s)) for s in [*model.tree.children(w.id), *left]}
     return start, moves
@@ -74,7 +76,7 @@ def test_the_failed_worker_does_nothing_more_and_the_coverage_goes_on():
 @pytest.mark.parametrize("seed", [3, 4])
 def test_counts_are_conserved_under_random_worker_failures(seed):
     m = _run(seed, fault_rate=0.02)  # a scout is exempt: only workers fail
-    assert all(s.robot.failure is None for s in m.scouts)
+    assert not any(s.failed for s in m.agents_by_type[Scout])
     counts = m.state_counts()
     robots = SMALL["workers"] * (1 + SMALL["scouts_per_worker"])
     assert (counts[list(m.STATES)].sum(axis=1) == robots).all()

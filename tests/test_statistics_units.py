@@ -85,7 +85,7 @@ def test_the_hierarchy_summary_is_in_metres():
     assert {k: u for k, u in units.items() if u not in SI} == {}
     assert units["queen_scan_area"] == "m^2" and units["scout_drive"] == "m"
     assert summary["queen_scan_area"] == pytest.approx(model.arena.width * model.arena.height)
-    scouts = model.scouts
+    scouts = model.scouts()
     assert summary["scout_scan_area"] == pytest.approx(np.mean([s.scan_area for s in scouts]))
     assert summary["scout_drive"] == pytest.approx(np.mean([s.drive_distance for s in scouts]))
 

@@ -1,9 +1,12 @@
-"""The queen, the workers and the scouts as SimPy behaviours (the report's "Queen / Worker"
-and "Scout").
+"""The queen, the workers and the scouts (the report's "Queen / Worker" and "Scout").
 
-Every node holds only its local address book (0 = parent, 1..k = children, "Communication") and an
-inbox; it sends through the model's comm network, whose tree policy refuses anything but a
-parent/child link. Nothing a node keeps names the swarm's size or depth.
+A worker and a scout are :class:`abm.robot.Robot` s (:class:`Worker`, :class:`Scout`); the queen
+is a laptop with no body (README "Choices": the queen), so :class:`Queen` is a member of the tree
+but no robot. Each role's behaviour is its ``life()`` generator, started by the model.
+
+Every member holds only its local address book (``links``: 0 = parent, 1..k = children,
+"Communication") and an inbox; it sends through the model's comm network, whose tree policy
+refuses anything but a parent/child link. Nothing a member keeps names the swarm's size or depth.
 
 - A **scout** (leaf) answers REQUEST_INFO with its limits (the IR range), then runs its FIFO
   command loop: MOVE -> drive, ARRIVED; SCAN r -> sweep the sensors, one POINT per obstacle
@@ -15,7 +18,7 @@ parent/child link. Nothing a node keeps names the swarm's size or depth.
   has finished. A worker reports its bubble upward (MAP_REPORT + SCAN_COMPLETE); the queen's
   COMPLETE (or CANNOT_COMPLETE) ends the run.
 
-Failures (the report's "Node Failure Detection", Future Work): a node whose body failed does
+Failures (the report's "Node Failure Detection", Future Work): a member whose body failed does
 nothing more. Its parent's and children's heartbeat watchdogs notice after
 ``heartbeat_timeout`` (a :class:`LinkLost` in their inbox, not a radio message: the report's
 heartbeats are not counted, README "Choices": start-up heartbeat). The parent forgets the child (no
@@ -32,9 +35,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 import simpy
 
+from abm.robot import Robot
 from models.hierarchy.coverage import Child, Plan, Status, coverage
 from models.hierarchy.planning import path_length, wave_order_violations, waves
-from models.hierarchy.probmap import Bubble, ProbMap, Rect
+from models.hierarchy.probmap import Bubble, MapWindow, ProbMap, Rect
 from models.hierarchy.protocol import (
     ArrivedMsg,
     AssignMsg,
@@ -52,13 +56,22 @@ from models.hierarchy.protocol import (
 )
 
 if TYPE_CHECKING:
-    from abm.robot import Robot
     from models.hierarchy.model import HierarchyModel
 
-__all__ = ["Director", "LinkLost", "NoProgressError", "Node", "Scout"]
+__all__ = [
+    "QUEEN",
+    "Director",
+    "LinkLost",
+    "Member",
+    "NoProgressError",
+    "Queen",
+    "Scout",
+    "TreeRobot",
+    "Worker",
+]
 
-#: Nudge (m) that puts a ray's hit point inside the obstacle it hit, not on its surface.
-HIT_NUDGE = 1e-6
+#: The queen's name on the comm network.
+QUEEN = "queen"
 
 
 class NoProgressError(RuntimeError):
@@ -66,37 +79,41 @@ class NoProgressError(RuntimeError):
 
 
 class LinkLost:
-    """A node's heartbeat watchdog: the neighbour at this local address stopped answering
-    (it failed). Put in the node's own inbox; not a radio message.
+    """A member's heartbeat watchdog: the neighbour at this local address stopped answering
+    (it failed). Put in the member's own inbox; not a radio message.
     """
 
     KIND = "LINK_LOST"
 
 
-class Node:
-    """One member of the tree: its address book, inbox and (if it has one) its robot body.
+class Member:
+    """What every member of the tree keeps ("Communication"): its local address book, an inbox,
+    and the report's per-level measures (scan area, drive distance; "Data Collection").
 
-    Args:
-        model: the HST model.
-        node_id: its name on the comm network (the simulator's, never seen by other nodes).
-        robot: its body; None for the queen, who has no position (README "Choices": the queen).
+    A mixin: :class:`Scout` and :class:`Worker` are robots with it, :class:`Queen` is not.
+
+    Attributes:
+        links: the address book, local number -> the neighbour's name on the comm network
+            (0: the parent, 1..k: the children).
+        inbox: the messages received, as ``(sender's local number, message)``.
+        scan_area: sum of pi r^2 over every SCAN this member ran (m^2).
+        drive_distance: length of every path it drove (m).
 
     """
 
-    def __init__(self, model: HierarchyModel, node_id: object, robot: Robot | None) -> None:
-        self.model = model
-        self.id = node_id
-        self.robot = robot
+    #: Its name on the comm network (the simulator's, never seen by other members).
+    id: object
+    #: "queen", "worker" or "scout".
+    role: str
+    model: HierarchyModel
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)  # a robot's body first (the queen: none)
         self.links: dict[int, object] = {}
         self._local_of: dict[object, int] = {}
-        self.inbox = simpy.Store(model.env)
+        self.inbox = simpy.Store(self.model.env)
         self.scan_area = 0.0
         self.drive_distance = 0.0
-
-    @property
-    def env(self) -> simpy.Environment:
-        """The clock."""
-        return self.model.env
 
     def link(self, local: int, node_id: object) -> None:
         """Learn a local address (0: the parent, 1..k: the children)."""
@@ -108,18 +125,18 @@ class Node:
         return max(self._local_of.values(), default=0) + 1
 
     def local_of(self, node_id: object) -> int:
-        """The local address under which this node knows ``node_id``."""
+        """The local address under which this member knows ``node_id``."""
         return self._local_of[node_id]
+
+    @property
+    def parent(self) -> object:
+        """The parent's name on the comm network (None for the root)."""
+        return self.links.get(0)
 
     @property
     def children(self) -> list[int]:
         """Local numbers of the children, 1..k."""
         return sorted(k for k in self.links if k > 0)
-
-    @property
-    def position(self) -> np.ndarray:
-        """Where the body is (m)."""
-        return self.robot.position
 
     def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:
         """Send ``msg`` to local address ``local`` over the comm network (logged there)."""
@@ -137,55 +154,76 @@ class Node:
             hop=hop,
         )
 
-    def receive(self, src: object, msg: Message) -> None:
+    def receive(self, src: object, msg: object) -> None:
         """A message arrived from ``src``: file it under the sender's local number."""
         self.inbox.put((self._local_of[src], msg))
 
-    def set_state(self, state: str) -> None:
-        """Show what the body is doing (the queen has no body)."""
-        if self.robot is not None:
-            self.robot.set_state(state)
+
+class TreeRobot(Member, Robot):
+    """A member of the tree with a body: a worker or a scout. Its comm-network name is its
+    robot id, and it drives its paths through the model's physics.
+    """
+
+    @property
+    def id(self) -> int:
+        """Its name on the comm network: its robot id."""
+        return self.unique_id
+
+    @property
+    def row(self) -> int:
+        """Its row in the model's arrays of all robots (``model.space.agent_positions``)."""
+        return int(self.model.rows_of(np.asarray(self.unique_id)))
 
     def drive(self, waypoints: np.ndarray):
-        """Drive the waypoints through the physics (a SimPy generator)."""
+        """Drive the waypoints through the physics (a SimPy generator); the radio link moves
+        with the body.
+        """
         waypoints = np.asarray(waypoints, dtype=float)
         self.drive_distance += path_length(waypoints)
         if len(waypoints) < 2:
             return
         self.set_state(f"{self.role}_driving")
-        yield self.model.follower.drive(self.robot.unique_id, waypoints[0], waypoints[1:])
-        self.model.arrived(self, waypoints[-1])
+        yield self.model.follower.drive(self.unique_id, waypoints[0], waypoints[1:])
+        self.model.comms.move(self.id, self.position.copy())
 
-    role = "node"
+    def introduce(self, r_min: float, r_max: float) -> None:
+        """INFO to the parent: where the robot is and its bubble limits (m)."""
+        x, y = self.position
+        self.send(0, InfoMsg(float(x), float(y), r_min, r_max))
 
 
-class Scout(Node):
-    """A level-2 robot: no map; it drives what it is told and reports what its IR sees."""
+class Scout(TreeRobot):
+    """A level-2 robot ("Scout"): no map; it drives what it is told and reports what its IR
+    sees.
+
+    Args:
+        model: the HST model.
+        position: where it starts (m).
+
+    """
 
     role = "scout"
 
-    def run(self):
+    def __init__(self, model: HierarchyModel, position: np.ndarray) -> None:
+        super().__init__(model, position, "scout_idle", "drive")
+
+    def life(self):
         """Start-up (INFO on REQUEST_INFO), then the FIFO command loop ("Task organization"); an
         orphan re-attaches to the queen and introduces itself with an INFO.
         """
+        p = self.model.params
         while True:
             _, cmd = yield self.inbox.get()
             if isinstance(cmd, LinkLost):
                 self.model.reattach(self)
             if isinstance(cmd, LinkLost | RequestInfoMsg):
-                self._introduce()
+                self.introduce(p.scout_r_min, p.scout_r_max)
             if isinstance(cmd, MoveMsg | AssignMsg):
                 yield from self.drive(cmd.waypoints)
                 self.send(0, ArrivedMsg())
                 self.set_state("scout_idle")
             if isinstance(cmd, ScanMsg | AssignMsg):
                 yield from self.scan(cmd.r)
-
-    def _introduce(self) -> None:
-        """INFO to the parent: where the scout is and its bubble limits (the IR range)."""
-        p = self.model.params
-        x, y = self.position
-        self.send(0, InfoMsg(float(x), float(y), p.scout_r_min, p.scout_r_max))
 
     def scan(self, r: float):
         """One stationary sweep of radius ``r``: a POINT per obstacle hit, then SCAN_COMPLETE."""
@@ -202,70 +240,44 @@ class Scout(Node):
         self.set_state("scout_idle")
 
 
-class Director(Node):
-    """The queen (no body) or a worker: runs the coverage loop for its children.
+class Director(Member):
+    """A member that directs children: the queen or a worker ("Queen / Worker"). It runs the
+    coverage loop (Fig. 24) for its children over its ProbMap.
 
-    Args:
-        model: the HST model.
-        node_id: its comm-network name.
-        robot: a worker's body; None for the queen.
-        r_min: a worker's minimum bubble radius (m); ignored by the queen (no parent).
-        r_max: a worker's maximum bubble radius (m).
+    Attributes:
+        info: each child's INFO (its place and bubble limits), by local number.
+        where: where each child is, or is going (m), by local number.
+        bubble: the last bubble given to each child, by local number.
+        map: the ProbMap of its current (or last) assignment.
+        directing: True while it runs an assignment (its bubbles are drawn).
+        iterations: coverage rounds run so far.
+        wave_order_violations: later waves whose paths cross an earlier wave's end cell, or the
+            reverse with start cells, over all its rounds (README "Choices": wave-order and
+            proximity diagnostics).
 
     """
 
-    def __init__(self, model, node_id, robot, r_min: float = 0.0, r_max: float = 0.0) -> None:
-        super().__init__(model, node_id, robot)
-        self.role = "queen" if robot is None else "worker"
-        self.r_min, self.r_max = r_min, r_max
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)
         self.info: dict[int, InfoMsg] = {}
         self.where: dict[int, np.ndarray] = {}
         self.iterations = 0
-        self.retained = None  # the worker's map of its last bubble (README "Choices": two regions)
-        self.map_down = None
-        self.bubble: dict[int, Bubble] = {}  # the last bubble given to each child
+        self.wave_order_violations = 0
+        self.bubble: dict[int, Bubble] = {}
         self.map: ProbMap | None = None
+        self.directing = False
         #: Reports that arrived while a wave was still driving (with ASSIGN a child scans on
         #: arrival), merged by the next :meth:`collect`.
         self.early: list[tuple[int, Message]] = []
 
-    # ------------------------------------------------------------------ the story
-    def run(self):
-        """Start-up (bottom-up radius discovery), then the command loop ("Queen / Worker")."""
-        _, first = yield self.inbox.get()  # REQUEST_INFO, or the operator's START at the root
-        yield from self.discover()
-        if self.role == "queen":
-            start = first
-            world = Rect(start.x_min, start.y_min, start.x_max, start.y_max)
-            status = yield from self.assignment(world, cover=())
-            self.model.queen_done(status)
-            return
-        x, y = self.position
-        self.send(0, InfoMsg(float(x), float(y), self.r_min, self.r_max))
-        while True:
-            _, cmd = yield self.inbox.get()
-            if isinstance(cmd, MapDownMsg):
-                self.map_down = cmd.window
-            if isinstance(cmd, MoveMsg | AssignMsg):
-                yield from self.drive(cmd.waypoints)
-                self.send(0, ArrivedMsg())
-                self.set_state("worker_idle")
-            if isinstance(cmd, ScanMsg | AssignMsg):
-                self.scan_area += math.pi * cmd.r * cmd.r
-                x, y = self.position
-                cover = [w.box for w in (self.map_down, self.retained) if w is not None]
-                cover.append(self._children_box())
-                yield from self.assignment(Bubble(float(x), float(y), cmd.r), cover)
-                points = np.array(
-                    self.map.points if self.model.params.worker_report == "batch" else [],
-                    dtype=float,
-                ).reshape(-1, 3)
-                raster, _extent = self.map.raster()
-                unscanned = self.map.unscanned_points()
-                self.send(0, MapReportMsg(points, unscanned, rle_bytes(raster == -1)))
-                self.send(0, ScanCompleteMsg(infer_los=False))
-                self.set_state("worker_idle")
+    def occupied(self) -> list[tuple[float, float]]:
+        """The places its own body occupies (m): none for the queen."""
+        return []
 
+    def keep(self, m: ProbMap) -> None:
+        """What it keeps of an assignment's map once done: nothing but ``map`` for the queen."""
+
+    # ------------------------------------------------------------------ the coverage loop
     def discover(self):
         """REQUEST_INFO to every child and wait for all their INFOs (a child lost meanwhile
         is not waited for).
@@ -309,20 +321,20 @@ class Director(Node):
             for k, i in sorted(self.info.items())
         ]
 
-    def assignment(self, region: Rect | Bubble, cover):
-        """Cover ``region`` with the children (the coverage loop of Fig. 24); returns the last
-        coverage status.
+    def assignment(self, region: Rect | Bubble, cover, known: tuple[MapWindow | None, ...] = ()):
+        """Cover ``region`` with the children (the coverage loop of Fig. 24), starting from the
+        ``known`` maps; returns the last coverage status.
         """
         p = self.model.params
         m = ProbMap(region, self.model.world_rect, cell_size=p.cell_size,
                     tau=p.blocked_threshold, stamp=p.stamp, cover=cover)  # fmt: skip
-        for known in (self.retained, self.map_down):
-            if known is not None:
-                m.merge(known)
-        own = [] if self.robot is None else [tuple(self.position)]
+        for window in known:
+            if window is not None:
+                m.merge(window)
+        own = self.occupied()
         m.mark_free([tuple(w) for w in self.where.values()] + own)
         self.map = m
-        self.model.director_maps[self.id] = m
+        self.directing = True
         self.set_state("worker_directing")
         rounds = 0
         while True:
@@ -342,9 +354,8 @@ class Director(Node):
                 )
             self.iterations += 1
             yield from self.round(m, plan, region)
-        if self.robot is not None:
-            self.retained = m.window(m.bounds)
-        self.model.director_maps.pop(self.id, None)
+        self.keep(m)
+        self.directing = False
         return plan.status
 
     def round(self, m: ProbMap, plan: Plan, region):
@@ -388,7 +399,7 @@ class Director(Node):
             wave_list = waves(moves, h)
         else:
             wave_list = [sorted(moves)]
-        self.model.wave_order_violations += wave_order_violations(wave_list, moves, h)
+        self.wave_order_violations += wave_order_violations(wave_list, moves, h)
         for wave in wave_list:
             wave = self._alive(wave)
             for k in wave:
@@ -445,3 +456,108 @@ class Director(Node):
             if k not in pending and gained[k] == 0:
                 m.exhaust(*plan.centres[k])  # README "Choices": no-progress guard
                 gained[k] = -1
+
+
+class Queen(Director):
+    """The root director, a laptop with no body (README "Choices": the queen): a member of the
+    tree and of the comm network (off the arena), but no robot and no Mesa agent.
+
+    Args:
+        model: the HST model.
+
+    """
+
+    id = QUEEN
+    role = "queen"
+    #: The queen never fails (faults strike robots).
+    failed = False
+
+    def __init__(self, model: HierarchyModel) -> None:
+        self.model = model  # no body to build first: the address book needs the clock
+        super().__init__()
+
+    def set_state(self, state: str) -> None:
+        """The queen has no body: nothing to show."""
+
+    def life(self):
+        """The operator's START, start-up (bottom-up radius discovery), then one assignment:
+        the whole world ("Queen / Worker"); its status ends the run.
+        """
+        _, start = yield self.inbox.get()
+        yield from self.discover()
+        world = Rect(start.x_min, start.y_min, start.x_max, start.y_max)
+        status = yield from self.assignment(world, cover=())
+        self.model.queen_done(status)
+
+
+class Worker(Director, TreeRobot):
+    """A level-1 robot ("Queen / Worker"): a scout to the queen, a director to its scouts.
+
+    Args:
+        model: the HST model.
+        position: where it starts (m).
+        r_min: its minimum bubble radius (m).
+        r_max: its maximum bubble radius (m).
+
+    Attributes:
+        retained: the map of its last bubble (README "Choices": two regions).
+        map_down: the known cells the queen last sent down (MAP_DOWN).
+
+    """
+
+    role = "worker"
+
+    def __init__(
+        self, model: HierarchyModel, position: np.ndarray, r_min: float, r_max: float
+    ) -> None:
+        super().__init__(model, position, "worker_idle", "drive")
+        self.r_min, self.r_max = r_min, r_max
+        self.retained: MapWindow | None = None
+        self.map_down: MapWindow | None = None
+
+    def occupied(self) -> list[tuple[float, float]]:
+        """Its own place (m): its scouts must not be sent there."""
+        return [tuple(self.position)]
+
+    def keep(self, m: ProbMap) -> None:
+        """Retain the bubble's map for the next bubbles (README "Choices": two regions)."""
+        self.retained = m.window(m.bounds)
+
+    def life(self):
+        """Start-up (REQUEST_INFO: learn the scouts' limits, then INFO upward), then the
+        command loop ("Queen / Worker"): MOVE, SCAN (cover the bubble with its scouts and report
+        it upward), MAP_DOWN.
+        """
+        yield self.inbox.get()  # REQUEST_INFO
+        yield from self.discover()
+        self.introduce(self.r_min, self.r_max)
+        while True:
+            _, cmd = yield self.inbox.get()
+            if isinstance(cmd, MapDownMsg):
+                self.map_down = cmd.window
+            if isinstance(cmd, MoveMsg | AssignMsg):
+                yield from self.drive(cmd.waypoints)
+                self.send(0, ArrivedMsg())
+                self.set_state("worker_idle")
+            if isinstance(cmd, ScanMsg | AssignMsg):
+                yield from self.cover_bubble(cmd.r)
+
+    def cover_bubble(self, r: float):
+        """Cover the bubble of radius ``r`` about itself with its scouts, then MAP_REPORT and
+        SCAN_COMPLETE to the queen.
+        """
+        self.scan_area += math.pi * r * r
+        x, y = self.position
+        cover = [w.box for w in (self.map_down, self.retained) if w is not None]
+        cover.append(self._children_box())
+        known = (self.retained, self.map_down)
+        yield from self.assignment(Bubble(float(x), float(y), r), cover, known)
+        points = np.array(
+            self.map.points if self.model.params.worker_report == "batch" else [],
+            dtype=float,
+        ).reshape(-1, 3)
+        raster, _extent = self.map.raster()
+        unscanned = self.map.unscanned_points()
+        self.send(0, MapReportMsg(points, unscanned, rle_bytes(raster == -1)))
+        self.send(0, ScanCompleteMsg(infer_los=False))
+        self.set_state("worker_idle")

@@ -19,7 +19,7 @@ import numpy as np
 
 from abm import portable
 from abm.comms import RingLinks
-from models.hierarchy.agents import Director, Scout
+from models.hierarchy.agents import Queen, Scout
 from models.hierarchy.protocol import Message
 
 __all__ = ["FlatHolder", "FlatScout", "disseminate", "ring_order"]
@@ -41,12 +41,12 @@ def disseminate(model, origin: object, msg: Message) -> None:
     ways); the holder's copy goes into its inbox, the scouts' replicas need no simulation.
     """
     comms = model.comms
-    others = [n for n in model.nodes if n != origin]
+    others = [n for n in model.member_ids() if n != origin]
 
     def arrive(src, dst, payload) -> None:
         msg_, direction, left, hop = payload
         if dst == HOLDER:
-            model.nodes[HOLDER].receive(origin, msg_)
+            model.queen.receive(origin, msg_)
         if left > 0:
             forward(dst, direction, left, hop + 1)
 
@@ -77,12 +77,14 @@ class FlatScout(Scout):
         disseminate(self.model, self.id, msg)
 
 
-class FlatHolder(Director):
+class FlatHolder(Queen):
     """The designated map holder of a flat arm (no body, no scanning): its replica decides when
     the map is complete (README "The message comparison", item 2). Its "sends" to scouts are the
     scouts' own identical computation, so they reach the scout without a transmission.
     """
 
+    id = HOLDER
+
     def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:
         """Hand a plan step to the scout that computed the same plan itself (no message)."""
-        self.model.nodes[self.links[local]].inbox.put((0, msg))
+        self.model.member(self.links[local]).receive(self.id, msg)

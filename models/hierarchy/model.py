@@ -13,13 +13,15 @@ COMPLETE (or CANNOT_COMPLETE).
 The queen has no body ("a laptop", no position in the arena; README "Choices": the queen): she is a
 comm node off the arena (a node without a position, whose radio reaches everyone, limited by the
 tree policy to her workers) and not a Mesa agent, so she is never drawn, never occupies a cell and
-never collides; she still counts in N = 1 + W + W S. Workers and scouts are :class:`abm.robot.Robot`
-bodies.
+never collides; she still counts in N = 1 + W + W S. Workers and scouts are robots
+(:class:`~models.hierarchy.agents.Worker`, :class:`~models.hierarchy.agents.Scout`), and the
+model's ``agents`` is the one index of them (``agents_by_type[Worker]``, in creation order).
 """
 
 import math
 
 import numpy as np
+from mesa.agent import AgentSet
 from numba import njit
 
 from abm import portable
@@ -30,9 +32,9 @@ from abm.pathfollow import PathFollower, ground_robot
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
 from models.hierarchy import published
-from models.hierarchy.agents import Director, LinkLost, Node, Scout
+from models.hierarchy.agents import QUEEN, Director, LinkLost, Member, Queen, Scout, Worker
 from models.hierarchy.coverage import Plan, Status
-from models.hierarchy.flat import HOLDER, FlatHolder, FlatScout, ring_order
+from models.hierarchy.flat import FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
 from models.hierarchy.planning import padded_cells
 from models.hierarchy.probmap import ProbMap, Rect
@@ -40,11 +42,12 @@ from models.hierarchy.protocol import KINDS, StartMsg
 from models.hierarchy.units import SUMMARY_UNITS
 from models.hierarchy.world import build_world, start_layout
 
-__all__ = ["BODY_SIDE", "HierarchyModel"]
+__all__ = ["BODY_SIDE", "QUEEN", "HierarchyModel"]
 
 #: Side of a scout's body (m): the 6-inch cube of the report ("Scout").
 BODY_SIDE = 0.1524
-QUEEN = "queen"
+#: Nudge (m) that puts a ray's hit point inside the obstacle it hit, not on its surface.
+HIT_NUDGE = 1e-6
 
 
 class HierarchyModel(SwarmModel):
@@ -107,8 +110,6 @@ class HierarchyModel(SwarmModel):
         self.tree = TreeLinks()
         self.comms.policy = self.tree
         self.comms.log = MessageLog()
-        self.director_maps: dict[object, ProbMap] = {}
-        self.wave_order_violations = 0
         self.robot_proximity_events = 0
         self.sibling_proximity_events = 0
         self.plans: list[dict] = []
@@ -149,75 +150,63 @@ class HierarchyModel(SwarmModel):
             )
 
     def _build_tree(self) -> None:
+        """The queen (or the flat arms' map holder), the workers and the scouts, linked as the
+        topology says; then every member's life starts (the queen's first, then the robots' in
+        creation order).
+        """
         p = self.params
         workers, scouts = self._starts
-        self.workers: list[Director] = []
-        self.scouts: list[Scout] = []
-        self.nodes: dict[object, Node] = {}
         if p.topology in ("fc", "ring"):
             self._build_flat(scouts.reshape(-1, 2))
         else:
-            self.queen = Director(self, QUEEN, None)
-            self.nodes[QUEEN] = self.queen
+            self.queen = Queen(self)
             self.tree.attach(QUEEN, None)
             self.comms.add(QUEEN, None)
         if p.topology == "star":
             for s, spos in enumerate(scouts.reshape(-1, 2)):
-                self._scout(spos, self.queen, s + 1)
+                self._join(self._scout(spos), self.queen, s + 1)
         if p.topology == "hst":
             for w, wpos in enumerate(workers):
-                robot = Robot(self, wpos, "worker_idle", "drive")
-                node = Director(self, robot.unique_id, robot, p.worker_r_min_value, p.worker_r_max)
-                self._join(node, self.queen, w + 1)
-                self.workers.append(node)
+                worker = Worker(self, wpos, p.worker_r_min_value, p.worker_r_max)
+                self._join(worker, self.queen, w + 1)
                 for s, spos in enumerate(scouts[w]):
-                    self._scout(spos, node, s + 1)
-        ids = np.array([s.robot.unique_id for s in self.scouts], dtype=np.int64)
-        self._scout_of = np.full(max(self.nodes_ids_max(), 0) + 1, -1, dtype=np.int64)
+                    self._join(self._scout(spos), worker, s + 1)
+        scouts = self.scouts()
+        ids = np.array(scouts.get("unique_id"), dtype=np.int64)
+        self._scout_of = np.full(max(self.agents.get("unique_id")) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
         self._scout_rows = self.rows_of(ids)
-        self._parent_of = [s.links[0] for s in self.scouts]
-        for node in self.nodes.values():
-            if node.robot is None:
-                node.process = self.env.process(node.run())
-            else:  # a body's process: a failure of the body interrupts it
-                node.process = node.robot.start(node.run())
+        # first parents (README "Choices": wave-order and proximity diagnostics)
+        self._parent_of = scouts.get("parent")
+        self.env.process(self.queen.life())
+        # a robot's life runs as its process: a failure of the body interrupts it
+        self.agents.do(lambda robot: robot.start(robot.life()))
 
-    def _scout(self, position: np.ndarray, parent: Node | None, local: int) -> Scout:
-        body = Robot(self, position, "scout_idle", "drive")
-        self.faults.exempt(body)  # only workers fail in this model
-        kind = FlatScout if self.params.topology in ("fc", "ring") else Scout
-        scout = kind(self, body.unique_id, body)
-        if parent is not None:
-            self._join(scout, parent, local)
-        self.scouts.append(scout)
+    def _scout(self, position: np.ndarray) -> Scout:
+        scout = (FlatScout if self.params.topology in ("fc", "ring") else Scout)(self, position)
+        self.faults.exempt(scout)  # only workers fail in this model
         return scout
 
     def _build_flat(self, scouts: np.ndarray) -> None:
         """The map holder and the scouts on a complete graph (FC) or a ring (README, "The message
         comparison").
         """
-        self.queen = FlatHolder(self, HOLDER, None)
-        self.nodes[HOLDER] = self.queen
-        nodes = [self._scout(spos, None, s + 1) for s, spos in enumerate(scouts)]
-        ids = [n.id for n in nodes]
+        self.queen = holder = FlatHolder(self)
+        for spos in scouts:
+            self._scout(spos)
+        ids = self.scouts().get("id")
         if self.params.topology == "ring":
-            self.comms.policy = RingLinks(ring_order(HOLDER, ids, scouts))
+            self.comms.policy = RingLinks(ring_order(holder.id, ids, scouts))
         else:
             self.comms.policy = None
-        self.tree.attach(HOLDER, None)
-        self.comms.add(HOLDER, None)
-        for s, scout in enumerate(nodes):
-            self._join(scout, self.queen, s + 1)
+        self.tree.attach(holder.id, None)
+        self.comms.add(holder.id, None)
+        for s, scout in enumerate(self.scouts()):
+            self._join(scout, holder, s + 1)
 
-    def nodes_ids_max(self) -> int:
-        """The largest robot id."""
-        return max(n.robot.unique_id for n in self.nodes.values() if n.robot is not None)
-
-    def _join(self, child: Node, parent: Node, local: int) -> None:
+    def _join(self, child: Member, parent: Member, local: int) -> None:
         self.tree.attach(child.id, parent.id)  # the simulator's record of who is whose child
-        self.comms.add(child.id, child.robot.position.copy())
-        self.nodes[child.id] = child
+        self.comms.add(child.id, child.position.copy())
         child.link(0, parent.id)
         parent.link(local, child.id)
 
@@ -230,10 +219,32 @@ class HierarchyModel(SwarmModel):
         self.comms.log.record(self.env.now, "operator", root, start.KIND, 0, start.nbytes)
         self.queen.inbox.put((None, start))
 
-    # ------------------------------------------------------------------ plumbing for nodes
+    # ------------------------------------------------------------------ the members
+    def scouts(self) -> AgentSet:
+        """The scouts (the flat arms' too), in creation order."""
+        return self.agents.select(agent_type=Scout)
+
+    def workers(self) -> AgentSet:
+        """The workers, in creation order (none in the star and flat arms)."""
+        return self.agents.select(agent_type=Worker)
+
+    def directors(self) -> list[Director]:
+        """The queen (or the map holder), then the workers."""
+        return [self.queen, *self.workers()]
+
+    def member_ids(self) -> list[object]:
+        """Every member's name on the comm network: the queen's, then the robots' ids."""
+        return [self.queen.id, *self.agents.get("id")]
+
+    def member(self, node_id: object) -> Member:
+        """The member with this name on the comm network: the queen, or the robot of that id."""
+        if node_id == self.queen.id:
+            return self.queen
+        return self.space.active_agents[int(self.rows_of(np.asarray(node_id)))]
+
     def deliver(self, src: object, dst: object, msg) -> None:
         """The comm network delivered ``msg``: into the receiver's inbox."""
-        self.nodes[dst].receive(src, msg)
+        self.member(dst).receive(src, msg)
 
     # ------------------------------------------------------------------ failures
     def on_robot_failed(self, robot: Robot) -> None:
@@ -241,38 +252,32 @@ class HierarchyModel(SwarmModel):
         its process): its parent and children notice when their heartbeat watchdogs time out.
         Scouts are exempt from failures: an orphan must be able to re-attach.
         """
-        node = self.nodes[robot.unique_id]
-        self.director_maps.pop(node.id, None)
-        call_later(self.env, self.params.heartbeat_timeout, self._heartbeat_lost, node)
+        call_later(self.env, self.params.heartbeat_timeout, self._heartbeat_lost, robot)
 
-    def _heartbeat_lost(self, node: Node) -> None:
-        """Every live neighbour of the failed ``node`` finds a LinkLost in its inbox."""
-        for other in node.links.values():
-            peer = self.nodes[other]
-            if peer.robot is None or peer.robot.failure is None:
-                peer.inbox.put((peer.local_of(node.id), LinkLost()))
+    def _heartbeat_lost(self, failed: Worker) -> None:
+        """Every live neighbour of the ``failed`` worker finds a LinkLost in its inbox."""
+        for other in failed.links.values():
+            peer = self.member(other)
+            if not peer.failed:
+                peer.inbox.put((peer.local_of(failed.id), LinkLost()))
 
-    def reattach(self, orphan: Node) -> None:
+    def reattach(self, orphan: Scout) -> None:
         """An orphan joins the queen's children: the tree's record, both address books and
         its radio links change; logged as a ``reattach`` event.
         """
-        queen, old = self.queen, orphan.links[0]
+        queen, old = self.queen, orphan.parent
         self.tree.reattach(orphan.id, queen.id)
         orphan.link(0, queen.id)
         queen.link(queen.new_local(), orphan.id)
-        self.comms.move(orphan.id, orphan.robot.position.copy())
+        self.comms.move(orphan.id, orphan.position.copy())
         self.reattached += 1
-        self.recorder.log("reattach", orphan.robot.unique_id, old_parent=old, parent=str(queen.id))
+        self.recorder.log("reattach", orphan.unique_id, old_parent=old, parent=str(queen.id))
 
     def has_children(self, node_id: object) -> bool:
         """Whether a node directs others (the simulator's view; a parent learns it from the
         INFO radii it gets, never the count).
         """
         return bool(self.tree.children(node_id))
-
-    def arrived(self, node: Node, end: np.ndarray) -> None:
-        """A body finished driving: its radio link moves with it."""
-        self.comms.move(node.id, node.robot.position.copy())
 
     def sense(self, position: np.ndarray, r: float) -> np.ndarray:
         """One IR sweep from ``position`` up to ``r``: hit points ``(k, 2)`` (m), one per ray
@@ -284,7 +289,7 @@ class HierarchyModel(SwarmModel):
         origins = np.broadcast_to(position, dirs.shape)
         dist = self.arena.raycast(origins, dirs, r)
         hit = dist < r - 1e-9
-        points = origins[hit] + dirs[hit] * (dist[hit] + 1e-6)[:, None]
+        points = origins[hit] + dirs[hit] * (dist[hit] + HIT_NUDGE)[:, None]
         if p.dedupe_points_per_cell and len(points):
             cells = np.floor(points / p.cell_size).astype(np.int64)
             _, first = np.unique(cells, axis=0, return_index=True)
@@ -323,7 +328,7 @@ class HierarchyModel(SwarmModel):
         h = self.params.cell_size
         for k, (x, y) in plan.centres.items():
             self.recorder.log(
-                "bubble", director.robot.unique_id if director.robot else None,
+                "bubble", director.unique_id if isinstance(director, Robot) else None,
                 director=str(director.id), child=str(director.links[k]), x=x, y=y,
                 r=plan.radius, round=director.iterations, known_free=m.known_free(x, y),
                 in_bounds=m.in_bounds(x, y),
@@ -353,33 +358,33 @@ class HierarchyModel(SwarmModel):
         in cm^2 and cm ("Data Collection", Figs. 36-38): 1 m^2 = 10^4 cm^2, 1 m = 100 cm.
         """
         p = self.params
-        scouts, workers = self.scouts, self.workers
+        scouts, workers = self.scouts(), self.workers()
         log = self.comms.log.frame()
         task = log[log["phase"] == "task"]
         load = self.comms.log.load()
         out = {
             "topology": p.topology,
-            "N": len(self.nodes),
+            "N": 1 + len(self.agents),
             "links": self.comms.graph.number_of_edges(),
             "W": p.workers,
             "S": p.scouts_per_worker,
             "scouts": len(scouts),
             "complete": float(self.completion_status == Status.COMPLETE.value),
             "completion_time": self.completion_time if self.completion_time else math.nan,
-            "scout_scan_area": float(np.mean([s.scan_area for s in scouts])),
-            "worker_scan_area": _mean([w.scan_area for w in workers]),
+            "scout_scan_area": float(np.mean(scouts.get("scan_area"))),
+            "worker_scan_area": _mean(workers.get("scan_area")),
             "queen_scan_area": self.arena.width * self.arena.height,
-            "scout_drive": float(np.mean([s.drive_distance for s in scouts])),
-            "worker_drive": _mean([w.drive_distance for w in workers]),
+            "scout_drive": float(np.mean(scouts.get("drive_distance"))),
+            "worker_drive": _mean(workers.get("drive_distance")),
             "queen_iterations": self.queen.iterations,
-            "worker_iterations": _mean([w.iterations for w in workers]),
+            "worker_iterations": _mean(workers.get("iterations")),
             "known_free_fraction": self.known_free_fraction(),
-            "wave_order_violations": self.wave_order_violations,
+            "wave_order_violations": sum(d.wave_order_violations for d in self.directors()),
             "robot_proximity_events": self.robot_proximity_events,
             "sibling_proximity_events": self.sibling_proximity_events,
             "path_cells_blocked": self.path_cells_blocked,
             "stalled_moves": self.follower.stalled,
-            "workers_failed": sum(w.robot.failure is not None for w in workers),
+            "workers_failed": sum(workers.get("failed")),
             "reattached": self.reattached,
             "messages": len(log),
             "messages_task": len(task),
@@ -428,8 +433,8 @@ class HierarchyModel(SwarmModel):
                              extent=extent, colour="#000000"))  # fmt: skip
         rings = []
         angle = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
-        for director in [self.queen, *self.workers]:
-            if director.map is None or director.id not in self.director_maps:
+        for director in self.directors():
+            if director.map is None or not director.directing or director.failed:
                 continue
             for b in director.bubble.values():
                 if b.r < 50:
