@@ -240,7 +240,7 @@ class HierarchyModel(SwarmModel):
         """The member with this name on the comm network: the queen, or the robot of that id."""
         if node_id == self.queen.id:
             return self.queen
-        return self.space.active_agents[int(self.rows_of(np.asarray(node_id)))]
+        return self.robot(int(node_id))
 
     def deliver(self, src: object, dst: object, msg) -> None:
         """The comm network delivered ``msg``: into the receiver's inbox."""
