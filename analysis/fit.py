@@ -32,6 +32,7 @@ from analysis.macro import (
     refine_lambdas,
     rmsd,
 )
+from analysis.macroscopic import RunLog, expected_counts, fit_rates
 from analysis.sweep import load_results, run_sweep, swept_keys
 
 __all__ = [
@@ -63,6 +64,8 @@ METHODS = (
     ("_fit", "{a0}, {alpha6} fitted per curve (no lambda model)"),
     ("_reg_alpha6", "diagnosis: {alpha6} from the regression, {a0} per curve"),
     ("_reg_a0", "diagnosis: {a0} from the regression, {alpha6} per curve"),
+    ("_rates", "rate equations from the event log: per-robot hazards fitted per condition "
+               "(analysis.macroscopic), no recurrence"),
 )  # fmt: skip
 
 #: The recurrence's symbols as they appear in column names (``rmsd_w_fit``, ``a0_se``).
@@ -226,6 +229,7 @@ def analyse(
     spec: MacroSpec,
     conditions: Sequence[str],
     heldout: bool = True,
+    logs: Mapping[tuple, Sequence[RunLog]] | None = None,
 ) -> dict:
     """Fit the recurrence per condition; regress and check the lambdas where the spec says.
 
@@ -242,6 +246,9 @@ def analyse(
         spec: the model's MACRO.
         conditions: the columns that tell conditions apart.
         heldout: also refit the lambdas with each value of the other condition left out.
+        logs: the runs' logs per condition (keyed by the condition's values, in the order of
+            ``conditions``): the rate equations are fitted to the same runs and their RMSDs
+            (``rmsd_w_rates``, ``rmsd_b_rates``) computed the same way, on the same curves.
 
     Returns:
         A dict: ``fits`` (per condition: a0, alpha6 +- stderr, RMSDs of the direct fit, the
@@ -305,6 +312,11 @@ def analyse(
         obs = fit.observed.assign(condition=row["condition"], **where)
         obs["wander_fit"] = fit.predicted["wander"].to_numpy()
         obs["beacon_fit"] = fit.predicted["beacon"].to_numpy()
+        if logs is not None and len(logs.get(key, ())) >= 2:
+            expected = expected_counts(fit_rates(logs[key]), obs["time"].to_numpy())
+            for col, state in (("wander", spec.moving), ("beacon", spec.settled)):
+                obs[f"{col}_rates"] = expected[state].to_numpy()
+                row[f"rmsd_{col[0]}_rates"] = rmsd(obs[f"{col}_rates"], obs[col])
         curves.append(obs)
     fits = pd.DataFrame(rows)
     curves = pd.concat(curves, ignore_index=True)
@@ -486,6 +498,9 @@ def _draw_curves(ax, obs: pd.DataFrame, spec: MacroSpec, title: str) -> None:
         if f"{col}_lambda" in obs and obs[f"{col}_lambda"].notna().any():
             ax.plot(t, obs[f"{col}_lambda"], color=colour, ls=":", lw=1.5,
                     label=f"{name}: recurrence from fitted \u03bb")  # fmt: skip
+        if f"{col}_rates" in obs and obs[f"{col}_rates"].notna().any():
+            ax.plot(t, obs[f"{col}_rates"], color=colour, ls="-.", lw=1.2,
+                    label=f"{name}: rate equations from the event log")  # fmt: skip
     ax.set_xlabel("time (s)")
     ax.set_ylabel("robots")
     ax.set_title(title)
@@ -592,6 +607,8 @@ def write_fit_report(
         out / "fit_report.html",
         title=f"Macroscopic model vs simulation: {spec.moving} and {spec.settled}",
         subtitle=spec.source,
+        summary_label=spec.summary_label,
+        published_label=spec.published_label,
         meta=meta,
         notes=result["notes"],
         names=spec.names(),

@@ -24,10 +24,17 @@ import pandas as pd
 from abm.errors import ConfigError
 from analysis.html import image_data, render_page, table
 from analysis.macroscopic import Checks, RunLog, check_heldout, check_states
-from analysis.macroscopic.across import AcrossModel, fit_across
+from analysis.macroscopic.across import AcrossModel, fit_across, numeric_values
 from analysis.rate_fit import plot_curves, run_logs
 
-__all__ = ["AcrossFit", "fit_rates_across", "held_out_points", "summary_lines", "write_across"]
+__all__ = [
+    "AcrossFit",
+    "fit_grid",
+    "fit_rates_across",
+    "held_out_points",
+    "summary_lines",
+    "write_across",
+]
 
 
 @dataclass(frozen=True)
@@ -76,10 +83,10 @@ class AcrossFit:
         return pd.DataFrame(rows)
 
 
-def held_out_points(grid: Mapping[str, Sequence[object]], count: int) -> list[int]:
-    """Indices (in grid order) of ``count`` grid points to hold out: evenly spread among the
-    grid's interior points, those where every numeric parameter swept over three or more
-    values lies strictly between its lowest and highest (so predictions interpolate).
+def held_out_points(points: Sequence[Mapping[str, object]], count: int) -> list[int]:
+    """Indices of ``count`` of ``points`` (conditions: parameter -> value) to hold out: evenly
+    spread among the interior ones, where every numeric parameter taking three or more values
+    over ``points`` lies strictly between its lowest and highest (so predictions interpolate).
 
     Raises:
         ConfigError: fewer interior points than ``count``, or fewer than two points left to fit.
@@ -87,13 +94,13 @@ def held_out_points(grid: Mapping[str, Sequence[object]], count: int) -> list[in
     """
     if count < 1:
         raise ConfigError(f"--held-points must be at least 1, got {count}")
-    points = list(itertools.product(*grid.values()))
-    spans = [_span(values) for values in grid.values()]
+    keys = list(points[0]) if points else []
+    spans = {k: _span([p[k] for p in points]) for k in keys}
     interior = [
         k
         for k, point in enumerate(points)
-        if any(spans)
-        and all(s is None or s[0] < x < s[1] for x, s in zip(point, spans, strict=True))
+        if any(spans.values())
+        and all(s is None or s[0] < point[key] < s[1] for key, s in spans.items())
     ]
     if len(interior) < count:
         raise ConfigError(
@@ -109,8 +116,7 @@ def held_out_points(grid: Mapping[str, Sequence[object]], count: int) -> list[in
 
 def _span(values: Sequence[object]) -> tuple[float, float] | None:
     """(lowest, highest) of a numeric parameter swept over 3 or more values, else None."""
-    numbers = all(isinstance(v, int | float) and not isinstance(v, bool) for v in values)
-    if not numbers or len(set(values)) < 3:
+    if not numeric_values(values) or len(set(values)) < 3:
         return None
     return float(min(values)), float(max(values))
 
@@ -138,8 +144,8 @@ def fit_rates_across(
         raise ConfigError(f"--runs must be at least 2 to fit rates, got {runs}")
     if held < 1:
         raise ConfigError(f"--held must be at least 1, got {held}")
-    out = held_out_points(grid, held_points)
     points = [dict(zip(grid, values, strict=True)) for values in itertools.product(*grid.values())]
+    out = held_out_points(points, held_points)
     for point in points:
         cls(seed=seed, **{**fixed, **point})  # bad parameters stop here, before any run
     target = f"{cls.__module__}:{cls.__qualname__}"
@@ -151,17 +157,45 @@ def fit_rates_across(
         progress(f"grid point {k + 1}/{len(points)} {_label(point)}: seeds {these[0]}-{these[-1]}")
         logs.append(run_logs(target, these, {**fixed, **point}, workers))
         seeds.append(these)
-    fitted = [(points[k], logs[k][:runs]) for k in range(len(points)) if k not in out]
-    model = fit_across(fitted, list(grid))
+    return fit_grid(points, logs, seeds, list(grid), out, runs, seed)
+
+
+def fit_grid(
+    points: Sequence[dict],
+    logs: Sequence[Sequence[RunLog]],
+    seeds: Sequence[tuple[int, ...]],
+    swept: Sequence[str],
+    held_out: Sequence[int],
+    runs: int,
+    seed: int,
+) -> AcrossFit:
+    """Fit across the points not in ``held_out`` (indices) on their first ``runs`` runs, and
+    check every point on the runs the fit has not seen.
+
+    Raises:
+        ConfigError: a fitted point with ``runs`` runs or fewer (none left to check it on).
+
+    """
+    short = [
+        _label(points[k]) for k in range(len(points)) if k not in held_out and len(logs[k]) <= runs
+    ]
+    if short:
+        raise ConfigError(
+            f"fitted points need more than --runs {runs} runs (the rest check them); "
+            f"{', '.join(short)} {'has' if len(short) == 1 else 'have'} too few"
+        )
+    fitted = [(points[k], logs[k][:runs]) for k in range(len(points)) if k not in held_out]
+    model = fit_across(fitted, swept)
     rng = np.random.default_rng(seed)
     checks = []
     for k, point in enumerate(points):
-        checked = logs[k] if k in out else logs[k][runs:]
+        checked = logs[k] if k in held_out else logs[k][runs:]
         checks.append(check_heldout(model.at(point, checked), checked, rng))
+    held = max(len(logs[k]) - runs for k in range(len(points)) if k not in held_out)
     return AcrossFit(
         model,
         tuple(points),
-        tuple(k in out for k in range(len(points))),
+        tuple(k in held_out for k in range(len(points))),
         tuple(seeds),
         tuple(checks),
         runs,

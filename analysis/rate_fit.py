@@ -40,6 +40,7 @@ from analysis.macroscopic import (  # noqa: E402
 
 __all__ = [
     "RateFit",
+    "fit_logs",
     "fit_rate_equations",
     "plot_curves",
     "run_logs",
@@ -101,10 +102,22 @@ def fit_rate_equations(
     cls(seed=seed, **dict(params))  # bad parameters stop here, before any run
     seeds = list(range(seed, seed + runs + held))
     logs = run_logs(f"{cls.__module__}:{cls.__qualname__}", seeds, params, workers)
-    fitted, heldout = logs[:runs], logs[runs:]
+    return fit_logs(logs[:runs], logs[runs:], seeds[:runs], seeds[runs:], seed)
+
+
+def fit_logs(
+    fitted: Sequence[RunLog],
+    heldout: Sequence[RunLog],
+    fitted_seeds: Sequence[int],
+    held_seeds: Sequence[int],
+    seed: int,
+) -> RateFit:
+    """Fit the rate equations on ``fitted`` runs and check them on ``heldout`` ones (the band's
+    replicates drawn from ``seed``).
+    """
     model = fit_rates(fitted)
     checks = check_heldout(model, heldout, np.random.default_rng(seed))
-    return RateFit(model, checks, well_mixed(fitted), tuple(seeds[:runs]), tuple(seeds[runs:]),
+    return RateFit(model, checks, well_mixed(fitted), tuple(fitted_seeds), tuple(held_seeds),
                    state_graph(fitted))  # fmt: skip
 
 

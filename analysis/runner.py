@@ -1,7 +1,8 @@
 """Run one model: the single helper behind sweeps, fits, benchmarks, examples and tests.
 
 :func:`run_model` builds any registered model (or class) from plain parameters and a seed,
-runs it to the end and returns its summary and, when asked, its robot counts over time. It is
+runs it to the end and returns its summary and, when asked, its robot counts over time and its
+lifecycle events (what a macroscopic model is fitted to). It is
 a top-level, picklable function so executors can run it in worker processes; :func:`run_one`
 wraps it for sweeps (a failing run becomes a recorded failure, not a lost sweep).
 """
@@ -18,7 +19,31 @@ import pandas as pd
 
 from abm.registry import model_class
 
-__all__ = ["RunResult", "RunSpec", "run_model", "run_one"]
+__all__ = ["LIFECYCLE_EVENTS", "RunResult", "RunSpec", "lifecycle_events", "run_model", "run_one"]
+
+#: The events of a run's log a macroscopic model reads: the state changes, removals and
+#: launches (what a sweep keeps in ``changes/`` when it keeps time series).
+LIFECYCLE_EVENTS = ("state", "removed", "launch")
+
+
+def lifecycle_events(events: pd.DataFrame) -> pd.DataFrame:
+    """The rows of an event log a macroscopic model needs: ``time``, ``event``, ``robot``,
+    ``state`` for every state change, removal and launch.
+    """
+    if events.empty:
+        return pd.DataFrame(
+            {"time": pd.Series(dtype=float), "event": pd.Series(dtype=str),
+             "robot": pd.Series(dtype=np.int64), "state": pd.Series(dtype=object)}
+        )  # fmt: skip
+    kept = events[events["event"].isin(LIFECYCLE_EVENTS)]
+    return pd.DataFrame(
+        {
+            "time": kept["time"].to_numpy(dtype=float),
+            "event": kept["event"].to_numpy(dtype=object),
+            "robot": kept["robot"].to_numpy(dtype=np.int64),
+            "state": kept["state"].to_numpy(dtype=object) if "state" in kept else None,
+        }
+    )
 
 
 @dataclass(frozen=True)
@@ -33,6 +58,8 @@ class RunResult:
         wall_time: seconds of wall time the run took.
         samples: the model's own time series (``SwarmModel.samples``) when asked for the
             counts and the model records one; else None.
+        changes: the run's lifecycle events (:func:`lifecycle_events`) when asked for the
+            counts; else None.
 
     """
 
@@ -40,6 +67,7 @@ class RunResult:
     counts: pd.DataFrame | None
     wall_time: float
     samples: pd.DataFrame | None = None
+    changes: pd.DataFrame | None = None
 
 
 def run_model(
@@ -55,22 +83,24 @@ def run_model(
         model: a registered model name, ``"module:Class"`` or a model class.
         params: constructor keywords (fields of the model's params).
         seed: the model's seed.
-        counts: also return the state counts (and the model's samples) over time.
+        counts: also return the state counts (and the model's samples) over time, and the
+            lifecycle events.
 
     """
     start = time.perf_counter()
     instance = model_class(model)(seed=seed, **dict(params or {}))
     instance.run()
     summary = instance.summary()
-    table = samples = None
+    table = samples = changes = None
     if counts:
+        changes = lifecycle_events(instance.events())
         table = instance.state_counts()
         end = table.iloc[[-1]].copy()
         end["time"] = float(instance.time)
         table = pd.concat([table, end], ignore_index=True)
         samples = instance.samples()
         samples = None if samples.empty else samples
-    return RunResult(summary, table, time.perf_counter() - start, samples)
+    return RunResult(summary, table, time.perf_counter() - start, samples, changes)
 
 
 @dataclass(frozen=True)
@@ -84,7 +114,7 @@ class RunSpec:
         seed: the model's seed.
         spawn_key: the ``SeedSequence`` spawn key the seed came from.
         run_id: the run's identity (a hash of its parameters and replication).
-        time_series: also keep the run's state counts.
+        time_series: also keep the run's state counts, samples and lifecycle events.
 
     """
 
@@ -101,7 +131,7 @@ def run_one(spec: RunSpec) -> dict:
     """Run one sweep run; never raises for the model's own errors.
 
     Returns:
-        ``{"row": dict, "series": DataFrame | None, "samples": DataFrame | None}``. The row
+        ``{"row": dict, "series": ..., "samples": ..., "changes": DataFrame | None}``. The row
         holds ``run_id``, ``rep``, ``seed``, ``spawn_key``, the parameters, the model's
         summary, ``status`` ("ok" or "failed"), ``error`` and ``traceback`` (failures only),
         ``wall_time`` (s) and ``worker`` (host:pid).
@@ -114,7 +144,7 @@ def run_one(spec: RunSpec) -> dict:
         "spawn_key": f"{spec.spawn_key[0]},{spec.spawn_key[1]}",
         **spec.params,
     }
-    series = samples = None
+    series = samples = changes = None
     start = time.perf_counter()
     try:
         result = run_model(spec.target, spec.params, spec.seed, counts=spec.time_series)
@@ -126,6 +156,8 @@ def run_one(spec: RunSpec) -> dict:
             series = result.counts.assign(run_id=spec.run_id)
         if result.samples is not None:
             samples = result.samples.assign(run_id=spec.run_id)
+        if result.changes is not None:
+            changes = result.changes.assign(run_id=spec.run_id)
     except Exception as exc:  # a failing run is a result, not the end of the sweep
         if _interrupted(exc):
             raise KeyboardInterrupt from exc
@@ -136,7 +168,7 @@ def run_one(spec: RunSpec) -> dict:
         )
     row["wall_time"] = time.perf_counter() - start
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
-    return {"row": row, "series": series, "samples": samples}
+    return {"row": row, "series": series, "samples": samples, "changes": changes}
 
 
 def _interrupted(exc: BaseException) -> bool:

@@ -175,6 +175,8 @@ def test_abm_fit_of_each_model_that_counts_two_states(name, tmp_path, capsys):
     named = spec.names()
     assert {spec.moving, spec.settled, f"rmsd_{spec.moving}_fit", named["a0"]} <= set(header)
     assert not {"w", "b"} & set(header)
+    # the rate equations from the event log beside the recurrence: the same runs, same RMSD
+    assert f"rmsd_{spec.moving}_rates" in header and "rate equations from the event log" in printed
     assert ("alpha6" in header) == (named["alpha6"] == "alpha6")
 
 

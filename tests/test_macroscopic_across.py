@@ -2,7 +2,10 @@
 whose rates are known, a held-out grid point is predicted, and bad grids are refused before
 any run."""
 
+import itertools
+
 import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -86,23 +89,25 @@ def test_an_unseen_level_or_a_value_outside_the_logs_domain_cannot_be_predicted(
 )
 def test_held_out_points_are_distinct_interior_points(sizes, count):
     grid = {f"p{i}": [float(v) for v in range(n)] for i, n in enumerate(sizes)}
+    points = [dict(zip(grid, p, strict=True)) for p in itertools.product(*grid.values())]
     interior = int(np.prod([n - 2 for n in sizes]))
     if count > interior:
         with pytest.raises(ConfigError, match="interior point"):
-            held_out_points(grid, count)
+            held_out_points(points, count)
         return
-    chosen = held_out_points(grid, count)
+    chosen = held_out_points(points, count)
     assert len(set(chosen)) == count
-    points = np.array(np.meshgrid(*grid.values(), indexing="ij")).reshape(len(sizes), -1).T
     for k in chosen:
-        assert all(0 < x < n - 1 for x, n in zip(points[k], sizes, strict=True))
+        assert all(0 < points[k][f"p{i}"] < n - 1 for i, n in enumerate(sizes))
 
 
 def test_grids_that_cannot_hold_a_point_out_are_refused():
+    grid = {"radius": [20.0, 40.0], "map": ["a", "b", "c"]}
+    points = [dict(zip(grid, p, strict=True)) for p in itertools.product(*grid.values())]
     with pytest.raises(ConfigError, match="0 interior point"):
-        held_out_points({"radius": [20.0, 40.0], "map": ["a", "b", "c"]}, 1)
+        held_out_points(points, 1)
     with pytest.raises(ConfigError, match="at least 1"):
-        held_out_points({"radius": [20.0, 30.0, 40.0]}, 0)
+        held_out_points([{"radius": r} for r in (20.0, 30.0, 40.0)], 0)
 
 
 def test_abm_fit_rates_across_a_grid_writes_its_report(tiny_package, tmp_path, capsys):
@@ -139,3 +144,57 @@ def test_abm_fit_across_refuses_a_bad_grid_in_one_line(
     err = capsys.readouterr().err.strip()
     assert code != 0 and message in err and len(err.splitlines()) == 1
     assert not out.exists()
+
+
+def _sweep(tmp_path, capsys, grid: str, time_series: bool = True):
+    """A sweep of the tiny model made with ``abm sweep``: its folder."""
+    tmp_path.mkdir(exist_ok=True)
+    spec = tmp_path / "tiny.toml"
+    spec.write_text(
+        f'model = "tiny"\nseed = 5\nreplications = 5\ntime_series = {str(time_series).lower()}\n'
+        f"[grid]\nwalkers = [8]\ntime_limit = [120.0]\n{grid}\n"
+    )
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(spec), "--executor", "serial", "--out", str(out)]) == 0
+    capsys.readouterr()
+    return out
+
+
+def test_abm_fit_rates_reads_a_sweeps_runs_across_its_grid(tiny_package, tmp_path, capsys):
+    folder = _sweep(tmp_path, capsys, "rest_rate = [0.03, 0.05, 0.08]")
+    out = tmp_path / "fit"
+    code = main(["fit", "tiny", "--rates", "--read", str(folder), "--runs", "3", "--out", str(out)])
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "HELD OUT rest_rate=0.05" in printed and "(runs read, not run)" in printed
+    conditions = pd.read_csv(out / "conditions.csv")
+    fitted = conditions[conditions.role.str.startswith("fitted")]
+    assert set(fitted.rest_rate) == {0.03, 0.08} and len(set(conditions.checked_seeds)) == 3
+
+
+def test_abm_fit_rates_reads_one_condition_and_refuses_what_it_cannot_fit(
+    tiny_package, tmp_path, capsys
+):
+    folder = _sweep(tmp_path, capsys, "rest_rate = [0.05]")
+    out = tmp_path / "fit"
+    assert main(["fit", "tiny", "--rates", "--read", str(folder), "--runs", "3",
+                 "--out", str(out)]) == 0  # fmt: skip
+    assert "held-out seeds" in capsys.readouterr().out and (out / "rates.csv").exists()
+    code = main(["fit", "tiny", "--rates", "--read", str(folder), "--runs", "5"])
+    assert code != 0 and "5 runs: --runs 5 leaves none" in capsys.readouterr().err
+    plain = _sweep(tmp_path / "plain", capsys, "rest_rate = [0.05]", time_series=False)
+    code = main(["fit", "tiny", "--rates", "--read", str(plain), "--runs", "3"])
+    assert code != 0 and "kept no state changes" in capsys.readouterr().err
+
+
+def test_the_recurrence_fit_of_a_sweep_without_state_changes_says_rates_are_left_out(
+    tiny_package, tmp_path, capsys
+):
+    folder = _sweep(tmp_path, capsys, "rest_rate = [0.05]")
+    for path in (folder / "changes").iterdir():  # as a sweep made before they were kept
+        path.unlink()
+    (folder / "changes").rmdir()
+    assert main(["fit", "tiny", "--read", str(folder), "--out", str(tmp_path / "fit")]) == 0
+    printed = capsys.readouterr().out
+    assert "rate equations left out" in printed and "kept no state changes" in printed
+    assert "rmsd_walking_rates" not in printed and (tmp_path / "fit" / "fit_report.html").exists()

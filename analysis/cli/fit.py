@@ -61,7 +61,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--read",
         type=Path,
         default=None,
-        help="fit the runs of this sweep folder (kept with time series) instead of running",
+        help="fit the runs of this sweep folder (kept with time series) instead of running; "
+        "with rate equations, its first --runs runs per condition fit and the rest check",
     )
     parser.add_argument("--out", type=Path, default=None, help="output folder [out/fit/MODEL]")
 
@@ -107,8 +108,9 @@ def main(args: argparse.Namespace) -> int:
             cls, grid, args.runs, out, seed=args.seed, workers=args.workers
         )
         source = f"runs in {out} (resumable: run again to add or finish runs)"
+    logs = _logs_by_condition(args.read or out, summaries, conditions)
     elapsed = time.perf_counter() - start
-    result = analyse(summaries, counts, spec, conditions)
+    result = analyse(summaries, counts, spec, conditions, logs=logs)
     meta = [
         ("model", name),
         ("counted states", f"{spec.moving} and {spec.settled}, step {spec.step:g} s"),
@@ -120,7 +122,7 @@ def main(args: argparse.Namespace) -> int:
     table = result["table"]
     shown = [c for c in ("condition", "runs", "w", "b", "w_hat", "b_hat", "t", "a0", "alpha6",
                          "rmsd_w", "rmsd_b", "rmsd_w_reg", "rmsd_b_reg", "rmsd_w_fit",
-                         "rmsd_b_fit") if c in table]  # fmt: skip
+                         "rmsd_b_fit", "rmsd_w_rates", "rmsd_b_rates") if c in table]  # fmt: skip
     print(speak(table[shown], spec).to_string(index=False, float_format=lambda v: f"{v:.3g}"))
     print("", *rate_legend(spec), sep="\n  ")
     names = spec.names()
@@ -138,16 +140,39 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
+def _logs_by_condition(folder: Path, summaries, conditions: list[str]) -> dict | None:
+    """The run logs of the runs in ``summaries``, keyed by their condition's values (for the
+    rate equations beside the recurrence), or None for a sweep that kept no state changes.
+    """
+    from abm.errors import ConfigError
+    from analysis.macroscopic.sweep_logs import sweep_logs
+
+    try:
+        found = sweep_logs(folder)
+    except ConfigError as exc:
+        print(f"rate equations left out: {exc}")
+        return None
+    wanted = set(summaries["run_id"])
+    out = {}
+    for point, logs, ids in zip(found.points, found.logs, found.run_ids, strict=True):
+        kept = [log for log, rid in zip(logs, ids, strict=True) if rid in wanted]
+        if kept:
+            out[tuple(point.get(k) for k in conditions)] = kept
+    return out
+
+
 def _rates(args: argparse.Namespace, cls: type, name: str) -> int:
     """The rate equations of one condition (``--set``), fitted and checked on held-out seeds."""
     from abm.errors import ConfigError
     from analysis.cli.flags import parse_assignment
     from analysis.rate_fit import fit_rate_equations, summary_lines, write_rate_fit
 
-    if args.read is not None:
-        raise ConfigError("--read: rate equations need the event logs, which sweeps do not keep")
-    params = {k: v[0] for k, v in (parse_assignment(cls.Params, text) for text in args.set)}
     out = args.out or Path("out/fit") / name
+    if args.read is not None:
+        if args.grid or args.set:
+            raise ConfigError("--read fits the runs already in a folder: drop --grid and --set")
+        return _rates_read(args, cls, name, out)
+    params = {k: v[0] for k, v in (parse_assignment(cls.Params, text) for text in args.set)}
     if args.grid:
         return _rates_across(args, cls, name, params, out)
     start = time.perf_counter()
@@ -181,6 +206,48 @@ def _rates_across(args: argparse.Namespace, cls: type, name: str, fixed: dict, o
     paths = write_across(result, out, title)
     print(*summary_lines(result), sep="\n")
     print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
+    print("", *(f"wrote {p}" for p in paths), sep="\n")
+    return 0
+
+
+def _rates_read(args: argparse.Namespace, cls: type, name: str, out: Path) -> int:
+    """Rate equations fitted to a sweep's runs: one condition fitted on its first ``--runs``
+    runs and checked on the rest; several fitted across, interior points held out.
+    """
+    from abm.errors import ConfigError
+    from analysis.macroscopic import check_states
+    from analysis.macroscopic.sweep_logs import sweep_logs
+    from analysis.rate_across import fit_grid, held_out_points, write_across
+    from analysis.rate_across import summary_lines as across_lines
+    from analysis.rate_fit import fit_logs, summary_lines, write_rate_fit
+
+    check_states(cls.STATES, cls.__name__)
+    if args.runs < 2:
+        raise ConfigError(f"--runs must be at least 2 to fit rates, got {args.runs}")
+    start = time.perf_counter()
+    found = sweep_logs(args.read)
+    if found.target != f"{cls.__module__}:{cls.__qualname__}":
+        raise ConfigError(f"{args.read} holds runs of {found.target}, not of {name}")
+    if not found.grid:
+        logs, seeds = found.logs[0], found.seeds[0]
+        if len(logs) <= args.runs:
+            raise ConfigError(
+                f"{args.read} has {len(logs)} runs: --runs {args.runs} leaves none to check on"
+            )
+        result = fit_logs(logs[: args.runs], logs[args.runs :], seeds[: args.runs],
+                          seeds[args.runs :], args.seed)  # fmt: skip
+        title = f"{name}: runs of {args.read}, {args.runs} fitted, {len(logs) - args.runs} held out"
+        paths = write_rate_fit(result, out, title)
+        lines = summary_lines(result)
+    else:
+        held = held_out_points(found.points, args.held_points)
+        result = fit_grid(found.points, found.logs, found.seeds, list(found.grid), held,
+                          args.runs, args.seed)  # fmt: skip
+        title = f"{name}: runs of {args.read}, rates across {', '.join(found.grid)}"
+        paths = write_across(result, out, title)
+        lines = across_lines(result)
+    print(*lines, sep="\n")
+    print(f"wall time {_wall_time(time.perf_counter() - start, None)}")
     print("", *(f"wrote {p}" for p in paths), sep="\n")
     return 0
 

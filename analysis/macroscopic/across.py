@@ -26,6 +26,7 @@ period, a swarm size); every transition rate is predicted.
 """
 
 import dataclasses
+import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -38,7 +39,7 @@ from analysis.macroscopic.hazards import Hazard, candidate_families, fit_hazard
 from analysis.macroscopic.logs import LAUNCH, RunLog, transitions
 from analysis.macroscopic.rates import RateModel, select_family, sources_of
 
-__all__ = ["AcrossModel", "fit_across"]
+__all__ = ["AcrossModel", "fit_across", "numeric_values"]
 
 #: The hazard families whose terms mean the same in every condition.
 FAMILIES_ACROSS = ("constant", "counts", "time")
@@ -124,6 +125,11 @@ class AcrossModel:
         )
 
 
+def numeric_values(values: Sequence[object]) -> bool:
+    """True when every value is a real number (numpy's included), not a truth value."""
+    return all(isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) for v in values)
+
+
 def _effect_columns(
     conditions: Sequence[Mapping[str, object]], names: Sequence[str]
 ) -> tuple[dict[str, tuple[bool, float, float]], dict[str, tuple[object, ...]]]:
@@ -135,7 +141,7 @@ def _effect_columns(
         values = [c[name] for c in conditions]
         if len({repr(v) for v in values}) < 2:
             continue
-        if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        if numeric_values(values):
             array = np.asarray(values, dtype=float)
             log = bool((array > 0).all())
             array = np.log(array) if log else array

@@ -16,13 +16,17 @@ import pandas as pd
 
 from abm.errors import ConfigError
 from abm.registry import model_class
+from analysis.runner import LIFECYCLE_EVENTS, lifecycle_events
 
 __all__ = [
     "LAUNCH",
+    "LIFECYCLE_EVENTS",
     "REMOVED",
     "RunLog",
     "check_states",
     "collect_runs",
+    "lifecycle_events",
+    "log_from_events",
     "run_log",
     "stays",
     "transitions",
@@ -89,18 +93,24 @@ def check_states(states: Iterable[str], model: str = "this model") -> tuple[str,
     return states
 
 
-def run_log(model: object, run: object = None, wall_time: float = float("nan")) -> RunLog:
-    """The :class:`RunLog` of a finished model instance (any SwarmModel)."""
-    events = model.events()
-    states = check_states(model.STATES, type(model).__name__)
-    if events.empty:
-        events = pd.DataFrame(columns=["time", "event", "robot", "state"])
+def log_from_events(
+    events: pd.DataFrame,
+    states: Iterable[str],
+    end: float,
+    run: object,
+    samples: pd.DataFrame | None = None,
+    positions: pd.DataFrame | None = None,
+    wall_time: float = float("nan"),
+) -> RunLog:
+    """The :class:`RunLog` of a run from its lifecycle events (:func:`lifecycle_events`: from a
+    finished model, or read back from a sweep's ``changes/``).
+    """
     kept = events[events["event"].isin(["state", "removed"])]
     changes = pd.DataFrame(
         {
             "time": kept["time"].to_numpy(dtype=float),
             "robot": kept["robot"].to_numpy(dtype=np.int64),
-            "state": np.where(kept["event"] == "removed", REMOVED, kept.get("state")),
+            "state": np.where(kept["event"] == "removed", REMOVED, kept["state"]),
         }
     )
     launches = events[events["event"] == "launch"]
@@ -110,13 +120,27 @@ def run_log(model: object, run: object = None, wall_time: float = float("nan")) 
     changes["launch"] = [
         (t, r) in marks for t, r in zip(changes["time"], changes["robot"], strict=True)
     ]
+    return RunLog(
+        run=run,
+        states=tuple(states),
+        changes=changes,
+        end=float(end),
+        samples=samples,
+        positions=positions,
+        wall_time=wall_time,
+    )
+
+
+def run_log(model: object, run: object = None, wall_time: float = float("nan")) -> RunLog:
+    """The :class:`RunLog` of a finished model instance (any SwarmModel)."""
+    states = check_states(model.STATES, type(model).__name__)
     samples = model.samples()
     positions = model.positions()
-    return RunLog(
-        run=model.seed if run is None else run,
-        states=states,
-        changes=changes,
-        end=float(model.time),
+    return log_from_events(
+        lifecycle_events(model.events()),
+        states,
+        model.time,
+        model.seed if run is None else run,
         samples=None if samples.empty else samples,
         positions=None if positions.empty else positions[["time", "robot", "x", "y", "state"]],
         wall_time=wall_time,

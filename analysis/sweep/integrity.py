@@ -2,7 +2,7 @@
 
 A sweep killed with ``kill -9`` (or a full disk, a copy cut short, a stray file) can leave
 behind files that must not be read as results. On every start of a sweep each file under
-``runs/``, ``failed/``, ``series/`` and ``samples/`` is opened and checked:
+``runs/``, ``failed/``, ``series/``, ``samples/`` and ``changes/`` is opened and checked:
 
 * it is a whole Parquet file whose page checksums hold (a truncated or overwritten file fails
   here: its footer is missing or a page's CRC is wrong);
@@ -11,7 +11,7 @@ behind files that must not be read as results. On every start of a sweep each fi
   are the plan's values, its ``run_id`` the one the plan gives them and its ``seed`` and
   ``rep`` the plan's (:class:`~analysis.sweep.membership.PlanIndex`) - a run of another
   sweep, another seed or with edited parameters is set aside, never counted;
-* a series file's rows all carry the file's ``run_id``.
+* a series, samples or changes file's rows all carry the file's ``run_id``.
 
 A file that fails is never deleted: it is moved to ``set_aside/<folder>/`` under a name that
 says why (``<run_id>.<reason>.<time>.parquet``), reported, and its run is run again.
@@ -42,7 +42,7 @@ __all__ = [
 ]
 
 #: The folders of a sweep that hold result files, one per run.
-RESULT_FOLDERS = ("runs", "failed", "series", "samples")
+RESULT_FOLDERS = ("runs", "failed", "series", "samples", "changes")
 
 #: Where files that failed the check go (inside the sweep folder).
 SET_ASIDE = "set_aside"
@@ -149,8 +149,8 @@ def scan(out: Path, index: "PlanIndex") -> tuple[dict, dict, list[SetAside]]:
 
     Returns:
         ``(done, failed, moved)``: run id -> (parameters, replication) of the verified rows in
-        ``runs/`` and in ``failed/``, and the files set aside. A run whose series or samples
-        file was set aside is not in ``done`` (it runs again and writes them anew).
+        ``runs/`` and in ``failed/``, and the files set aside. A run whose series, samples or
+        changes file was set aside is not in ``done`` (it runs again and writes them anew).
 
     """
     found: dict[str, dict] = {}
@@ -170,6 +170,8 @@ def scan(out: Path, index: "PlanIndex") -> tuple[dict, dict, list[SetAside]]:
                     else:
                         ok[path.stem] = problem
         found[folder] = ok
-    damaged = {m.source.stem for m in moved if m.source.parent.name in ("series", "samples")}
+    damaged = {
+        m.source.stem for m in moved if m.source.parent.name in ("series", "samples", "changes")
+    }
     done = {k: v for k, v in found["runs"].items() if k not in damaged}
     return done, found["failed"], moved

@@ -9,6 +9,8 @@
         series/<run_id>.parquet    the run's state counts over time (when ``time_series``)
         samples/<run_id>.parquet   the model's own time series (when ``time_series`` and the
                                    model records one)
+        changes/<run_id>.parquet   the run's state changes, removals and launches (when
+                                   ``time_series``): what ``abm fit --rates --read`` fits
         set_aside/<folder>/        files that failed the check on restart, named
                                    ``<run_id>.<reason>.<time>.parquet`` (never deleted; see
                                    :mod:`analysis.sweep.integrity`)
@@ -92,7 +94,7 @@ def store(out: Path, result: dict) -> None:
     row = result["row"]
     run_id = row["run_id"]
     if row["status"] == "ok":
-        for kind in ("series", "samples"):
+        for kind in ("series", "samples", "changes"):
             if result.get(kind) is not None:
                 _write_atomic(result[kind], out / kind / f"{run_id}.parquet")
         _write_atomic(pd.DataFrame([row]), out / "runs" / f"{run_id}.parquet")
@@ -129,7 +131,12 @@ def _read_folder(folder: Path) -> list[pd.DataFrame]:
 
 
 def load_results(
-    out: str | Path, *, failed: bool = True, series: bool = False, samples: bool = False
+    out: str | Path,
+    *,
+    failed: bool = True,
+    series: bool = False,
+    samples: bool = False,
+    changes: bool = False,
 ) -> pd.DataFrame:
     """Read a sweep's dataset: one row per run (finished first, then failures).
 
@@ -138,14 +145,15 @@ def load_results(
         failed: include the rows of runs that raised (``status == "failed"``).
         series: return the concatenated state counts over time (``series/``) instead.
         samples: return the concatenated model time series (``samples/``) instead.
+        changes: return the concatenated lifecycle events (``changes/``) instead.
 
     """
     out = Path(out)
     if not out.is_dir():
         raise FileNotFoundError(f"no sweep folder {str(out)!r}")
     done = done_ids(out / "runs")
-    if series or samples:
-        kind = "series" if series else "samples"
+    if series or samples or changes:
+        kind = "series" if series else "samples" if samples else "changes"
         frames = [f for f in _read_folder(out / kind) if f["run_id"].iloc[0] in done]
         return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     frames = _read_folder(out / "runs")
