@@ -202,8 +202,9 @@ def test_fit_assignments_read_each_parameter_type():
 
 @pytest.mark.parametrize(
     ("extra", "said"),
-    [(["--grid", "n_anchors=4,6"], "--grid: rate equations are fitted to one condition"),
-     (["--read", "somewhere"], "--read: rate equations need the event logs"),
+    [(["--grid", "n_anchors=4,6"], "the grid has 0 interior point(s)"),
+     (["--grid", "n_anchors=4,6,8", "--set", "n_anchors=5"], "both swept (--grid) and fixed"),
+     (["--read", "somewhere"], "no sweep folder 'somewhere'"),
      (["--runs", "1"], "--runs must be at least 2 to fit rates"),
      (["--held", "0"], "--held must be at least 1"),
      (["--set", "n_anchors=-3"], "n_anchors")],
