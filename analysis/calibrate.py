@@ -146,11 +146,13 @@ def run_abc(
     import pyabc
     from pyabc.sampler import MulticoreEvalParallelSampler, SingleCoreSampler
 
+    client = None
     if address is not None:
         from dask.distributed import Client
         from pyabc.sampler import DaskDistributedSampler
 
-        sampler = DaskDistributedSampler(Client(address))
+        client = Client(address)
+        sampler = DaskDistributedSampler(client)
     elif workers > 1:
         sampler = MulticoreEvalParallelSampler(n_procs=workers)
     else:
@@ -168,8 +170,12 @@ def run_abc(
     else:
         abc.new(db, calib.observed())
         done = 0
-    if populations > done:
-        abc.run(minimum_epsilon=epsilon, max_nr_populations=populations - done)
+    try:
+        if populations > done:
+            abc.run(minimum_epsilon=epsilon, max_nr_populations=populations - done)
+    finally:
+        if client is not None:
+            client.close()  # else it keeps reconnecting to a scheduler that went away
     return abc.history
 
 

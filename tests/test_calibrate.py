@@ -258,3 +258,30 @@ def test_holdout_condition_is_checked_at_the_posterior_median(tmp_path, capsys):
     # six draws of N(median, 3): their mean within 4 standard errors of the median
     assert abs(held["predicted_mean"].iloc[0] - median) < 4 * 3.0 / np.sqrt(6)
     assert held["q95"].iloc[0] - held["q05"].iloc[0] > 2.0  # the sigma = 3 spread, not 1
+
+
+@pytest.mark.slow
+def test_conjugate_posterior_on_a_dask_cluster(tmp_path, tiny_package):
+    """``--address``: the same ABC-SMC on a Dask cluster's workers (a LocalCluster of worker
+    processes here; the tests' folder reaches them through PYTHONPATH, as a cluster's workers
+    need the model's package installed) recovers the known posterior as the local run does.
+    """
+    from dask.distributed import LocalCluster
+
+    from abm.registry import model_class
+    from analysis.calibrate import Calibration, posterior_table, run_abc
+    from analysis.calibration_inputs import parse_prior, read_target
+
+    cls = model_class(NORMAL)
+    fixed = {"sigma": SIGMA}
+    prior = parse_prior(cls, "mu=-20:20", fixed)
+    target = read_target(cls, _target(tmp_path), fixed, ["mu"])
+    calib = Calibration(cls, target, (prior,), fixed, seed=2)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster:  # fmt: skip
+        history = run_abc(calib, tmp_path, populations=5, population_size=60, epsilon=0.1,
+                          workers=1, address=cluster.scheduler_address, resume=False)  # fmt: skip
+    post = posterior_table(history, (prior,)).set_index("parameter").loc["mu"]
+    assert abs(post["mean"] - Y0) < 0.6 * SIGMA
+    assert abs(_posterior_sd(tmp_path) - SIGMA) < 0.5 * SIGMA
+    assert history.n_populations == 5
