@@ -5,9 +5,9 @@ Mean field (:func:`expected_counts`): the expected count n_i of each state follo
 
     dn_i/dt = sum_j lambda_ji(t, n) n_j - sum_j lambda_ij(t, n) n_i  (+ launches),
 
-solved with scipy's ``solve_ivp`` (LSODA) between launches; a launch adds (or moves) its
-mean number of robots at its time (the fitted runs' launch times, each weighted by
-1 / runs), or flows at the fitted constant rate.
+integrated by a compiled fixed-step RK4 between launches (:mod:`.compiled`); a launch adds
+(or moves) its mean number of robots at its time (the fitted runs' launch times, each weighted
+by 1 / runs), or flows at the fitted constant rate.
 
 Stochastic twin (:func:`simulate_counts`): the same hazards as a population Markov chain,
 advanced by binomial tau-leaping: in a step dt each of the n_i robots in state i leaves it
@@ -23,9 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy.integrate import solve_ivp
 
-from analysis.macroscopic.logs import LAUNCH
+from analysis.macroscopic.compiled import integrate
 from analysis.macroscopic.rates import RateModel
 
 __all__ = ["MIN_STEP", "STEP_FRACTION", "Band", "expected_counts", "simulate_counts"]
@@ -37,99 +36,12 @@ STEP_FRACTION = 0.05
 MIN_STEP = 1e-4
 
 
-def _flows(model: RateModel, t: float, n: np.ndarray) -> np.ndarray:
-    """dn/dt from the hazards at time t and counts n (launches aside)."""
-    index = {s: k for k, s in enumerate(model.states)}
-    counts = dict(zip(model.states, np.maximum(n, 0.0), strict=True))
-    covariates = model.covariates_at(t)
-    out = np.zeros_like(n)
-    for hazard in model.hazards:
-        i = index[hazard.source]
-        flow = float(hazard.rate(t, counts, covariates)) * max(n[i], 0.0)
-        out[i] -= flow
-        if hazard.target in index:
-            out[index[hazard.target]] += flow
-    return out
-
-
-def _mean_jumps(model: RateModel) -> pd.DataFrame:
-    """The launches of every fitted run, each worth 1 / runs robots."""
-    jumps = pd.concat(model.schedules, ignore_index=True)
-    return jumps.assign(amount=1.0 / len(model.schedules))
-
-
-def _stream_flow(model: RateModel, t: float) -> np.ndarray:
-    """Inflow/outflow of the constant-rate launch streams at time t ("rate" mode)."""
-    index = {s: k for k, s in enumerate(model.states)}
-    out = np.zeros(len(model.states))
-    for row in model.streams.itertuples():
-        if np.isfinite(row.rate) and row.first <= t < row.last:
-            out[index[row.target]] += row.rate
-            if row.source != LAUNCH:
-                out[index[row.source]] -= row.rate
-    return out
-
-
 def expected_counts(model: RateModel, times: np.ndarray) -> pd.DataFrame:
     """The mean-field expected counts at ``times`` (s, increasing from 0): ``time`` plus one
-    column per state.
+    column per state (compiled: :mod:`analysis.macroscopic.compiled`).
     """
     times = np.asarray(times, dtype=float)
-    index = {s: k for k, s in enumerate(model.states)}
-    if model.launches == "observed":
-        jumps = _mean_jumps(model)
-        rhs = _flows
-    else:  # constant-rate streams; a stream without spread in time is a jump at its time
-        single = model.streams[~np.isfinite(model.streams["rate"])]
-        jumps = pd.DataFrame(
-            {
-                "time": single["first"],
-                "source": single["source"],
-                "target": single["target"],
-                "amount": single["total"],
-            }
-        )
-
-        def rhs(m: RateModel, t: float, n: np.ndarray) -> np.ndarray:
-            return _flows(m, t, n) + _stream_flow(m, t)
-
-    breaks = np.unique(np.concatenate([jumps["time"].to_numpy(dtype=float), [times[-1]]]))
-    if model.launches == "rate":
-        edges = model.streams[["first", "last"]].to_numpy(dtype=float).ravel()
-        breaks = np.unique(np.concatenate([breaks, edges[np.isfinite(edges)]]))
-    breaks = breaks[(breaks > 0) & (breaks <= times[-1])]
-    n = np.zeros(len(model.states))
-    out = np.zeros((len(times), len(model.states)))
-
-    moves = np.zeros((len(jumps), len(model.states)))
-    moves[np.arange(len(jumps)), jumps["target"].map(index).to_numpy(dtype=int)] = 1.0
-    sources = jumps["source"].map(index)
-    moves[np.flatnonzero(sources.notna()), sources.dropna().to_numpy(dtype=int)] -= 1.0
-    moves *= jumps["amount"].to_numpy(dtype=float)[:, None]
-    at_time = pd.Series(np.arange(len(jumps))).groupby(jumps["time"].to_numpy()).agg(list)
-    launched = {float(t): moves[rows].sum(axis=0) for t, rows in at_time.items()}
-
-    def launch(at: float) -> None:
-        n[:] += launched.get(float(at), 0.0)
-
-    launch(0.0)
-    t0 = 0.0
-    for t1 in breaks:
-        inside = (times >= t0) & (times < t1)
-        solution = solve_ivp(
-            lambda t, y: rhs(model, t, y),
-            (t0, t1),
-            n,
-            method="LSODA",
-            t_eval=np.append(times[inside], t1),
-            rtol=1e-6,
-            atol=1e-9,
-        )
-        out[inside] = solution.y[:, :-1].T
-        n[:] = solution.y[:, -1]
-        launch(t1)
-        t0 = t1
-    out[times >= t0] = n
+    out = integrate(model.compiled, times, len(model.states))
     return pd.DataFrame(out, columns=list(model.states)).assign(time=times)[["time", *model.states]]
 
 

@@ -12,6 +12,8 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -20,6 +22,9 @@ from abm.errors import ConfigError
 from analysis.macroscopic.design import covariate_names, exposure_table
 from analysis.macroscopic.hazards import Hazard, candidate_families, fit_hazard, heldout_loglik
 from analysis.macroscopic.logs import LAUNCH, RunLog, transitions
+
+if TYPE_CHECKING:
+    from analysis.macroscopic.compiled import CompiledRates
 
 __all__ = ["LAUNCH_MODES", "RateModel", "Sources", "fit_rates", "select_family", "sources_of"]
 
@@ -58,6 +63,15 @@ class RateModel:
     covariate_times: np.ndarray
     covariate_paths: dict
     bin_width: float
+
+    @cached_property
+    def compiled(self) -> "CompiledRates":
+        """The hazards and sources as arrays for the compiled mean-field ODE
+        (:func:`analysis.macroscopic.compiled.compile_rates`), made once.
+        """
+        from analysis.macroscopic.compiled import compile_rates  # it imports this module
+
+        return compile_rates(self)
 
     def covariates_at(self, t: float | np.ndarray) -> dict:
         """The covariates' mean values at time(s) ``t`` (the last grid value at or before)."""
