@@ -293,7 +293,8 @@ def c12(runs, samples) -> Verdict | None:
         return (f"{runs['wave_order_violations'].mean():.1f} wave-order violations, "
                 f"{runs['robot_proximity_events'].mean():.1f} scout proximity events "
                 f"({runs['sibling_proximity_events'].mean():.1f} between siblings), "
-                f"{runs['robot_collisions'].mean():.1f} body contacts per run")  # fmt: skip
+                f"{runs['robot_collisions'].mean():.1f} robot_collisions per run (two per "
+                f"body contact)")  # fmt: skip
 
     def events(runs: pd.DataFrame) -> pd.Series:
         return runs["wave_order_violations"] + runs["robot_proximity_events"]
