@@ -161,3 +161,32 @@ def test_c8_no_increase_from_three_runs_per_arm_is_undecided():
              "scout_scan_area": 1.0, "queen_iterations": 11 + (w == 7) * 4 + offset}
             for w in (2, 7) for offset in (-5.0, 0.0, 5.0)]  # fmt: skip
     assert TESTS["C8"](pd.DataFrame(rows), None).holds is None
+
+
+@pytest.mark.parametrize(("together", "staggered", "holds"), [(0, 3, True), (3, 0, False)])
+def test_c12_judges_the_reports_transits_and_shows_staggered_ones_apart(together, staggered, holds):
+    rows = [
+        {"W": 2, "S": 4, "N": 11, "wave_generator": waves, "subtree_transits": transits,
+         "scout_scan_area": 1.0, "completion_time": 1000.0 + 500.0 * (transits == "staggered"),
+         "wave_order_violations": events, "robot_proximity_events": events,
+         "sibling_proximity_events": 0, "robot_collisions": 2 * events}
+        for waves, transits, events in ((True, "together", together), (False, "together", 5),
+                                        (True, "staggered", staggered))
+        for _ in range(4)
+    ]  # fmt: skip
+    verdict = TESTS["C12"](pd.DataFrame(rows), None)
+    assert verdict.holds is holds and verdict.runs == 4
+    assert f"staggered by the queen (ours, not judged; 4 runs): {staggered:.1f} wave-order" in (
+        verdict.ours
+    )
+    assert "completion 1,500 s against 1,000 s" in verdict.ours
+
+
+def test_the_other_claims_leave_out_staggered_runs():
+    rows = [{"W": w, "S": 4, "N": 1 + w + 4 * w, "topology": "hst", "wave_generator": True,
+             "subtree_transits": transits, "scout_scan_area": 1.0,
+             "queen_iterations": 11 + (w == 7) * 30 * (transits == "staggered") + offset}
+            for w in (2, 7) for offset in (-0.5, 0.0, 0.5) for _ in range(4)
+            for transits in ("together", "staggered")]  # fmt: skip
+    verdict = TESTS["C8"](pd.DataFrame(rows), None)
+    assert verdict.holds is True and verdict.runs == 24

@@ -17,6 +17,9 @@ refuses anything but a parent/child link. Nothing a member keeps names the swarm
   with children) and SCAN, merge the reports as they arrive, and re-plan when every placed child
   has finished. A worker reports its bubble upward (MAP_REPORT + SCAN_COMPLETE); the queen's
   COMPLETE (or CANNOT_COMPLETE) ends the run.
+- With ``subtree_transits="staggered"`` (ours) the queen sends her placed workers one subtree
+  at a time (:meth:`Queen.stagger`): MOVE, SCAN, then she waits for the worker's SETTLED (its
+  scouts have driven into the new bubble) before the next worker gets its order.
 
 Failures (the report's "Node Failure Detection", Future Work): a member whose body failed does
 nothing more. Its parent's and children's heartbeat watchdogs notice after
@@ -52,6 +55,7 @@ from models.hierarchy.protocol import (
     RequestInfoMsg,
     ScanCompleteMsg,
     ScanMsg,
+    SettledMsg,
     rle_bytes,
 )
 
@@ -368,7 +372,9 @@ class Director(Member):
         moves = {k: plan.paths[k] for k in placed if len(plan.paths[k]) > 1}
         for k in self._alive(placed):
             self._map_down(k, plan, m)
-        if combine:
+        if self.staggers():
+            yield from self.stagger(moves, placed, plan.radius)
+        elif combine:
             yield from self.dispatch(moves, AssignMsg, r=plan.radius)
             for k in self._alive(placed):
                 if k not in moves:
@@ -377,10 +383,65 @@ class Director(Member):
             yield from self.dispatch(moves, MoveMsg)
             for k in self._alive(placed):
                 self.send(k, ScanMsg(plan.radius))
+        self.settled()
         placed = self._alive(placed)
         for k in placed:
             self.bubble[k] = Bubble(*plan.centres[k], plan.radius)
         yield from self.collect(m, plan, placed)
+
+    def staggers(self) -> bool:
+        """Whether it sends its placed children in one subtree at a time (only the queen, with
+        ``subtree_transits="staggered"``).
+        """
+        return False
+
+    def stagger(self, moves: dict[int, np.ndarray], placed: list[int], r: float):
+        """Send the placed children into their new bubbles one subtree at a time (ours, issue
+        30): in wave order (the children that do not move last), each gets its MOVE, then its
+        SCAN (or one ASSIGN), and the next is sent only when this one's subtree has settled:
+        SETTLED from a child with children, ARRIVED from a child without.
+        """
+        p = self.model.params
+        h = p.cell_size
+        wave_list = waves(moves, h) if p.wave_generator else [sorted(moves)]
+        order = [k for wave in wave_list for k in wave]
+        self.wave_order_violations += wave_order_violations([[k] for k in order], moves, h)
+        order += [k for k in placed if k not in moves]
+        for k in order:
+            if k not in self.links:
+                continue
+            if k in moves:
+                self.where[k] = np.asarray(moves[k][-1], dtype=float)
+            if k in moves and p.combine_move_scan:
+                self.send(k, AssignMsg(moves[k], r))
+            else:
+                if k in moves:
+                    self.send(k, MoveMsg(moves[k]))
+                    yield from self._await(k, ArrivedMsg)
+                if k in self.links:
+                    self.send(k, ScanMsg(r))
+            if k not in self.links:
+                continue
+            if self.model.has_children(self.links[k]):
+                yield from self._await(k, SettledMsg)
+            elif k in moves and p.combine_move_scan:
+                yield from self._await(k, ArrivedMsg)
+
+    def _await(self, k: int, kind: type):
+        """Wait for a ``kind`` message from child ``k`` (or for ``k``'s loss); what else
+        arrives meanwhile is kept for :meth:`collect`, except ``k``'s own ARRIVED.
+        """
+        while k in self.links:
+            j, msg = yield self.inbox.get()
+            if self._membership(j, msg):
+                continue
+            if j == k and isinstance(msg, kind):
+                return
+            if not (j == k and isinstance(msg, ArrivedMsg)):
+                self.early.append((j, msg))
+
+    def settled(self) -> None:
+        """Its children's moves of this round are done (a worker tells a staggering queen)."""
 
     def _map_down(self, k: int, plan: Plan, m: ProbMap) -> None:
         """MAP_DOWN to a child with children: known cells over its previous and new bubble."""
@@ -479,6 +540,10 @@ class Queen(Director):
     def set_state(self, state: str) -> None:
         """The queen has no body: nothing to show."""
 
+    def staggers(self) -> bool:
+        """She sends her workers' subtrees one at a time with ``subtree_transits="staggered"``."""
+        return self.model.params.subtree_transits == "staggered"
+
     def life(self):
         """The operator's START, start-up (bottom-up radius discovery), then one assignment:
         the whole world ("Queen / Worker"); its status ends the run.
@@ -514,6 +579,8 @@ class Worker(Director, TreeRobot):
         self.r_min, self.r_max = r_min, r_max
         self.retained: MapWindow | None = None
         self.map_down: MapWindow | None = None
+        #: Whether the staggering queen still waits for this bubble's SETTLED.
+        self.unsettled = False
 
     def occupied(self) -> list[tuple[float, float]]:
         """Its own place (m): its scouts must not be sent there."""
@@ -522,6 +589,12 @@ class Worker(Director, TreeRobot):
     def keep(self, m: ProbMap) -> None:
         """Retain the bubble's map for the next bubbles (README "Choices": two regions)."""
         self.retained = m.window(m.bounds)
+
+    def settled(self) -> None:
+        """SETTLED to a staggering queen, once per bubble: its scouts' first moves are done."""
+        if self.unsettled:
+            self.unsettled = False
+            self.send(0, SettledMsg())
 
     def life(self):
         """Start-up (REQUEST_INFO: learn the scouts' limits, then INFO upward), then the
@@ -551,7 +624,9 @@ class Worker(Director, TreeRobot):
         cover = [w.box for w in (self.map_down, self.retained) if w is not None]
         cover.append(self._children_box())
         known = (self.retained, self.map_down)
+        self.unsettled = self.model.params.subtree_transits == "staggered"
         yield from self.assignment(Bubble(float(x), float(y), r), cover, known)
+        self.settled()  # no round ran: nothing moved, the next subtree may go
         points = np.array(
             self.map.points if self.model.params.worker_report == "batch" else [],
             dtype=float,

@@ -24,6 +24,8 @@ MODEL_PARAMS = {
     "world_size": param_slider(P, "world_size", "room side (m)", 10.0, 1.0),
     "boxes": param_slider(P, "boxes", "box obstacles", 4),
     "wave_generator": {"type": "Checkbox", "label": "wave generator", "value": True},
+    "subtree_transits": {"type": "Select", "label": "subtree transits", "value": "together",
+                         "values": ["together", "staggered"]},
     "seed": seed_slider(),
 }  # fmt: skip
 

@@ -38,7 +38,7 @@ from models.hierarchy.flat import FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
 from models.hierarchy.planning import padded_cells
 from models.hierarchy.probmap import ProbMap, Rect
-from models.hierarchy.protocol import KINDS, StartMsg
+from models.hierarchy.protocol import KINDS, SettledMsg, StartMsg
 from models.hierarchy.units import SUMMARY_UNITS
 from models.hierarchy.world import build_world, start_layout
 
@@ -399,6 +399,8 @@ class HierarchyModel(SwarmModel):
         counts = log["kind"].value_counts()
         for kind in KINDS:
             out[f"msg_{kind}"] = int(counts.get(kind, 0))
+        if p.subtree_transits == "staggered":  # a column of the staggered arm only
+            out[f"msg_{SettledMsg.KIND}"] = int(counts.get(SettledMsg.KIND, 0))
         return out
 
     def known_free_fraction(self) -> float:

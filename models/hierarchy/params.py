@@ -65,6 +65,13 @@ class HierarchyParams(SwarmParams):
             reading of H2, "as many bubbles as possible"; False: the literal pseudo-code).
         wave_generator: stagger children whose padded paths cross into waves (Fig. 33 [R]);
             False sends every move at once (the counterfactual of claim C12).
+        subtree_transits: how the queen sends her placed workers' subtrees into their new
+            bubbles: "together" (every worker gets its MOVE by waves, then its SCAN, and each
+            moves its scouts in at once: the report's, "Queen / Worker") or "staggered" (one
+            subtree at a time: worker k drives, gets its SCAN, moves its scouts into the new
+            bubble and answers SETTLED before worker k + 1 gets its order; ours, issue 30,
+            for claim C12's contacts between scouts of different workers). "staggered" needs
+            ``topology="hst"`` (other topologies have no subtrees).
         speed: driving speed (m/s; 0.3048, the 1 ft/s design target [R]).
         scan_time: duration of one stationary sensor sweep (s; ours, the report gives none).
         scan_step: angle between two IR rays of a sweep (degrees; ours: 1, README "Choices": scan).
@@ -128,6 +135,7 @@ class HierarchyParams(SwarmParams):
     reset_radius_after_removal: bool = False
     drop_unreachable_first: bool = True
     wave_generator: bool = True
+    subtree_transits: str = param("together", choices=("together", "staggered"))
     speed: float = param(0.3048, low=0.0, high=1.0, low_open=True)
     scan_time: float = param(2.0, low=0.0)
     scan_step: float = param(1.0, low=0.05, high=30.0)
@@ -181,6 +189,11 @@ class HierarchyParams(SwarmParams):
             raise ConfigError(
                 f"topology={self.topology!r} is modelled with reliable zero-latency delivery "
                 "(replicas stay identical); set latency=0 and message_loss=0"
+            )
+        if self.subtree_transits == "staggered" and self.topology != "hst":
+            raise ConfigError(
+                "subtree_transits='staggered' needs topology='hst' (the other topologies have "
+                f"no subtrees to stagger), got topology={self.topology!r}"
             )
         if "robot" in self.fault_kinds:
             if self.topology != "hst":

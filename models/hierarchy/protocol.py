@@ -34,6 +34,7 @@ __all__ = [
     "RequestInfoMsg",
     "ScanCompleteMsg",
     "ScanMsg",
+    "SettledMsg",
     "StartMsg",
     "rle_bytes",
 ]
@@ -122,6 +123,16 @@ class ArrivedMsg(Message):
     """M4, child -> parent: the last waypoint is reached."""
 
     KIND: ClassVar[str] = "ARRIVED"
+
+
+@dataclass(frozen=True)
+class SettledMsg(Message):
+    """Worker -> queen, only with ``subtree_transits="staggered"`` (ours, not the report's):
+    every scout the worker placed (or moved out of the way) in its bubble's first round has
+    arrived, so the next subtree may move.
+    """
+
+    KIND: ClassVar[str] = "SETTLED"
 
 
 @dataclass(frozen=True)
@@ -261,7 +272,8 @@ class StartMsg(Message):
         return HEADER + 4 * WORD
 
 
-#: Every message kind, in catalogue order.
+#: Every message kind, in catalogue order (SETTLED, sent only when transits are staggered, is
+#: counted apart so that the summary of the report's set-up keeps its columns).
 KINDS = tuple(
     m.KIND
     for m in (
