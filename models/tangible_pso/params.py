@@ -34,7 +34,17 @@ class TangiblePSOParams(SwarmParams):
             and at the end (0, 1, 2 in Table 1), Sects. 3, 7.1.
         motion_planning: True: visibility-graph paths around the no-fly zones with goal
             swapping (tangible PSO); False: straight moves stopped at a zone's border (Table
-            1's baseline), Sect. 7.1.
+            1's baseline), Sect. 7.1. With ``method="state_space"`` it only decides how the
+            solution is flown (``deploy``).
+        method: "tangible": every particle is a virtual swarm that flies each transition
+            (Sect. 5, the paper's method); "state_space": the "standard state-space search"
+            of Figs. 10-11 (Sect. 7.1), the same PSO whose particles jump to their (shifted)
+            proposals without flying, so it "optimizes only the cost function (1)" and "the
+            existence of feasible trajectories to reach this position is not checked"; the
+            final distribution must still keep the constraints (a proposal that breaks them
+            costs infinity: ours, the paper's Fig. 10 breaks them only on the way). With
+            ``deploy`` its best distribution is flown from the best particle's start in one
+            leg by the same planner and feasibility check as tangible PSO's deployment.
         particles: PSO particles, each a virtual swarm (40 in Table 1 and Fig. 9).
         iterations: t_max, PSO iterations (70 in Table 1, 20 in Fig. 9).
         c1: weight of a particle's own best, eq. 3 (2.5, Sect. 7).
@@ -96,6 +106,7 @@ class TangiblePSOParams(SwarmParams):
     n_mavs: int = param(3, low=1, high=50, integer=True, shown=(1, 8))
     neighbours: int = param(1, low=0, integer=True, shown=(0, 5))
     motion_planning: bool = param(True)
+    method: str = param("tangible", choices=("tangible", "state_space"))
     particles: int = param(40, low=1, high=2000, integer=True, shown=(2, 80))
     iterations: int = param(70, low=1, high=10000, integer=True, shown=(10, 150))
     c1: float = param(2.5, low=0.0)
