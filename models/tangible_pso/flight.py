@@ -42,9 +42,13 @@ class OpenLoop:
     unlocalised_time: float
 
 
-def _states(points: np.ndarray, count: np.ndarray, reach: np.ndarray | None, step: float):
+def _states(
+    start: np.ndarray, points: np.ndarray, count: np.ndarray, reach: np.ndarray | None, step: float
+):
     """Every MAV's position at every tick of one transition, ``(S, m, 3)``, and the length
-    the longest path moves per tick (m; at most ``step``, 0 when nothing moves).
+    the longest path moves per tick (m; at most ``step``, 0 when nothing moves). An MAV
+    whose path has no length stays at its start, as in the feasibility check (a path
+    with no planar length holds the goal's altitude only).
     """
     m = len(points)
     cum = np.zeros((m, points.shape[1]))
@@ -63,15 +67,15 @@ def _states(points: np.ndarray, count: np.ndarray, reach: np.ndarray | None, ste
     for i in range(m):
         c = max(int(count[i]), 1)
         for d in range(3):
-            if c == 1:
-                out[:, i, d] = points[i, 0, d]
+            if total[i] <= 0.0:
+                out[:, i, d] = start[i, d]
             else:
                 out[:, i, d] = np.interp(arc[:, i], cum[i, :c], points[i, :c, d])
     return out, (longest / steps if steps else 0.0)
 
 
 def fly_open_loop(
-    legs: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray | None]],
+    legs: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]],
     zones: Sequence[np.ndarray],
     k: int,
     d_min: float,
@@ -82,8 +86,9 @@ def fly_open_loop(
     """Fly every transition of a plan to its end and count the ticks that break a constraint.
 
     Args:
-        legs: per transition, each MAV's path waypoints ``(m, w, 3)`` (m), the waypoints in use
-            ``(m,)`` and how far each MAV flies along its path ``(m,)`` (m; None: to its end).
+        legs: per transition, where each MAV starts ``(m, 3)`` (m), its path waypoints
+            ``(m, w, 3)`` (m), the waypoints in use ``(m,)`` and how far it flies along its
+            path ``(m,)`` (m; None: to its end).
         zones: the no-fly zones grown by the MAV radius.
         k: required localised neighbours.
         d_min: minimum distance between MAVs (m).
@@ -94,8 +99,8 @@ def fly_open_loop(
     """
     ticks = unlocalised = collided = 0
     unlocalised_time = 0.0
-    for points, count, reach in legs:
-        states, per_tick = _states(points, count, reach, speed * dt)
+    for start, points, count, reach in legs:
+        states, per_tick = _states(start, points, count, reach, speed * dt)
         n = states.shape[1]
         d = np.linalg.norm(states[:, :, None] - states[:, None], axis=-1)
         off = ~np.eye(n, dtype=bool)

@@ -489,9 +489,11 @@ class TangiblePSOModel(SwarmModel):
         off = np.linalg.norm(self.deployed[alive] - planned_end[alive], axis=-1)
         reached = bool((off <= REACHED).all())
         duration = d["ended"] - d["began"]
+        starts = [self.history[0][self.g], *(leg[0] for leg in plan)][: len(plan)]
         loop = fly_open_loop(
-            [leg[1:] for leg in plan], self.zones, p.neighbours, p.d_min, p.loc_range, p.speed, p.dt
-        )
+            [(start, *leg[1:]) for start, leg in zip(starts, plan, strict=True)],
+            self.zones, p.neighbours, p.d_min, p.loc_range, p.speed, p.dt,
+        )  # fmt: skip
         return {
             "mavs_failed": int((~alive).sum()),
             "failure_transition": d["failed_at"][0] if d["failed_at"] else np.nan,
