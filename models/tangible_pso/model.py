@@ -40,6 +40,7 @@ from abm.styles import Layer, StateStyle
 from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso import published
 from models.tangible_pso.agents import MAV, VirtualMAV
+from models.tangible_pso.controller import follow_tracked, settle_ticks
 from models.tangible_pso.cost import CoverageCost
 from models.tangible_pso.deployment import Leg, checked_leg, replanned_leg
 from models.tangible_pso.feasibility import OUTCOMES, follow, localised
@@ -137,6 +138,8 @@ class TangiblePSOModel(SwarmModel):
         self._moved: list[np.ndarray] = []  # (P,) per iteration: the longest MAV move (m)
         self.proposals_in_zone = 0
         self.conflicts = self.resolved = 0
+        #: The largest distance of an MAV from its reference path (m; the follower's).
+        self.tracking_error = 0.0
         self._sample()
         self.deployment: dict = {}
         #: The real swarm's flight of the plan (a SimPy process), once it deploys.
@@ -225,11 +228,16 @@ class TangiblePSOModel(SwarmModel):
                 plans = plan_paths(self.planner, self.x, goal, p.d_min)
                 self.conflicts += plans.conflicts
                 self.resolved += plans.resolved
-                realised, outcome, travelled = follow(
-                    self.x, plans.points, plans.count, self._zone_arr, self._zone_len,
-                    p.neighbours, p.d_min, p.loc_range, p.speed * p.dt, p.stop_rule == "swarm",
-                )  # fmt: skip
-                yield self.env.timeout(float(travelled.max(initial=0.0)) / p.speed)
+                if p.controller == "second_order":
+                    realised, outcome, travelled, flown = self._follow_tracked(plans)
+                    yield self.env.timeout(flown)
+                else:
+                    realised, outcome, travelled = follow(
+                        self.x, plans.points, plans.count, self._zone_arr, self._zone_len,
+                        p.neighbours, p.d_min, p.loc_range, p.speed * p.dt,
+                        p.stop_rule == "swarm",
+                    )  # fmt: skip
+                    yield self.env.timeout(float(travelled.max(initial=0.0)) / p.speed)
                 self._zone_blocked.append((outcome == 2).any(axis=-1))
                 self.plans.append((plans.points, plans.count, travelled))
             u = (realised - self.x).reshape(n_p, -1)  # eq. 6
@@ -243,6 +251,30 @@ class TangiblePSOModel(SwarmModel):
             self.history.append(realised.copy())
             self._show(outcome)
             self._sample()
+
+    def _follow_tracked(self, plans):
+        """Step 4 with the second-order follower (:mod:`models.tangible_pso.controller`): the
+        realised positions, outcomes and reference lengths followed, and the transition's
+        flight time (s); the largest tracking error is kept for the summary.
+        """
+        p = self.params
+        lengths = np.linalg.norm(np.diff(plans.points, axis=2), axis=-1).sum(axis=-1)
+        step = p.speed * p.dt
+        settle = settle_ticks(p.ctrl_omega, p.ctrl_zeta, p.dt)
+        ticks = int(np.ceil(lengths.max(initial=0.0) / step)) + settle
+        shape = (*lengths.shape, max(ticks, 1), 3)
+        kicks = (
+            self.rng.normal(0.0, p.ctrl_noise * np.sqrt(p.dt), shape)
+            if p.ctrl_noise > 0
+            else np.zeros(shape)
+        )
+        realised, outcome, travelled, flown, worst = follow_tracked(
+            self.x, plans.points, plans.count, self._zone_arr, self._zone_len, p.neighbours,
+            p.d_min, p.loc_range, step, p.stop_rule == "swarm", p.ctrl_omega**2,
+            2 * p.ctrl_zeta * p.ctrl_omega, p.dt, settle, kicks,
+        )  # fmt: skip
+        self.tracking_error = max(self.tracking_error, float(worst.max(initial=0.0)))
+        return realised, outcome, travelled, float(flown.max(initial=0)) * p.dt
 
     # ------------------------------------------------------------------ the deployment
     def plan(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]]:
@@ -463,6 +495,8 @@ class TangiblePSOModel(SwarmModel):
             "best_feasible": bool(localised(self.best, p.neighbours, p.d_min, p.loc_range)),
             **self._deployment_metrics(),
         }  # fmt: skip
+        if p.controller == "second_order":
+            out["tracking_error_max"] = self.tracking_error
         if p.method == "state_space":
             out = {"method": p.method, **out}
             for key in FLIGHT_READINGS:

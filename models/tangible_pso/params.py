@@ -94,6 +94,19 @@ class TangiblePSOParams(SwarmParams):
         frozen_move: a particle "moved" in an iteration when one of its MAVs moved more than this
             (m; ours: 1 cm), for the alternative deadlock reading ``frozen`` (README "What we had to
             choose": deadlock run).
+        controller: "exact": the MAVs track their paths exactly (point masses, ours);
+            "second_order": each MAV follows its path with a second-order controller with
+            tracking error (Sect. 6, Fig. 12's overshoot; ours, the paper's controller and
+            gains are not published), in the feasibility check of the optimisation, so an MAV that
+            overshoots a corner into a no-fly zone is a collision with motion planning too
+            (:mod:`models.tangible_pso.controller`). Not with ``deploy`` or
+            ``method="state_space"`` (not built there).
+        ctrl_omega: omega, the follower's natural frequency (rad/s; ours). Only with
+            controller="second_order"; omega * dt at most 0.5 (the integration's stability).
+        ctrl_zeta: zeta, the follower's damping ratio (ours: 0.5, an overshoot as in Fig. 12).
+            Only with controller="second_order".
+        ctrl_noise: sigma, the intensity of the white acceleration noise on the follower
+            (m s^-1.5; ours: 0). Only with controller="second_order".
         deploy: after the optimisation the real swarm (n_r more robots) flies the best
             particle's realised transitions to b_g (Sects. 5-6; ours: the paper plans the
             deployment but does not fly it in simulation). Needed for MAV failures
@@ -130,6 +143,10 @@ class TangiblePSOParams(SwarmParams):
     deadlock_window: int = param(10, low=1, integer=True)
     deadlock_share: float = param(0.5, low=0.0, high=1.0, low_open=True)
     frozen_move: float = param(0.01, low=0.0)
+    controller: str = param("exact", choices=("exact", "second_order"))
+    ctrl_omega: float = param(2.0, low=0.0, low_open=True)
+    ctrl_zeta: float = param(0.5, low=0.0, low_open=True)
+    ctrl_noise: float = param(0.0, low=0.0)
     deploy: bool = param(False)
     time_limit: float = param(1.0e6, low=0.0, low_open=True)
     step_duration: float = param(10.0, low=0.0, low_open=True)
@@ -165,7 +182,33 @@ class TangiblePSOParams(SwarmParams):
                 "deploy=True (and leave fault_states empty or ('deploying',)), got "
                 f"deploy={self.deploy}, fault_states={self.fault_states!r}"
             )
+        self._check_controller()
         if self.w_end > self.w_start:
             raise ConfigError(
                 f"w_end must be <= w_start = {self.w_start:g} (eq. 5 decreases), got {self.w_end:g}"
+            )
+
+    def _check_controller(self) -> None:
+        """The follower's settings act only with it, and it only where it is built."""
+        defaults = {"ctrl_omega": 2.0, "ctrl_zeta": 0.5, "ctrl_noise": 0.0}
+        if self.controller == "exact":
+            changed = [
+                f"{k}={getattr(self, k):g}" for k, v in defaults.items() if getattr(self, k) != v
+            ]
+            if changed:
+                raise ConfigError(
+                    f"{', '.join(changed)} only act with controller='second_order', got "
+                    "controller='exact'"
+                )
+            return
+        if self.deploy or self.method != "tangible":
+            raise ConfigError(
+                "controller='second_order' acts in tangible PSO's feasibility check only: set "
+                f"method='tangible' and deploy=False, got method={self.method!r}, "
+                f"deploy={self.deploy}"
+            )
+        if self.ctrl_omega * self.dt > 0.5:
+            raise ConfigError(
+                f"ctrl_omega * dt must be <= 0.5 for a stable integration, got "
+                f"{self.ctrl_omega:g} rad/s * {self.dt:g} s = {self.ctrl_omega * self.dt:g}"
             )
