@@ -62,8 +62,9 @@ def _verdict(parts: dict[str, Verdict], rule: str, note: str, runs: int) -> Verd
 #: Why collisions and deadlocks with motion planning are not evidence: the planner routes
 #: every MAV around the no-fly zones, so none is stopped at one, which is what both count.
 BY_PLANNING = (
-    "collisions and deadlocks with motion planning are 0 by construction (both count an MAV "
-    "stopped at a no-fly zone, which the planner routes around): not judged"
+    "collisions and deadlocks with motion planning are 0 by construction with the exact "
+    "follower (controller 'exact', the default: both count an MAV stopped at a no-fly zone, "
+    "which the planner routes around): not judged"
 )
 
 
