@@ -85,8 +85,8 @@ def test_noise_draws_from_the_model_generator_and_the_same_seed_repeats():
     ("kw", "match"),
     [
         ({"controller": "pid"}, r"controller.*'exact'.*'second_order'"),
-        ({"ctrl_omega": 3.0}, r"ctrl_omega=3 only act with controller='second_order'"),
-        ({"ctrl_noise": 0.2}, r"ctrl_noise=0.2 only act with controller='second_order'"),
+        ({"ctrl_omega": 3.0}, r"ctrl_omega=3 acts only with controller='second_order'"),
+        ({"ctrl_noise": 0.2}, r"ctrl_noise=0.2 acts only with controller='second_order'"),
         ({"controller": "second_order", "deploy": True}, r"feasibility check only.*deploy=True"),
         ({"controller": "second_order", "method": "state_space"}, r"method='state_space'"),
         ({"controller": "second_order", "ctrl_omega": 20.0}, r"ctrl_omega \* dt must be <= 0.5"),

@@ -197,8 +197,8 @@ class TangiblePSOParams(SwarmParams):
             ]
             if changed:
                 raise ConfigError(
-                    f"{', '.join(changed)} only act with controller='second_order', got "
-                    "controller='exact'"
+                    f"{', '.join(changed)} {'acts' if len(changed) == 1 else 'act'} only with "
+                    "controller='second_order', got controller='exact'"
                 )
             return
         if self.deploy or self.method != "tangible":
