@@ -5,12 +5,14 @@ would not act.
 """
 
 import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
 from models.tangible_pso import TangiblePSOModel
+from models.tangible_pso.claims import TESTS
 from models.tangible_pso.controller import settle_ticks, track
 
 DT = 0.05
@@ -98,3 +100,13 @@ def test_bad_controller_settings_are_refused_in_one_line(kw, match):
     with pytest.raises(ConfigError, match=match) as info:
         TangiblePSOModel(**kw)
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(("stuck", "holds"), [(0, True), (10, False)])
+def test_c3b_judges_deadlocks_with_the_follower_against_the_papers_zero(stuck, holds):
+    rows = pd.DataFrame(
+        [{"motion_planning": True, "neighbours": k, "deadlock": i < stuck}
+         for k in (0, 1, 2) for i in range(20)]
+    )  # fmt: skip
+    verdict = TESTS["C3b"](rows, None)
+    assert verdict.holds is holds and verdict.runs == 60

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from abm.published import Verdict
-from abm.verdicts import difference, interval, pooled_share, rank_order
+from abm.verdicts import band, difference, interval, pooled_share, rank_order
 
 __all__ = ["BASELINE", "BY_CHECK", "BY_PLANNING", "TABLE1", "TESTS", "c4"]
 
@@ -121,6 +121,23 @@ def c3(runs, samples) -> Verdict | None:
         bool(all(v == 0 for v in values.values())),
         "deadlock runs with motion planning",
     )
+
+
+def c3b(runs, samples) -> Verdict | None:
+    """Deadlocks with motion planning under the second-order follower, where they can happen:
+    at every k the paper's 0 % must lie in our Wilson 95 % interval of the share of deadlock
+    runs (the level rule without a published spread).
+    """
+    if not {"motion_planning", "neighbours", "deadlock"} <= set(runs):
+        return None
+    rows = runs[(runs["motion_planning"] == True) & runs["deadlock"].notna()]  # noqa: E712
+    if rows.empty:
+        return None
+    parts = {
+        f"deadlocks at k={k}": band(at["deadlock"].astype(float), 0.0, share=True, scale=100.0)
+        for k, at in rows.groupby("neighbours")
+    }
+    return _verdict(parts, next(iter(parts.values())).rule, "", len(rows))
 
 
 def c4(runs, samples, paper: float) -> Verdict | None:
@@ -270,4 +287,6 @@ def c6b(runs, samples) -> Verdict | None:
 
 
 #: Claim id -> its test (C4's needs the paper's share: published.py binds it).
-TESTS: dict[str, Callable] = {"C1": c1, "C1b": c1b, "C3": c3, "C5": c5, "C6": c6, "C6b": c6b}
+TESTS: dict[str, Callable] = {
+    "C1": c1, "C1b": c1b, "C3": c3, "C3b": c3b, "C5": c5, "C6": c6, "C6b": c6b,
+}  # fmt: skip
