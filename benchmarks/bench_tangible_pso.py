@@ -6,6 +6,7 @@ Usage:
     python benchmarks/bench_tangible_pso.py                      # timing + Table 1 + report
     python benchmarks/bench_tangible_pso.py --replications 20    # a quick look
     python benchmarks/bench_tangible_pso.py --fig9 --sensitivity # also Fig. 9 and the readings
+    python benchmarks/bench_tangible_pso.py --fig10 --controller # Figs. 10-11, the follower
     python benchmarks/bench_tangible_pso.py --timing-only
 
 The sweeps go through the common sweep runner (resumable: runs already stored are skipped, so
@@ -125,6 +126,40 @@ def print_fig9(runs: pd.DataFrame) -> None:
         )
 
 
+def print_fig10(runs: pd.DataFrame) -> None:
+    """Figs. 10-11: each method's solution flown (claims C6, C6b), means per method."""
+    runs = runs[runs["status"] == "ok"]
+    print("\nFigs. 10-11 (3 MAVs, k = 1, 40 x 70), each solution flown by the same planner:")
+    for method, rows in runs.groupby("method"):
+        reached = rows["reach_time"].dropna()
+        time_text = (
+            f"{reached.median():.0f} s (median of {len(reached)})" if len(reached) else "never"
+        )
+        print(
+            f"  {method:11s} {len(rows)} runs: planned cost {rows['best_cost_ratio'].mean():.3f} "
+            f"of nothing seen; unchecked plan loses a neighbour {_pct(rows['plan_unlocalised'])} "
+            f"({rows['plan_unlocalised_time'].mean():.1f} s), MAVs within d_min "
+            f"{_pct(rows['plan_collision'])}; checked deployment stops short "
+            f"{_pct(rows['deploy_deadlock'])}, ends at {rows['deployed_cost_ratio'].mean():.3f}; "
+            f"reaches the formation in {time_text}"
+        )
+
+
+def print_controller(runs: pd.DataFrame) -> None:
+    """Table 1 with motion planning under the second-order follower, per omega and noise."""
+    runs = runs[runs["status"] == "ok"]
+    print("\nTable 1 with motion planning, second-order follower (zeta 0.5):")
+    keys = ["ctrl_omega", "ctrl_noise", "neighbours"]
+    for (omega, noise, k), rows in runs.groupby(keys):
+        paper = 100 * TABLE1[int(k), True][0]
+        print(
+            f"  omega {omega:g} rad/s, noise {noise:g}, k = {k}: collisions "
+            f"{_pct(rows['collision'])} (paper {paper:.1f} %), deadlocks "
+            f"{_pct(rows['deadlock'])}, cost {rows['best_cost_ratio'].mean():.3f} of the start's, "
+            f"largest tracking error {rows['tracking_error_max'].max():.2f} m"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("out/tangible_pso"))
@@ -134,6 +169,8 @@ def main() -> None:
     parser.add_argument("--timing-only", action="store_true")
     parser.add_argument("--fig9", action="store_true", help="also Fig. 9's sweep")
     parser.add_argument("--sensitivity", action="store_true", help="also the readings' sweep")
+    parser.add_argument("--fig10", action="store_true", help="also Figs. 10-11's sweep")
+    parser.add_argument("--controller", action="store_true", help="also the follower's sweep")
     args = parser.parse_args()
     print(_load())
     time_runs(args.repeats)
@@ -142,6 +179,8 @@ def main() -> None:
     names = ["tangible_pso_table1"]
     names += ["tangible_pso_fig9"] if args.fig9 else []
     names += ["sensitivity_tangible_pso_table1"] if args.sensitivity else []
+    names += ["tangible_pso_fig10"] if args.fig10 else []
+    names += ["sensitivity_tangible_pso_controller"] if args.controller else []
     folders = {}
     with process_pool(args.workers or os.cpu_count()) as pool:
         for name in names:
@@ -155,15 +194,22 @@ def main() -> None:
                 print_table1(runs)
             elif name == "tangible_pso_fig9":
                 print_fig9(runs)
+            elif name == "tangible_pso_fig10":
+                print_fig10(runs)
+            elif name == "sensitivity_tangible_pso_controller":
+                print_controller(runs)
             else:
                 for point, rows in runs.groupby(["initial_velocity", "initial_speed", "stop_rule"],
                                                 dropna=False):  # fmt: skip
                     print(f"\nreading {point}:")
                     print_table1(rows)
     print(_load())
-    report = write_report([folders[n] for n in names if not n.startswith("sensitivity")],
-                          args.out / "report.html")  # fmt: skip
+    table = [n for n in names if n in ("tangible_pso_table1", "tangible_pso_fig9")]
+    report = write_report([folders[n] for n in table], args.out / "report.html")
     print(f"wrote {report}")
+    if args.fig10:  # the two methods apart from Table 1's runs
+        report = write_report([folders["tangible_pso_fig10"]], args.out / "report_fig10.html")
+        print(f"wrote {report}")
 
 
 if __name__ == "__main__":

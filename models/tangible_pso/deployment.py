@@ -24,7 +24,7 @@ from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso.feasibility import follow
 from models.tangible_pso.transition import plan_paths
 
-__all__ = ["Leg", "replanned_leg"]
+__all__ = ["Leg", "checked_leg", "replanned_leg"]
 
 
 @dataclass(frozen=True)
@@ -83,11 +83,32 @@ def replanned_leg(
     optimisation and followed under the feasibility check with ``k`` required neighbours.
     """
     plans = plan_paths(planner, start[None], goal[None], d_min)
+    return checked_leg(
+        start, plans.points[0], plans.count[0], zones, k, d_min, loc_range, speed, dt, swarm_rule
+    )
+
+
+def checked_leg(
+    start: np.ndarray,
+    points: np.ndarray,
+    count: np.ndarray,
+    zones: tuple[np.ndarray, np.ndarray],
+    k: int,
+    d_min: float,
+    loc_range: float,
+    speed: float,
+    dt: float,
+    swarm_rule: bool,
+) -> Leg:
+    """The leg along planned paths ``points`` (``(m, w, 3)``, ``count`` waypoints each) from
+    ``start`` (``(m, 3)``), followed under the feasibility check with ``k`` required
+    neighbours: each MAV stops where a constraint would break.
+    """
     end, _outcome, travelled = follow(
-        start[None], plans.points, plans.count, zones[0], zones[1], k, d_min, loc_range,
+        start[None], points[None], count[None], zones[0], zones[1], k, d_min, loc_range,
         speed * dt, swarm_rule,
     )  # fmt: skip
-    return Leg(start, plans.points[0], plans.count[0], travelled[0], end[0], speed)
+    return Leg(start, points, count, travelled[0], end[0], speed)
 
 
 def _length(points: np.ndarray) -> float:

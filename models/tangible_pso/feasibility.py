@@ -160,6 +160,48 @@ def _safe_steps(cur, moving, per_step, zones, zone_len, d_min, loc_range):
 
 
 @numba.njit(cache=True)
+def _stop(cur, cand, moving, outcome, bad, k, d_min, loc_range, swarm_rule):
+    """Where the next state ``cand`` of one swarm breaks a constraint, stop MAVs by the stop
+    rule (in place: ``cand`` rows back to ``cur``, ``moving`` off, ``outcome`` 1). True when
+    the whole swarm stops where it is (``cur``).
+    """
+    n = cur.shape[0]
+    if not _violations(cand, k, d_min, loc_range, bad):
+        return False
+    if swarm_rule:
+        for i in range(n):
+            if moving[i]:
+                moving[i] = False
+                outcome[i] = 1
+        return True
+    for _ in range(n):
+        changed = False
+        for i in range(n):
+            if not bad[i]:
+                continue
+            # a moving MAV that breaks a constraint stops; a stopped one that breaks it
+            # stops the moving neighbours it would lose
+            stopped_bad = not moving[i]
+            for m in range(n):
+                if not moving[m]:
+                    continue
+                if m == i or (stopped_bad and _linked(cur[i], cur[m], d_min, loc_range)):
+                    _copy(cur[m], cand[m])
+                    moving[m] = False
+                    outcome[m] = 1
+                    changed = True
+        if not _violations(cand, k, d_min, loc_range, bad) or not changed:
+            break
+    if _violations(cand, k, d_min, loc_range, bad):
+        for i in range(n):
+            if moving[i]:
+                moving[i] = False
+                outcome[i] = 1
+        return True
+    return False
+
+
+@numba.njit(cache=True)
 def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swarm_rule):
     """Follow every virtual swarm's paths and stop where a constraint would break.
 
@@ -220,39 +262,8 @@ def follow(start, points, count, zones, zone_len, k, d_min, loc_range, step, swa
                         outcome[j, i] = 2
                 else:
                     _copy(cur[i], cand[i])
-            if _violations(cand, k, d_min, loc_range, bad):
-                if swarm_rule:
-                    for i in range(n):
-                        if moving[i]:
-                            moving[i] = False
-                            outcome[j, i] = 1
-                    break
-                for _ in range(n):
-                    changed = False
-                    for i in range(n):
-                        if not bad[i]:
-                            continue
-                        # a moving MAV that breaks a constraint stops; a stopped one that
-                        # breaks it stops the moving neighbours it would lose
-                        stopped_bad = not moving[i]
-                        for m in range(n):
-                            if not moving[m]:
-                                continue
-                            if m == i or (
-                                stopped_bad and _linked(cur[i], cur[m], d_min, loc_range)
-                            ):
-                                _copy(cur[m], cand[m])
-                                moving[m] = False
-                                outcome[j, m] = 1
-                                changed = True
-                    if not _violations(cand, k, d_min, loc_range, bad) or not changed:
-                        break
-                if _violations(cand, k, d_min, loc_range, bad):
-                    for i in range(n):
-                        if moving[i]:
-                            moving[i] = False
-                            outcome[j, i] = 1
-                    break
+            if _stop(cur, cand, moving, outcome[j], bad, k, d_min, loc_range, swarm_rule):
+                break
             any_moving = False
             for i in range(n):
                 _copy(cand[i], cur[i])

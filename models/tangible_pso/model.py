@@ -19,6 +19,11 @@ process on the simulated clock (Sect. 5, Fig. 6):
    that history, transition by transition; an MAV may fail on the way (the fault injector,
    state "deploying"), and the survivors fly on to their own planned places under the same
    feasibility check (:mod:`models.tangible_pso.deployment`).
+
+``method="state_space"`` is the baseline of Figs. 10-11: in step 2 the particles jump to their
+shifted proposals (nothing flies, no time passes) and a distribution that breaks the
+constraints costs infinity; the solution is then b_g alone, which step 4 flies from the best
+particle's start in one leg, planned and checked as tangible PSO's deployment is.
 """
 
 import networkx as nx
@@ -35,9 +40,11 @@ from abm.styles import Layer, StateStyle
 from abm.visibility_graph import VisibilityPlanner
 from models.tangible_pso import published
 from models.tangible_pso.agents import MAV, VirtualMAV
+from models.tangible_pso.controller import follow_tracked, settle_ticks
 from models.tangible_pso.cost import CoverageCost
-from models.tangible_pso.deployment import Leg, replanned_leg
+from models.tangible_pso.deployment import Leg, checked_leg, replanned_leg
 from models.tangible_pso.feasibility import OUTCOMES, follow, localised
+from models.tangible_pso.flight import fly_open_loop
 from models.tangible_pso.params import DEPOT_RADIUS, TangiblePSOParams
 from models.tangible_pso.scenario import load_scenario
 from models.tangible_pso.transition import plan_paths, shift_proposals
@@ -47,6 +54,13 @@ __all__ = ["TangiblePSOModel"]
 
 #: Draws of the random initial circle before giving up (each draws every particle at once).
 INIT_TRIES = 2000
+#: An MAV of the real swarm reached its planned place when it ended this close to it (m).
+REACHED = 0.01
+#: The summary's readings of the virtual swarms' flights (Table 1's collision and deadlock,
+#: goal swapping), left out with ``method="state_space"``, whose particles do not fly.
+FLIGHT_READINGS = ("collision", "zone_stops", "deadlock", "zone_pressed_min", "deadlock_frozen",
+                   "frozen_max_move", "deadlock_best", "swap_conflicts", "swap_resolved",
+                   "swap_resolved_pct")  # fmt: skip
 
 
 class TangiblePSOModel(SwarmModel):
@@ -124,6 +138,8 @@ class TangiblePSOModel(SwarmModel):
         self._moved: list[np.ndarray] = []  # (P,) per iteration: the longest MAV move (m)
         self.proposals_in_zone = 0
         self.conflicts = self.resolved = 0
+        #: The largest distance of an MAV from its reference path (m; the follower's).
+        self.tracking_error = 0.0
         self._sample()
         self.deployment: dict = {}
         #: The real swarm's flight of the plan (a SimPy process), once it deploys.
@@ -205,18 +221,27 @@ class TangiblePSOModel(SwarmModel):
             proposal = (x + u).reshape(n_p, n, 3)
             goal, in_zone = shift_proposals(proposal, self.zones, self.low, self.high, p.d_min)
             self.proposals_in_zone += int(in_zone.sum())
-            plans = plan_paths(self.planner, self.x, goal, p.d_min)
-            self.conflicts += plans.conflicts
-            self.resolved += plans.resolved
-            realised, outcome, travelled = follow(
-                self.x, plans.points, plans.count, self._zone_arr, self._zone_len,
-                p.neighbours, p.d_min, p.loc_range, p.speed * p.dt, p.stop_rule == "swarm",
-            )  # fmt: skip
-            yield self.env.timeout(float(travelled.max(initial=0.0)) / p.speed)
+            if p.method == "state_space":  # Figs. 10-11: a jump, nothing flies
+                realised, outcome = goal, np.zeros((n_p, n), dtype=np.int8)
+                self._zone_blocked.append(np.zeros(n_p, dtype=bool))
+            else:
+                plans = plan_paths(self.planner, self.x, goal, p.d_min)
+                self.conflicts += plans.conflicts
+                self.resolved += plans.resolved
+                if p.controller == "second_order":
+                    realised, outcome, travelled, flown = self._follow_tracked(plans)
+                    yield self.env.timeout(flown)
+                else:
+                    realised, outcome, travelled = follow(
+                        self.x, plans.points, plans.count, self._zone_arr, self._zone_len,
+                        p.neighbours, p.d_min, p.loc_range, p.speed * p.dt,
+                        p.stop_rule == "swarm",
+                    )  # fmt: skip
+                    yield self.env.timeout(float(travelled.max(initial=0.0)) / p.speed)
+                self._zone_blocked.append((outcome == 2).any(axis=-1))
+                self.plans.append((plans.points, plans.count, travelled))
             u = (realised - self.x).reshape(n_p, -1)  # eq. 6
             self._moved.append(np.linalg.norm(realised - self.x, axis=-1).max(axis=-1))
-            self._zone_blocked.append((outcome == 2).any(axis=-1))
-            self.plans.append((plans.points, plans.count, travelled))
             self.x = realised
             self.iteration = t
             cost = self.cost(realised)
@@ -227,24 +252,73 @@ class TangiblePSOModel(SwarmModel):
             self._show(outcome)
             self._sample()
 
+    def _follow_tracked(self, plans):
+        """Step 4 with the second-order follower (:mod:`models.tangible_pso.controller`): the
+        realised positions, outcomes and reference lengths followed, and the transition's
+        flight time (s); the largest tracking error is kept for the summary.
+        """
+        p = self.params
+        lengths = np.linalg.norm(np.diff(plans.points, axis=2), axis=-1).sum(axis=-1)
+        step = p.speed * p.dt
+        settle = settle_ticks(p.ctrl_omega, p.ctrl_zeta, p.dt)
+        ticks = int(np.ceil(lengths.max(initial=0.0) / step)) + settle
+        shape = (*lengths.shape, max(ticks, 1), 3)
+        kicks = (
+            self.rng.normal(0.0, p.ctrl_noise * np.sqrt(p.dt), shape)
+            if p.ctrl_noise > 0
+            else np.zeros(shape)
+        )
+        realised, outcome, travelled, flown, worst = follow_tracked(
+            self.x, plans.points, plans.count, self._zone_arr, self._zone_len, p.neighbours,
+            p.d_min, p.loc_range, step, p.stop_rule == "swarm", p.ctrl_omega**2,
+            2 * p.ctrl_zeta * p.ctrl_omega, p.dt, settle, kicks,
+        )  # fmt: skip
+        self.tracking_error = max(self.tracking_error, float(worst.max(initial=0.0)))
+        return realised, outcome, travelled, float(flown.max(initial=0)) * p.dt
+
     # ------------------------------------------------------------------ the deployment
+    def plan(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]]:
+        """The deployment plan, per transition: the swarm's planned end ``(n, 3)``, each MAV's
+        path waypoints ``(n, w, 3)`` (m), the waypoints in use ``(n,)`` and how far each MAV
+        flies along its path ``(n,)`` (m; None: to its end).
+
+        Tangible PSO's plan is the best particle's realised transitions up to b_g (Sect. 5);
+        the state-space search's is one leg from the best particle's start to b_g, planned
+        as every transition is (visibility graph with goal swapping, or straight lines) and
+        flown to its end (Fig. 10).
+        """
+        p, g = self.params, self.g
+        if p.method == "state_space":
+            plans = plan_paths(self.planner, self.history[0][g][None], self.best[None], p.d_min)
+            points, count = plans.points[0], plans.count[0]
+            ends = points[np.arange(len(points)), np.maximum(count, 1) - 1]  # goals swapped
+            return [(ends, points, count, None)]
+        return [
+            (self.history[t][g], *(a[g] for a in self.plans[t - 1]))
+            for t in range(1, int(self.best_found[g]) + 1)
+        ]
+
     def _fly_plan(self):
-        """The real swarm flies the best particle's realised transitions together (each
-        :meth:`MAV.deploy <models.tangible_pso.agents.MAV.deploy>` waits for this); after a
-        failure the survivors stop, then fly on to their planned places of every later
-        transition.
+        """The real swarm flies the plan (:meth:`plan`) together (each
+        :meth:`MAV.deploy <models.tangible_pso.agents.MAV.deploy>` waits for this), every leg
+        under the feasibility check; after a failure the survivors stop, then fly on to their
+        planned places of every later transition.
         """
         p, g = self.params, self.g
         pos = self.history[0][g].copy()
         self._launch_swarm(pos)
         alive = np.ones(p.n_mavs, dtype=bool)
         d = self.deployment = {"failed_at": [], "localised_at_failure": [], "trace": []}
+        d["began"] = self.env.now
         d["trace"].append((self.env.now, pos.copy(), alive.copy()))
-        for t in range(1, int(self.best_found[g]) + 1):
-            goal = self.history[t][g]
-            if alive.all():
-                points, count, travelled = self.plans[t - 1]
-                leg = Leg(pos, points[g], count[g], travelled[g], goal, p.speed)
+        for t, (goal, points, count, travelled) in enumerate(self.plan(), start=1):
+            if alive.all() and travelled is not None:  # a realised transition: flown as it was
+                leg = Leg(pos, points, count, travelled, goal, p.speed)
+            elif alive.all():  # a plan never checked: the check stops where it must
+                leg = checked_leg(
+                    pos, points, count, (self._zone_arr, self._zone_len), p.neighbours, p.d_min,
+                    p.loc_range, p.speed, p.dt, p.stop_rule == "swarm",
+                )  # fmt: skip
             else:
                 leg = self._survivors_leg(pos[alive], goal[alive])
             while True:
@@ -269,6 +343,7 @@ class TangiblePSOModel(SwarmModel):
                 break
             self._place_mavs(pos)
             d["trace"].append((self.env.now, pos.copy(), alive.copy()))
+        d["ended"] = self.env.now
         self.deployed = pos
         self.deployed_alive = alive
 
@@ -329,15 +404,14 @@ class TangiblePSOModel(SwarmModel):
         return self.best_x[self.g]
 
     def trajectory(self, samples: int = 12) -> np.ndarray:
-        """The deployment: the best particle's realised paths from its start to b_g,
+        """The deployment plan's paths (:meth:`plan`) from the best particle's start to b_g,
         ``(n, m, 3)`` points (m), each transition sampled at ``samples`` points.
         """
-        g, n = self.g, self.params.n_mavs
-        parts = [self.history[0][g][:, None, :]]
-        for t in range(1, int(self.best_found[g]) + 1):
-            points, count, travelled = self.plans[t - 1]
-            parts.append(_prefix_points(points[g], count[g], travelled[g], samples))
-        return np.concatenate(parts, axis=1) if parts else np.zeros((n, 0, 3))
+        parts = [self.history[0][self.g][:, None, :]]
+        for _goal, points, count, travelled in self.plan():
+            reach = np.full(len(points), np.inf) if travelled is None else travelled
+            parts.append(_prefix_points(points, count, reach, samples))
+        return np.concatenate(parts, axis=1)
 
     def links(self, swarm: np.ndarray | None = None) -> list[tuple[int, int]]:
         """Pairs of MAVs of a swarm (default b_g) that can localise each other."""
@@ -376,7 +450,8 @@ class TangiblePSOModel(SwarmModel):
 
     def metrics(self) -> dict:
         """The run's results: the best cost, the collision and deadlock readings, the goal
-        swapping statistics and the shape of the best swarm.
+        swapping statistics and the shape of the best swarm (with ``method="state_space"``:
+        the method, and no readings of virtual flights, :data:`FLIGHT_READINGS`).
         """
         p = self.params
         blocked = np.array(self._zone_blocked).reshape(-1, p.particles)
@@ -390,7 +465,7 @@ class TangiblePSOModel(SwarmModel):
         graph.add_edges_from(self.links())
         g = self.g
         done = len(blocked) == p.iterations
-        return {
+        out = {
             "scenario": self.task.name,
             "n_mavs": p.n_mavs,
             "neighbours": p.neighbours,
@@ -420,29 +495,55 @@ class TangiblePSOModel(SwarmModel):
             "best_feasible": bool(localised(self.best, p.neighbours, p.d_min, p.loc_range)),
             **self._deployment_metrics(),
         }  # fmt: skip
+        if p.controller == "second_order":
+            out["tracking_error_max"] = self.tracking_error
+        if p.method == "state_space":
+            out = {"method": p.method, **out}
+            for key in FLIGHT_READINGS:
+                del out[key]
+        return out
 
     def _deployment_metrics(self) -> dict:
         """With ``deploy``: MAVs failed, the first failure's transition, whether the
         survivors kept their localisation at the first failure and at every realised state
         after it (the ends of the legs; a later failure may break it), and the cost of eq. 1
         where the survivors ended (a failed MAV observes nothing) with its share of the cost
-        of observing nothing.
+        of observing nothing; how long the flight took, whether it stopped short of b_g (a
+        deadlock: the check would not let the swarm on) and, when it did not, the time it took
+        to reach b_g; and what the plan breaks when flown to its end with nothing to stop it
+        (:func:`~models.tangible_pso.flight.fly_open_loop`, Fig. 10).
         """
         if not self.params.deploy or not hasattr(self, "deployed"):
             return {}
-        d = self.deployment
-        cost = float(self.cost(self.deployed[self.deployed_alive]))
+        p, d, alive = self.params, self.deployment, self.deployed_alive
+        cost = float(self.cost(self.deployed[alive]))
         after = [self._localised(x[a]) for _t, x, a in d["trace"] if not a.all()]
+        plan = self.plan()
+        planned_end = plan[-1][0] if plan else self.history[0][self.g]
+        off = np.linalg.norm(self.deployed[alive] - planned_end[alive], axis=-1)
+        reached = bool((off <= REACHED).all())
+        duration = d["ended"] - d["began"]
+        starts = [self.history[0][self.g], *(leg[0] for leg in plan)][: len(plan)]
+        loop = fly_open_loop(
+            [(start, *leg[1:]) for start, leg in zip(starts, plan, strict=True)],
+            self.zones, p.neighbours, p.d_min, p.loc_range, p.speed, p.dt,
+        )  # fmt: skip
         return {
-            "mavs_failed": int((~self.deployed_alive).sum()),
+            "mavs_failed": int((~alive).sum()),
             "failure_transition": d["failed_at"][0] if d["failed_at"] else np.nan,
-            "transitions": int(self.best_found[self.g]),
+            "transitions": len(plan),
             "localised_at_failure": float(d["localised_at_failure"][0])
             if d["failed_at"]
             else np.nan,
             "survivors_localised": float(all(after)) if after else np.nan,
             "deployed_cost": cost,
             "deployed_cost_ratio": cost / max(self.cost.total, 1e-12),
+            "deploy_time": duration,
+            "deploy_deadlock": not reached,
+            "reach_time": duration if reached else np.nan,
+            "plan_unlocalised": loop.unlocalised > 0,
+            "plan_unlocalised_time": loop.unlocalised_time,
+            "plan_collision": loop.collided > 0,
         }
 
 

@@ -34,7 +34,17 @@ class TangiblePSOParams(SwarmParams):
             and at the end (0, 1, 2 in Table 1), Sects. 3, 7.1.
         motion_planning: True: visibility-graph paths around the no-fly zones with goal
             swapping (tangible PSO); False: straight moves stopped at a zone's border (Table
-            1's baseline), Sect. 7.1.
+            1's baseline), Sect. 7.1. With ``method="state_space"`` it only decides how the
+            solution is flown (``deploy``).
+        method: "tangible": every particle is a virtual swarm that flies each transition
+            (Sect. 5, the paper's method); "state_space": the "standard state-space search"
+            of Figs. 10-11 (Sect. 7.1), the same PSO whose particles jump to their (shifted)
+            proposals without flying, so it "optimizes only the cost function (1)" and "the
+            existence of feasible trajectories to reach this position is not checked"; the
+            final distribution must still keep the constraints (a proposal that breaks them
+            costs infinity: ours, the paper's Fig. 10 breaks them only on the way). With
+            ``deploy`` its best distribution is flown from the best particle's start in one
+            leg by the same planner and feasibility check as tangible PSO's deployment.
         particles: PSO particles, each a virtual swarm (40 in Table 1 and Fig. 9).
         iterations: t_max, PSO iterations (70 in Table 1, 20 in Fig. 9).
         c1: weight of a particle's own best, eq. 3 (2.5, Sect. 7).
@@ -84,6 +94,19 @@ class TangiblePSOParams(SwarmParams):
         frozen_move: a particle "moved" in an iteration when one of its MAVs moved more than this
             (m; ours: 1 cm), for the alternative deadlock reading ``frozen`` (README "What we had to
             choose": deadlock run).
+        controller: "exact": the MAVs track their paths exactly (point masses, ours);
+            "second_order": each MAV follows its path with a second-order controller with
+            tracking error (Sect. 6, Fig. 12's overshoot; ours, the paper's controller and
+            gains are not published), in the feasibility check of the optimisation, so an MAV that
+            overshoots a corner into a no-fly zone is a collision with motion planning too
+            (:mod:`models.tangible_pso.controller`). Not with ``deploy`` or
+            ``method="state_space"`` (not built there).
+        ctrl_omega: omega, the follower's natural frequency (rad/s; ours). Only with
+            controller="second_order"; omega * dt at most 0.5 (the integration's stability).
+        ctrl_zeta: zeta, the follower's damping ratio (ours: 0.5, an overshoot as in Fig. 12).
+            Only with controller="second_order".
+        ctrl_noise: sigma, the intensity of the white acceleration noise on the follower
+            (m s^-1.5; ours: 0). Only with controller="second_order".
         deploy: after the optimisation the real swarm (n_r more robots) flies the best
             particle's realised transitions to b_g (Sects. 5-6; ours: the paper plans the
             deployment but does not fly it in simulation). Needed for MAV failures
@@ -96,6 +119,7 @@ class TangiblePSOParams(SwarmParams):
     n_mavs: int = param(3, low=1, high=50, integer=True, shown=(1, 8))
     neighbours: int = param(1, low=0, integer=True, shown=(0, 5))
     motion_planning: bool = param(True)
+    method: str = param("tangible", choices=("tangible", "state_space"))
     particles: int = param(40, low=1, high=2000, integer=True, shown=(2, 80))
     iterations: int = param(70, low=1, high=10000, integer=True, shown=(10, 150))
     c1: float = param(2.5, low=0.0)
@@ -119,6 +143,10 @@ class TangiblePSOParams(SwarmParams):
     deadlock_window: int = param(10, low=1, integer=True)
     deadlock_share: float = param(0.5, low=0.0, high=1.0, low_open=True)
     frozen_move: float = param(0.01, low=0.0)
+    controller: str = param("exact", choices=("exact", "second_order"))
+    ctrl_omega: float = param(2.0, low=0.0, low_open=True)
+    ctrl_zeta: float = param(0.5, low=0.0, low_open=True)
+    ctrl_noise: float = param(0.0, low=0.0)
     deploy: bool = param(False)
     time_limit: float = param(1.0e6, low=0.0, low_open=True)
     step_duration: float = param(10.0, low=0.0, low_open=True)
@@ -154,7 +182,33 @@ class TangiblePSOParams(SwarmParams):
                 "deploy=True (and leave fault_states empty or ('deploying',)), got "
                 f"deploy={self.deploy}, fault_states={self.fault_states!r}"
             )
+        self._check_controller()
         if self.w_end > self.w_start:
             raise ConfigError(
                 f"w_end must be <= w_start = {self.w_start:g} (eq. 5 decreases), got {self.w_end:g}"
+            )
+
+    def _check_controller(self) -> None:
+        """The follower's settings act only with it, and it only where it is built."""
+        defaults = {"ctrl_omega": 2.0, "ctrl_zeta": 0.5, "ctrl_noise": 0.0}
+        if self.controller == "exact":
+            changed = [
+                f"{k}={getattr(self, k):g}" for k, v in defaults.items() if getattr(self, k) != v
+            ]
+            if changed:
+                raise ConfigError(
+                    f"{', '.join(changed)} {'acts' if len(changed) == 1 else 'act'} only with "
+                    "controller='second_order', got controller='exact'"
+                )
+            return
+        if self.deploy or self.method != "tangible":
+            raise ConfigError(
+                "controller='second_order' acts in tangible PSO's feasibility check only: set "
+                f"method='tangible' and deploy=False, got method={self.method!r}, "
+                f"deploy={self.deploy}"
+            )
+        if self.ctrl_omega * self.dt > 0.5:
+            raise ConfigError(
+                f"ctrl_omega * dt must be <= 0.5 for a stable integration, got "
+                f"{self.ctrl_omega:g} rad/s * {self.dt:g} s = {self.ctrl_omega * self.dt:g}"
             )

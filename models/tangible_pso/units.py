@@ -39,4 +39,14 @@ SUMMARY_UNITS = {
     "survivors_localised": Quantity("flag", "the survivors stayed localised after it"),
     "deployed_cost": Quantity("1", "cost CF of eq. 1 where the survivors ended"),
     "deployed_cost_ratio": Quantity("1", "deployed_cost over the cost of observing nothing"),
+    "tracking_error_max": Quantity("m", "largest distance of a MAV from its reference path"),
+    "method": Quantity("text", "how the particles move: tangible (flown) or state_space (jump)"),
+    "deploy_time": Quantity("s", "duration of the deployment's flight, until the swarm stopped"),
+    "deploy_deadlock": Quantity("flag", "the deployment stopped short of the planned b_g"),
+    "reach_time": Quantity("s", "time to reach the planned b_g (NaN: never reached)"),
+    "plan_unlocalised": Quantity("flag", "the plan flown unchecked loses a MAV's k neighbours"),
+    "plan_unlocalised_time": Quantity("s", "flight time of the unchecked plan with a MAV lost"),
+    "plan_collision": Quantity(
+        "flag", "the plan flown unchecked brings MAVs within d_min or into a zone"
+    ),
 }
