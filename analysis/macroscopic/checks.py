@@ -6,8 +6,9 @@
 - Band coverage per state: the share of (held-out run, grid time) points whose count lies
   inside the stochastic model's 90 % band (pointwise; a calibrated band gives ~0.9).
 - Speed ratio: the held-out agent runs' wall time over the macroscopic prediction's (the
-  mean-field solve from the fitted model, after the compiled integrator's one-time load; the
-  stochastic band's ratio apart), both measured in this process.
+  mean-field solve from the fitted model, after the compiled integrator's one-time load, the
+  fastest of ``ODE_REPEATS``; the stochastic band's ratio apart), both measured in this
+  process.
 
 A held-out run that ended before the grid's last time keeps its final counts (the run is
 over; its robots stay where they are), as the sweeps' count tables do. That is exact for a
@@ -27,10 +28,13 @@ from analysis.macroscopic.logs import RunLog
 from analysis.macroscopic.meanfield import Band, expected_counts, simulate_counts
 from analysis.macroscopic.rates import RateModel
 
-__all__ = ["GRID_POINTS", "Checks", "check_heldout", "observed_counts"]
+__all__ = ["GRID_POINTS", "ODE_REPEATS", "Checks", "check_heldout", "observed_counts"]
 
 #: Points of the even time grid the checks compare on (ours).
 GRID_POINTS = 201
+#: Mean-field solves timed; the fastest counts (on a shared machine a job of a millisecond is
+#: often preempted for longer than it runs).
+ODE_REPEATS = 5
 
 
 @dataclass(frozen=True)
@@ -94,9 +98,11 @@ def check_heldout(
     grid = np.linspace(0.0, horizon, GRID_POINTS)
     observed = observed_counts(logs, grid)
     expected_counts(model, grid[:2])  # the compiled integrator's one-time load, not timed
-    start = time.perf_counter()
-    expected = expected_counts(model, grid)
-    ode_seconds = time.perf_counter() - start
+    ode_seconds = np.inf
+    for _ in range(ODE_REPEATS):  # a millisecond's work: the fastest of a few, as timeit does
+        start = time.perf_counter()
+        expected = expected_counts(model, grid)
+        ode_seconds = min(ode_seconds, time.perf_counter() - start)
     start = time.perf_counter()
     band = simulate_counts(model, grid, replicates, rng)
     band_seconds = time.perf_counter() - start
