@@ -85,6 +85,9 @@ class CoveragePlanner:
         blocked_ttl: seconds a bumped cell stays blocked (> 0; ours: 30, README "Choices": walls).
         pick: a candidate's weight: ``"one_minus"`` ``(1 - G) + eps`` or ``"inverse"``
             ``1 / (G + eps)`` (README "Choices": next-cell weight).
+        self_cover: what is "covered by itself" (Sect. 3.2's step 1): ``"map"``, only what the
+            GlobalMap says at COVER_TH, as for the other explorers; ``"tree"``, also every cell
+            this planner has stood in (:attr:`visited`), whatever the GlobalMap says there.
         eps: keeps every weight positive and finite (> 0).
 
     Attributes:
@@ -94,6 +97,7 @@ class CoveragePlanner:
             cell that is not 4-adjacent, e.g. after a jump of the pose estimate).
         prev_cell: the cell of the last decision (P6).
         idle: True while hard backtracking has nothing left at the root (P15).
+        visited: the cells this planner has decided in (its own path, by its pose estimate).
         blocked_at: cell -> the time (s) it was last bumped into (P18).
 
     """
@@ -107,6 +111,7 @@ class CoveragePlanner:
         beta: float = 1.0,
         blocked_ttl: float = 30.0,
         pick: str = "one_minus",
+        self_cover: str = "map",
         eps: float = 1e-3,
     ) -> None:
         self.root = _as_cell("root", root)
@@ -115,17 +120,20 @@ class CoveragePlanner:
         check_range("beta", beta, 0.0)
         check_range("blocked_ttl", blocked_ttl, 0.0, low_open=True)
         check_choice("pick", pick, ("one_minus", "inverse"))
+        check_choice("self_cover", self_cover, ("map", "tree"))
         check_range("eps", eps, 0.0, low_open=True)
         self.cover_th = float(cover_th)
         self.backtrack = backtrack
         self.beta = float(beta)
         self.blocked_ttl = float(blocked_ttl)
         self.pick = pick
+        self.self_cover = self_cover
         self.eps = float(eps)
         self.target: Cell | None = None
         self.tree_parent: dict[Cell, Cell | None] = {}
         self.prev_cell: Cell | None = None
         self.idle = False
+        self.visited: set[Cell] = set()
         self.blocked_at: dict[Cell, float] = {}
 
     def decide(
@@ -165,6 +173,7 @@ class CoveragePlanner:
             prev = self.prev_cell
             self.tree_parent[cell] = prev if prev in _neighbours(cell) else None
         self.prev_cell = cell  # P6
+        self.visited.add(cell)
         self.target = self._choose(cell, coverage, rng)
         return None if self.target is None else heading_to(cell, self.target)  # P17
 
@@ -187,7 +196,8 @@ class CoveragePlanner:
             if 0 <= n[0] < cols and 0 <= n[1] < rows and n not in self.blocked_at
         ]
         g = {n: _probability(coverage, n) for n in free}
-        uncovered = [n for n in free if g[n] < self.cover_th]  # P7
+        mine = self.visited if self.self_cover == "tree" else set()
+        uncovered = [n for n in free if g[n] < self.cover_th and n not in mine]  # P7
         if uncovered:  # P8-P11
             child = self._draw(uncovered, g, rng)
             if child not in self.tree_parent and child != self.root:  # P10: a tree edge

@@ -1,0 +1,176 @@
+"""What carries SugarMap's Figs. 8, 9 and 11 (Purohit et al. 2013, Sect. 4.3.3-4.3.5): each
+candidate mechanism switched on alone, on paired fresh seeds, with the figure's effect measured.
+
+Each figure has its levels (Fig. 9: particles per explorer; Fig. 11: the arena geometry; Fig. 8:
+the split of 10 nodes between anchors and explorers) and a set of variants, each a reading the
+model's README lists as a keyword (eq. 8's weight shape, resampling schedule and noise, anchor
+placement, the dispersion cut-off, backtracking, the RToF noise). Every variant runs every level
+on the same seeds (``--seed`` onward, 840000+ by default: no test, sweep or README number uses
+them), so variants and levels are paired by seed. Printed per variant and level: mean true
+coverage at the checkpoint, the brain's estimate, pose error, overlap, false-match rate and
+bumps (wall collisions per explorer per second); then
+the figure's effect with a 95 % interval:
+
+* Fig. 9 (C14): coverage with the most particles minus with 1 (the paper: positive);
+* Fig. 11 (C17): serpentine minus circle (the paper: about 0);
+* Fig. 8 (C12): the knee, (gain per anchor given up from 4 to 2 anchors) minus (from 8 to 4)
+  (the paper: negative, the gain "diminishes when the number of anchors is reduced below 4").
+
+Usage (a few minutes each on a shared 2-core machine):
+    python benchmarks/sugarmap_mechanisms.py fig9 --runs 6
+    python benchmarks/sugarmap_mechanisms.py fig11 --runs 4 --horizon 1000
+    python benchmarks/sugarmap_mechanisms.py fig8 --runs 6 --horizon 1000
+    python benchmarks/sugarmap_mechanisms.py fig9 --variants default gauss   # some variants
+"""
+
+import argparse
+import time
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from models.sugarmap import SugarMapModel
+
+__all__ = ["FIGURES", "effect", "run_one"]
+
+#: figure -> (level keyword(s) per level, default horizon (s), checkpoint, variants).
+FIGURES = {
+    "fig9": {
+        "base": {"n_explorers": 2, "n_anchors": 6},
+        "levels": {f"N={n}": {"n_particles": n} for n in (1, 10, 100)},
+        "horizon": 400.0,
+        "checkpoint": 400,
+        "variants": {
+            "default": {},
+            "gauss": {"weights": "gauss"},
+            "gauss, sigma_m 2 m": {"weights": "gauss", "sigma_m": 2.0},
+            "resample every tick": {"resample": "every_tick"},
+            "resample noise 0.25 m": {"resample_noise": 0.25},
+            "gauss + resample noise 0.25 m": {"weights": "gauss", "resample_noise": 0.25},
+            "cover_th 0.5": {"cover_th": 0.5},
+            "own path covered": {"self_cover": "tree"},
+            "gauss + own path covered": {"weights": "gauss", "self_cover": "tree"},
+            "hard backtracking": {"backtrack": "hard"},
+            "anchors spread": {"anchor_placement": "spread"},
+            "RToF noise 0.25 m": {"rtof_noise": 0.25},
+            "min_match_age 30 s": {"min_match_age": 30.0},
+            "gauss + min_match_age 30 s": {"weights": "gauss", "min_match_age": 30.0},
+        },
+    },
+    "fig11": {
+        "base": {"n_explorers": 4, "n_anchors": 6},
+        "levels": {"circle": {"arena": "circle"}, "serpentine": {"arena": "serpentine"}},
+        "horizon": 1000.0,
+        "checkpoint": 1000,
+        "variants": {
+            "default": {},
+            "InitCutoff 3000 s": {"init_cutoff": 3000.0},
+            "anchors spread": {"anchor_placement": "spread"},
+            "hard backtracking": {"backtrack": "hard"},
+            "anchors spread + hard backtracking": {
+                "anchor_placement": "spread",
+                "backtrack": "hard",
+            },
+            "own path covered": {"self_cover": "tree"},
+            "anchors spread + own path covered": {
+                "anchor_placement": "spread",
+                "self_cover": "tree",
+            },
+            "gauss": {"weights": "gauss"},
+            "RToF noise 0.25 m": {"rtof_noise": 0.25},
+            "blocked_ttl 300 s": {"blocked_ttl": 300.0},
+            "blocked_ttl 3000 s": {"blocked_ttl": 3000.0},
+            "noise-free (actuation and RToF)": {"noise_scale": 0.0, "rtof_noise": 0.0},
+            "noise-free + blocked_ttl 3000 s": {
+                "noise_scale": 0.0,
+                "rtof_noise": 0.0,
+                "blocked_ttl": 3000.0,
+            },
+            "own path covered + blocked_ttl 3000 s": {
+                "self_cover": "tree",
+                "blocked_ttl": 3000.0,
+            },
+        },
+    },
+    "fig8": {
+        "base": {},
+        "levels": {f"{a}a/{10 - a}e": {"n_anchors": a, "n_explorers": 10 - a} for a in (2, 4, 8)},
+        "horizon": 1000.0,
+        "checkpoint": 1000,
+        "variants": {
+            "default": {},
+            "gauss": {"weights": "gauss"},
+            "RToF noise 2 m": {"rtof_noise": 2.0},
+            "gauss + RToF noise 2 m": {"weights": "gauss", "rtof_noise": 2.0},
+            "RToF bias 1 m": {"rtof_bias": 1.0},
+            "anchors spread": {"anchor_placement": "spread"},
+            "hard backtracking": {"backtrack": "hard"},
+            "own path covered": {"self_cover": "tree"},
+        },
+    },
+}
+
+
+def run_one(seed: int, horizon: float, params: dict) -> dict:
+    """One run's summary (true and estimated coverage, pose error, overlap, false matches)."""
+    return SugarMapModel(seed=seed, horizon=horizon, **params).run().summary()
+
+
+def effect(figure: str, table: pd.DataFrame, metric: str) -> tuple[float, float, float]:
+    """The figure's effect (see the module docstring) and its 95 % t-interval over the seeds
+    (paired: one value per seed).
+    """
+    wide = table.pivot(index="seed", columns="level", values=metric)
+    levels = list(FIGURES[figure]["levels"])
+    if figure == "fig9":
+        per_seed = wide[levels[-1]] - wide[levels[0]]
+    elif figure == "fig11":
+        per_seed = wide["serpentine"] - wide["circle"]
+    else:  # fig8: per anchor given up, 4 -> 2 against 8 -> 4
+        a2, a4, a8 = (wide[level] for level in levels)
+        per_seed = (a2 - a4) / 2.0 - (a4 - a8) / 4.0
+    n = len(per_seed)
+    mean = float(per_seed.mean())
+    half = float(stats.t.ppf(0.975, n - 1) * per_seed.std(ddof=1) / np.sqrt(n)) if n > 1 else np.nan
+    return mean, mean - half, mean + half
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("figure", choices=sorted(FIGURES))
+    parser.add_argument("--runs", type=int, default=6, help="seeds per variant and level")
+    parser.add_argument("--seed", type=int, default=840000, help="first seed")
+    parser.add_argument("--horizon", type=float, default=None, help="coverage phase (s)")
+    parser.add_argument("--variants", nargs="*", default=None, help="variant names to run")
+    args = parser.parse_args()
+    spec = FIGURES[args.figure]
+    horizon = spec["horizon"] if args.horizon is None else args.horizon
+    checkpoint = min(spec["checkpoint"], int(horizon))
+    metric = f"coverage_{checkpoint}"
+    variants = spec["variants"]
+    chosen = list(variants) if args.variants is None else args.variants
+    unknown = set(chosen) - set(variants)
+    if unknown:
+        parser.error(f"unknown variants {sorted(unknown)}; known: {list(variants)}")
+    seeds = range(args.seed, args.seed + args.runs)
+    print(f"{args.figure}: {args.runs} seeds from {args.seed}, horizon {horizon:g} s, {metric}")
+    for name in chosen:
+        start = time.perf_counter()
+        rows = []
+        for level, keywords in spec["levels"].items():
+            for seed in seeds:
+                params = {**spec["base"], **keywords, **variants[name]}
+                rows.append({"level": level, "seed": seed, **run_one(seed, horizon, params)})
+        table = pd.DataFrame(rows)
+        table["bumps"] = table["wall_collisions"] / (table["n_explorers"] * horizon)
+        columns = [metric, "coverage_est", "pose_error", "overlap", "false_match_rate", "bumps"]
+        means = table.groupby("level", sort=False)[[*columns, "t_deploy"]].mean()
+        mean, low, high = effect(args.figure, table, metric)
+        print(f"\n== {name} ({time.perf_counter() - start:.0f} s)")
+        print(means.round(2).to_string())
+        print(f"effect: {mean:+.1f} points, 95 % interval {low:+.1f} to {high:+.1f}")
+
+
+if __name__ == "__main__":
+    main()
