@@ -52,6 +52,8 @@ FIGURES = {
             "own path covered": {"self_cover": "tree"},
             "gauss + own path covered": {"weights": "gauss", "self_cover": "tree"},
             "hard backtracking": {"backtrack": "hard"},
+            "frontier backtracking": {"backtrack": "frontier"},
+            "own path covered + frontier": {"self_cover": "tree", "backtrack": "frontier"},
             "anchors spread": {"anchor_placement": "spread"},
             "RToF noise 0.25 m": {"rtof_noise": 0.25},
             "min_match_age 30 s": {"min_match_age": 30.0},
@@ -91,6 +93,19 @@ FIGURES = {
                 "self_cover": "tree",
                 "blocked_ttl": 3000.0,
             },
+            "frontier backtracking": {"backtrack": "frontier"},
+            "frontier + blocked_ttl 3000 s": {"backtrack": "frontier", "blocked_ttl": 3000.0},
+            "noise-free + frontier": {
+                "noise_scale": 0.0,
+                "rtof_noise": 0.0,
+                "backtrack": "frontier",
+            },
+            "noise-free + frontier + blocked_ttl 3000 s": {
+                "noise_scale": 0.0,
+                "rtof_noise": 0.0,
+                "backtrack": "frontier",
+                "blocked_ttl": 3000.0,
+            },
         },
     },
     "fig8": {
@@ -107,6 +122,7 @@ FIGURES = {
             "anchors spread": {"anchor_placement": "spread"},
             "hard backtracking": {"backtrack": "hard"},
             "own path covered": {"self_cover": "tree"},
+            "frontier backtracking": {"backtrack": "frontier"},
         },
     },
 }

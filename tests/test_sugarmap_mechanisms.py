@@ -1,6 +1,7 @@
 """The candidate mechanisms of SugarMap's Figs. 8, 9 and 11 (issue 30), each a keyword whose
 default is the paper's reading: resampling noise (``resample_noise``), what an explorer counts
-as covered by itself (``self_cover``) and where the anchors land (``anchor_placement``). Each
+as covered by itself (``self_cover``), where the anchors land (``anchor_placement``) and
+backtracking toward the nearest uncovered cell (``backtrack="frontier"``). Each
 acts where it is switched on, and a bad value is refused in one line naming it."""
 
 import numpy as np
@@ -84,7 +85,12 @@ def test_anchor_placement_spread_reaches_the_serpentines_far_lanes():
 
 @pytest.mark.parametrize(
     "keyword, value",
-    [("resample_noise", 0.3), ("self_cover", "tree"), ("anchor_placement", "spread")],
+    [
+        ("resample_noise", 0.3),
+        ("self_cover", "tree"),
+        ("anchor_placement", "spread"),
+        ("backtrack", "frontier"),
+    ],
 )
 def test_each_mechanism_changes_a_testbed_run(keyword, value):
     base = SugarMapModel(horizon=60.0, seed=840901, **TESTBED).run().samples()
@@ -98,6 +104,7 @@ def test_each_mechanism_changes_a_testbed_run(keyword, value):
         ("resample_noise", -0.1, r"resample_noise must be in \[0, inf\], got -0.1"),
         ("self_cover", "path", "self_cover must be one of 'map', 'tree', got 'path'"),
         ("anchor_placement", "grid", "anchor_placement must be one of 'disperse', 'spread'"),
+        ("backtrack", "bfs", "backtrack must be one of 'soft', 'hard', 'frontier', got 'bfs'"),
     ],
 )
 def test_bad_values_are_refused_in_one_line(keyword, value, rule):
@@ -108,7 +115,12 @@ def test_bad_values_are_refused_in_one_line(keyword, value, rule):
 
 @pytest.mark.parametrize(
     "keyword, value",
-    [("resample_noise", 0.3), ("self_cover", "tree"), ("anchor_placement", "spread")],
+    [
+        ("resample_noise", 0.3),
+        ("self_cover", "tree"),
+        ("anchor_placement", "spread"),
+        ("backtrack", "frontier"),
+    ],
 )
 def test_baselines_refuse_the_mechanisms(keyword, value):
     with pytest.raises(ConfigError, match=f"{keyword} applies to algorithm='sugarmap' only"):
@@ -120,3 +132,66 @@ def test_filter_and_planner_refuse_bad_values():
         ParticleFilter(START, 5, 2, GRID, sig_th=0.5, resample_noise=-1.0)
     with pytest.raises(ConfigError, match="self_cover"):
         CoveragePlanner((0, 0), self_cover="both")
+    with pytest.raises(ConfigError, match="backtrack"):
+        CoveragePlanner((0, 0), backtrack="bfs")
+
+
+def _walk_to(planner: CoveragePlanner, cells: list, coverage: np.ndarray, rng) -> float | None:
+    """Decide in each of ``cells`` in turn (a path the planner stood in); the last heading."""
+    heading = None
+    for t, cell in enumerate(cells):
+        heading = planner.decide(cell, coverage, float(t), rng)
+    return heading
+
+
+def test_frontier_backtracking_heads_for_what_is_left_not_for_the_tree_parent():
+    """A 1 x 6 corridor covered but for its east end; the planner came from the west. Soft
+    backtracking favours the tree parent (west); "frontier" always heads east."""
+    coverage = np.array([[1.0, 1.0, 1.0, 1.0, 1.0, 0.0]])
+    west = {"soft": 0, "frontier": 0}
+    for rule in west:
+        for seed in range(50):
+            planner = CoveragePlanner((1, 0), backtrack=rule)
+            heading = _walk_to(planner, [(1, 0), (2, 0)], coverage, np.random.default_rng(seed))
+            west[rule] += heading == 270.0
+            assert heading in (90.0, 270.0)
+    assert west["frontier"] == 0
+    assert west["soft"] > 40
+
+
+def _distance_to_uncovered(coverage: np.ndarray, start: tuple, th: float) -> int | None:
+    """Steps of the shortest 4-neighbour path from ``start`` through covered cells to an
+    uncovered one (None: none reachable)."""
+    rows, cols = coverage.shape
+    seen, frontier, d = {start}, [start], 0
+    while frontier:
+        d += 1
+        nxt = []
+        for x, y in frontier:
+            for n in ((x, y + 1), (x + 1, y), (x, y - 1), (x - 1, y)):
+                if n in seen or not (0 <= n[0] < cols and 0 <= n[1] < rows):
+                    continue
+                if coverage[n[1], n[0]] < th:
+                    return d
+                seen.add(n)
+                nxt.append(n)
+        frontier = nxt
+    return None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(2, 8), st.integers(2, 8), st.integers(0, 2**32 - 1))
+def test_frontier_step_shortens_the_way_to_the_nearest_uncovered_cell(rows, cols, seed):
+    rng = np.random.default_rng(seed)
+    coverage = (rng.random((rows, cols)) < 0.8).astype(float)  # 1: covered
+    cell = (int(rng.integers(cols)), int(rng.integers(rows)))
+    coverage[cell[1], cell[0]] = 1.0  # it stands there
+    planner = CoveragePlanner(cell, backtrack="frontier")
+    heading = planner.decide(cell, coverage, 0.0, rng)
+    far = _distance_to_uncovered(coverage, cell, 0.95)
+    if far is None or far == 1:  # nothing left (soft fallback) or an uncovered neighbour
+        return
+    dx, dy = {0.0: (0, 1), 90.0: (1, 0), 180.0: (0, -1), 270.0: (-1, 0)}[heading]
+    step = (cell[0] + dx, cell[1] + dy)
+    assert coverage[step[1], step[0]] >= 0.95
+    assert _distance_to_uncovered(coverage, step, 0.95) == far - 1

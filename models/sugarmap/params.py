@@ -101,8 +101,9 @@ class SugarMapParams(SwarmParams):
             square root ("rms"); None: "count". SugarMap only.
         planner_pose: the cell the planner starts from: "particles" (the mean particle) or
             "presumed" (command-integrated); None: "particles". SugarMap only.
-        backtrack: "soft" (the tree parent's weight raised by beta) or "hard" (strict DFS);
-            None: "soft". SugarMap only.
+        backtrack: "soft" (the tree parent's weight raised by beta), "hard" (strict DFS) or
+            "frontier" (ours: toward the nearest uncovered cell through covered ones); None:
+            "soft". SugarMap only.
         beta: the soft backtracking bonus; None: 1. SugarMap only.
         blocked_ttl: how long a bumped cell stays blocked for the planner (s); None: 30.
             SugarMap only.
@@ -160,7 +161,7 @@ class SugarMapParams(SwarmParams):
     min_match_age: float | None = param(None, low=0.0)
     sig_norm: str | None = param(None, choices=("count", "rms"))
     planner_pose: str | None = param(None, choices=("particles", "presumed"))
-    backtrack: str | None = param(None, choices=("soft", "hard"))
+    backtrack: str | None = param(None, choices=("soft", "hard", "frontier"))
     beta: float | None = param(None, low=0.0)
     blocked_ttl: float | None = param(None, low=0.0)
     pick: str | None = param(None, choices=("one_minus", "inverse"))
