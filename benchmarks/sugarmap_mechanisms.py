@@ -31,16 +31,18 @@ import pandas as pd
 from scipy import stats
 
 from models.sugarmap import SugarMapModel
+from models.sugarmap.model import CHECKPOINTS
 
 __all__ = ["FIGURES", "effect", "run_one"]
 
-#: figure -> (level keyword(s) per level, default horizon (s), checkpoint, variants).
+#: figure -> the keywords of every run, those of each level, the default horizon (s, also the
+#: checkpoint of the coverage compared: the last of the model's checkpoints within it) and the
+#: variants (name -> keywords).
 FIGURES = {
     "fig9": {
         "base": {"n_explorers": 2, "n_anchors": 6},
         "levels": {f"N={n}": {"n_particles": n} for n in (1, 10, 100)},
         "horizon": 400.0,
-        "checkpoint": 400,
         "variants": {
             "default": {},
             "gauss": {"weights": "gauss"},
@@ -64,7 +66,6 @@ FIGURES = {
         "base": {"n_explorers": 4, "n_anchors": 6},
         "levels": {"circle": {"arena": "circle"}, "serpentine": {"arena": "serpentine"}},
         "horizon": 1000.0,
-        "checkpoint": 1000,
         "variants": {
             "default": {},
             "InitCutoff 3000 s": {"init_cutoff": 3000.0},
@@ -112,11 +113,12 @@ FIGURES = {
         "base": {},
         "levels": {f"{a}a/{10 - a}e": {"n_anchors": a, "n_explorers": 10 - a} for a in (2, 4, 8)},
         "horizon": 1000.0,
-        "checkpoint": 1000,
         "variants": {
             "default": {},
             "gauss": {"weights": "gauss"},
             "RToF noise 2 m": {"rtof_noise": 2.0},
+            "RToF noise 2 m, SIG_TH 1.22 (its calibration)": {"rtof_noise": 2.0, "sig_th": 1.22},
+            "RToF noise 3 m": {"rtof_noise": 3.0},
             "gauss + RToF noise 2 m": {"weights": "gauss", "rtof_noise": 2.0},
             "RToF bias 1 m": {"rtof_bias": 1.0},
             "anchors spread": {"anchor_placement": "spread"},
@@ -157,12 +159,16 @@ def main() -> None:
     parser.add_argument("figure", choices=sorted(FIGURES))
     parser.add_argument("--runs", type=int, default=6, help="seeds per variant and level")
     parser.add_argument("--seed", type=int, default=840000, help="first seed")
-    parser.add_argument("--horizon", type=float, default=None, help="coverage phase (s)")
+    parser.add_argument(
+        "--horizon", type=float, default=None, help="coverage phase (s), the checkpoint if one"
+    )
     parser.add_argument("--variants", nargs="*", default=None, help="variant names to run")
     args = parser.parse_args()
     spec = FIGURES[args.figure]
     horizon = spec["horizon"] if args.horizon is None else args.horizon
-    checkpoint = min(spec["checkpoint"], int(horizon))
+    if horizon < CHECKPOINTS[0]:
+        parser.error(f"--horizon must be at least {CHECKPOINTS[0]} s (the first checkpoint)")
+    checkpoint = max(c for c in CHECKPOINTS if c <= horizon)  # the last within the horizon
     metric = f"coverage_{checkpoint}"
     variants = spec["variants"]
     chosen = list(variants) if args.variants is None else args.variants
