@@ -117,8 +117,6 @@ FIGURES = {
             "default": {},
             "gauss": {"weights": "gauss"},
             "RToF noise 2 m": {"rtof_noise": 2.0},
-            "RToF noise 2 m, SIG_TH 1.22 (its calibration)": {"rtof_noise": 2.0, "sig_th": 1.22},
-            "RToF noise 3 m": {"rtof_noise": 3.0},
             "gauss + RToF noise 2 m": {"weights": "gauss", "rtof_noise": 2.0},
             "RToF bias 1 m": {"rtof_bias": 1.0},
             "anchors spread": {"anchor_placement": "spread"},
