@@ -7,8 +7,9 @@ model's README lists as a keyword (eq. 8's weight shape, resampling schedule and
 placement, the dispersion cut-off, backtracking, the RToF noise). Every variant runs every level
 on the same seeds (``--seed`` onward, 840000+ by default: no test, sweep or README number uses
 them), so variants and levels are paired by seed. Printed per variant and level: mean true
-coverage at the checkpoint, the brain's estimate, pose error, overlap, false-match rate and
-bumps (wall collisions per explorer per second); then
+coverage at the checkpoint, the brain's estimate, pose error, overlap, false-match rate, bumps
+(wall collisions per explorer per second), the share of ticks with a revisit match and the
+median true distance between a match's two positions ("gap", m); then
 the figure's effect with a 95 % interval:
 
 * Fig. 9 (C14): coverage with the most particles minus with 1 (the paper: positive);
@@ -25,12 +26,14 @@ Usage (a few minutes each on a shared 2-core machine):
 
 import argparse
 import time
+from contextlib import contextmanager
 
 import numpy as np
 import pandas as pd
 from scipy import stats
 
 from models.sugarmap import SugarMapModel
+from models.sugarmap.agents import Explorer
 from models.sugarmap.model import CHECKPOINTS
 
 __all__ = ["FIGURES", "effect", "run_one"]
@@ -58,6 +61,14 @@ FIGURES = {
             "own path covered + frontier": {"self_cover": "tree", "backtrack": "frontier"},
             "anchors spread": {"anchor_placement": "spread"},
             "RToF noise 0.25 m": {"rtof_noise": 0.25},
+            "gauss + RToF noise 0.25 m": {"weights": "gauss", "rtof_noise": 0.25},
+            "gauss + own path covered + RToF noise 0.25 m": {
+                "weights": "gauss",
+                "self_cover": "tree",
+                "rtof_noise": 0.25,
+            },
+            "gauss + SIG_TH 0.4": {"weights": "gauss", "sig_th": 0.4},
+            "SIG_TH 0.4": {"sig_th": 0.4},
             "min_match_age 30 s": {"min_match_age": 30.0},
             "gauss + min_match_age 30 s": {"weights": "gauss", "min_match_age": 30.0},
         },
@@ -129,8 +140,32 @@ FIGURES = {
 
 
 def run_one(seed: int, horizon: float, params: dict) -> dict:
-    """One run's summary (true and estimated coverage, pose error, overlap, false matches)."""
-    return SugarMapModel(seed=seed, horizon=horizon, **params).run().summary()
+    """One run's summary (true and estimated coverage, pose error, overlap, false matches) and
+    the true distances (m) between the two positions of each of its revisit matches.
+    """
+    with _match_gaps() as gaps:
+        summary = SugarMapModel(seed=seed, horizon=horizon, **params).run().summary()
+    return {**summary, "gap": float(np.median(gaps)) if gaps else np.nan, "gaps": gaps}
+
+
+@contextmanager
+def _match_gaps():
+    """Collect, while it is open, how far apart the true positions of every revisit match are
+    (what :meth:`Explorer.record` scores as true or false) by wrapping that method.
+    """
+    gaps: list[float] = []
+    record = Explorer.record
+
+    def scored(explorer, match, here):
+        if match.matched:
+            gaps.append(float(np.hypot(*(here - explorer.truth[match.index]))))
+        record(explorer, match, here)
+
+    Explorer.record = scored
+    try:
+        yield gaps
+    finally:
+        Explorer.record = record
 
 
 def effect(figure: str, table: pd.DataFrame, metric: str) -> tuple[float, float, float]:
@@ -184,12 +219,20 @@ def main() -> None:
                 rows.append({"level": level, "seed": seed, **run_one(seed, horizon, params)})
         table = pd.DataFrame(rows)
         table["bumps"] = table["wall_collisions"] / (table["n_explorers"] * horizon)
+        table["match_share"] = table["matches"] / (table["n_explorers"] * horizon)
         columns = [metric, "coverage_est", "pose_error", "overlap", "false_match_rate", "bumps"]
+        columns += ["match_share", "gap"]
         means = table.groupby("level", sort=False)[[*columns, "t_deploy"]].mean()
         mean, low, high = effect(args.figure, table, metric)
         print(f"\n== {name} ({time.perf_counter() - start:.0f} s)")
         print(means.round(2).to_string())
         print(f"effect: {mean:+.1f} points, 95 % interval {low:+.1f} to {high:+.1f}")
+        gaps = np.concatenate([np.asarray(g, dtype=float) for g in table["gaps"]])
+        if len(gaps):
+            print(
+                f"revisit matches: {len(gaps)}, true gap median {np.median(gaps):.2f} m, within "
+                f"one cell (0.5 m) {np.mean(gaps < 0.5):.2f}, beyond 2 m {np.mean(gaps > 2):.2f}"
+            )
 
 
 if __name__ == "__main__":
