@@ -72,7 +72,6 @@ def test_anchor_placement_spread_lands_every_anchor_at_once_far_apart():
     assert dispersed.t_deploy > 0.0  # Fig. 3's dispersion takes time
 
 
-@pytest.mark.slow
 def test_anchor_placement_spread_reaches_the_serpentines_far_lanes():
     """Fig. 3's dispersion leaves every anchor in the serpentine's first lanes (README, Fig. 11);
     "spread" places them across the 20 m square."""
