@@ -69,6 +69,12 @@ FIGURES = {
             },
             "gauss + SIG_TH 0.4": {"weights": "gauss", "sig_th": 0.4},
             "SIG_TH 0.4": {"sig_th": 0.4},
+            "RToF noise 0.25 m, SIG_TH 0.5 (its calibration)": {"rtof_noise": 0.25, "sig_th": 0.5},
+            "gauss + RToF noise 0.25 m, SIG_TH 0.5": {
+                "weights": "gauss",
+                "rtof_noise": 0.25,
+                "sig_th": 0.5,
+            },
             "min_match_age 30 s": {"min_match_age": 30.0},
             "gauss + min_match_age 30 s": {"weights": "gauss", "min_match_age": 30.0},
         },
