@@ -22,6 +22,7 @@ Usage (a few minutes each on a shared 2-core machine):
     python benchmarks/sugarmap_mechanisms.py fig11 --runs 4 --horizon 1000
     python benchmarks/sugarmap_mechanisms.py fig8 --runs 6 --horizon 1000
     python benchmarks/sugarmap_mechanisms.py fig9 --variants default gauss   # some variants
+    python benchmarks/sugarmap_mechanisms.py fig9 --read out/mech/fig9   # a sweep's readings
 """
 
 import argparse
@@ -36,7 +37,7 @@ from models.sugarmap import SugarMapModel
 from models.sugarmap.agents import Explorer
 from models.sugarmap.model import CHECKPOINTS
 
-__all__ = ["FIGURES", "effect", "run_one"]
+__all__ = ["CONTRASTS", "FIGURES", "READINGS", "effect", "effect_unpaired", "read_sweep", "run_one"]
 
 #: figure -> the keywords of every run, those of each level, the default horizon (s, also the
 #: checkpoint of the coverage compared: the last of the model's checkpoints within it) and the
@@ -174,23 +175,72 @@ def _match_gaps():
         Explorer.record = record
 
 
+#: figure -> the effect as a contrast of its levels' coverage (level -> coefficient): Fig. 9
+#: the most particles minus 1; Fig. 11 serpentine minus circle; Fig. 8 the knee, the gain per
+#: anchor turned explorer from 4 to 2 anchors minus that from 8 to 4.
+CONTRASTS = {
+    "fig9": {"N=100": 1.0, "N=1": -1.0},
+    "fig11": {"serpentine": 1.0, "circle": -1.0},
+    "fig8": {"2a/8e": 0.5, "4a/6e": -0.75, "8a/2e": 0.25},
+}
+
+#: The keywords a sensitivity sweep of these readings may vary (``--read``: one reading per
+#: combination of the ones a sweep has).
+READINGS = (
+    "weights", "sigma_m", "resample", "resample_noise", "self_cover", "backtrack",
+    "blocked_ttl", "cover_th", "sig_th", "min_match_age", "anchor_placement", "init_cutoff",
+    "noise_scale", "rtof_noise", "rtof_bias",
+)  # fmt: skip
+
+
 def effect(figure: str, table: pd.DataFrame, metric: str) -> tuple[float, float, float]:
-    """The figure's effect (see the module docstring) and its 95 % t-interval over the seeds
-    (paired: one value per seed).
+    """The figure's effect (:data:`CONTRASTS`) and its 95 % t-interval over the seeds (paired:
+    one value per seed).
     """
     wide = table.pivot(index="seed", columns="level", values=metric)
-    levels = list(FIGURES[figure]["levels"])
-    if figure == "fig9":
-        per_seed = wide[levels[-1]] - wide[levels[0]]
-    elif figure == "fig11":
-        per_seed = wide["serpentine"] - wide["circle"]
-    else:  # fig8: per anchor given up, 4 -> 2 against 8 -> 4
-        a2, a4, a8 = (wide[level] for level in levels)
-        per_seed = (a2 - a4) / 2.0 - (a4 - a8) / 4.0
+    per_seed = sum(c * wide[level] for level, c in CONTRASTS[figure].items())
     n = len(per_seed)
     mean = float(per_seed.mean())
     half = float(stats.t.ppf(0.975, n - 1) * per_seed.std(ddof=1) / np.sqrt(n)) if n > 1 else np.nan
     return mean, mean - half, mean + half
+
+
+def effect_unpaired(figure: str, table: pd.DataFrame, metric: str) -> tuple[float, float, float]:
+    """The figure's effect from runs that are not paired by seed (a sweep's), with a 95 %
+    normal-approximation interval: sum c_l mean_l, variance sum c_l^2 s_l^2 / n_l.
+    """
+    mean, var = 0.0, 0.0
+    for level, c in CONTRASTS[figure].items():
+        values = table.loc[table["level"] == level, metric]
+        mean += c * float(values.mean())
+        var += c**2 * float(values.var(ddof=1)) / len(values)
+    half = 1.96 * float(np.sqrt(var))
+    return mean, mean - half, mean + half
+
+
+def read_sweep(figure: str, folder: str) -> None:
+    """Print each reading's table and effect from a finished sensitivity sweep's runs."""
+    from analysis.sweep.storage import load_results  # benchmarks may use the analysis layer
+
+    spec = FIGURES[figure]
+    runs = load_results(folder, failed=False)
+    metric = f"coverage_{max(c for c in CHECKPOINTS if c <= runs['horizon'].min())}"
+    runs["level"] = None
+    for level, keywords in spec["levels"].items():
+        match = np.logical_and.reduce([runs[k] == v for k, v in keywords.items()])
+        runs.loc[match, "level"] = level
+    keys = [k for k in READINGS if k in runs and runs[k].nunique(dropna=False) > 1]
+    names = runs[keys].apply(
+        lambda r: ", ".join(f"{k}={r[k]}" for k in keys if pd.notna(r[k])) or "paper's", axis=1
+    )
+    columns = [metric, "coverage_est", "pose_error", "overlap", "false_match_rate"]
+    print(f"{figure}: {len(runs)} runs from {folder}, {metric}")
+    for name, table in runs.groupby(names, sort=False):
+        table = table[table["level"].notna()]
+        mean, low, high = effect_unpaired(figure, table, metric)
+        print(f"\n== {name} ({len(table)} runs)")
+        print(table.groupby("level", sort=False)[columns].mean().round(2).to_string())
+        print(f"effect: {mean:+.1f} points, 95 % interval {low:+.1f} to {high:+.1f} (unpaired)")
 
 
 def main() -> None:
@@ -202,7 +252,13 @@ def main() -> None:
         "--horizon", type=float, default=None, help="coverage phase (s), the checkpoint if one"
     )
     parser.add_argument("--variants", nargs="*", default=None, help="variant names to run")
+    parser.add_argument(
+        "--read", default=None, help="print a finished sensitivity sweep's readings instead"
+    )
     args = parser.parse_args()
+    if args.read is not None:
+        read_sweep(args.figure, args.read)
+        return
     spec = FIGURES[args.figure]
     horizon = spec["horizon"] if args.horizon is None else args.horizon
     if horizon < CHECKPOINTS[0]:
