@@ -77,7 +77,7 @@ def test_anchor_placement_spread_reaches_the_serpentines_far_lanes():
     "spread" places them across the 20 m square."""
     east = {}
     for rule in ("disperse", "spread"):
-        m = SugarMapModel(arena="serpentine", horizon=1.0, anchor_placement=rule, seed=840900)
+        m = SugarMapModel(arena="serpentine", horizon=1.0, anchor_placement=rule, seed=5)
         east[rule] = m.run().anchor_pos[:, 0].max()
     assert east["disperse"] < 6.0 < 15.0 < east["spread"]
 
@@ -92,8 +92,8 @@ def test_anchor_placement_spread_reaches_the_serpentines_far_lanes():
     ],
 )
 def test_each_mechanism_changes_a_testbed_run(keyword, value):
-    base = SugarMapModel(horizon=60.0, seed=840901, **TESTBED).run().samples()
-    other = SugarMapModel(horizon=60.0, seed=840901, **TESTBED, **{keyword: value}).run()
+    base = SugarMapModel(horizon=60.0, seed=7, **TESTBED).run().samples()
+    other = SugarMapModel(horizon=60.0, seed=7, **TESTBED, **{keyword: value}).run()
     assert not base.equals(other.samples())
 
 
