@@ -164,6 +164,9 @@ class SugarMapModel(SwarmModel):
             return
         for anchor in anchors:
             anchor.launch()
+        if p.resolved("anchor_placement") == "spread":
+            self._land_spread(anchors)
+            return
         ids, pos, flying = self.anchor_ids, self.anchor_pos, self.flying
         heading = self.rng.uniform(0.0, 360.0, len(anchors))
         proximity = p.proximity_for(self.arena.free_area)
@@ -192,6 +195,23 @@ class SugarMapModel(SwarmModel):
         for anchor in anchors:  # InitCutoff: the rest land where they are
             if flying[anchor.row]:
                 self._land(anchor)
+
+    def _land_spread(self, anchors: list[Anchor]) -> None:
+        """``anchor_placement="spread"`` (a control of ours, README "Choices": anchor
+        placement): every anchor lands at once on the centre of a free cell chosen by greedy
+        farthest-point sampling, each the free cell farthest (straight line) from the first
+        explorer's start and the anchors placed before it; no draw from the generator.
+        """
+        iy, ix = np.nonzero(self.arena.free)
+        centres = (np.stack([ix, iy], axis=1) + 0.5) * self.cell
+        nearest = np.hypot(*(centres - self.starts[0]).T)
+        for anchor in anchors:
+            k = int(np.argmax(nearest))
+            self.anchor_pos[anchor.row] = centres[k]
+            nearest = np.minimum(nearest, np.hypot(*(centres - centres[k]).T))
+            self.comms.move(int(anchor.unique_id), centres[k])
+            self.place(self.anchor_ids[[anchor.row]], centres[[k]])
+            self._land(anchor)
 
     def _land(self, anchor: Anchor) -> None:
         self.flying[anchor.row] = False
@@ -239,6 +259,7 @@ class SugarMapModel(SwarmModel):
                 weights=p.resolved("weights"),
                 sigma_m=p.resolved("sigma_m"),
                 resample=p.resolved("resample"),
+                resample_noise=p.resolved("resample_noise"),
                 min_match_age=p.resolved("min_match_age"),
                 sig_norm=p.resolved("sig_norm"),
             )
@@ -251,6 +272,7 @@ class SugarMapModel(SwarmModel):
                     beta=p.resolved("beta"),
                     blocked_ttl=p.resolved("blocked_ttl"),
                     pick=p.resolved("pick"),
+                    self_cover=p.resolved("self_cover"),
                 )
             self.global_map = global_map(self.filter.node_maps())
         elif p.algorithm == "random_walk" and p.resolved("random_walk") == "bounce":

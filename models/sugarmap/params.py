@@ -28,6 +28,7 @@ SUGARMAP_ONLY = (
     "weights",
     "sigma_m",
     "resample",
+    "resample_noise",
     "min_match_age",
     "sig_norm",
     "planner_pose",
@@ -35,7 +36,9 @@ SUGARMAP_ONLY = (
     "beta",
     "blocked_ttl",
     "pick",
+    "self_cover",
     "proximity",
+    "anchor_placement",
 )
 
 
@@ -89,21 +92,33 @@ class SugarMapParams(SwarmParams):
         sigma_m: the Gaussian weights' length (m); None: D. SugarMap only.
         resample: "on_match" (after a revisit) or "every_tick"; None: "on_match". SugarMap
             only.
+        resample_noise: the SD of the Gaussian jitter (per axis, m) each particle's position
+            gets at every resampling ("roughening", ours: the paper adds none); None: 0.
+            SugarMap only.
         min_match_age: stored signatures younger than this are not matched (s); None: 0.
             SugarMap only.
         sig_norm: eq. 11 divides by the number of common anchors ("count", literal) or its
             square root ("rms"); None: "count". SugarMap only.
         planner_pose: the cell the planner starts from: "particles" (the mean particle) or
             "presumed" (command-integrated); None: "particles". SugarMap only.
-        backtrack: "soft" (the tree parent's weight raised by beta) or "hard" (strict DFS);
-            None: "soft". SugarMap only.
+        backtrack: "soft" (the tree parent's weight raised by beta), "hard" (strict DFS) or
+            "frontier" (ours: toward the nearest uncovered cell through covered ones); None:
+            "soft". SugarMap only.
         beta: the soft backtracking bonus; None: 1. SugarMap only.
         blocked_ttl: how long a bumped cell stays blocked for the planner (s); None: 30.
             SugarMap only.
         pick: a candidate cell's weight: "one_minus" (1 - P) or "inverse" (1 / P); None:
             "one_minus". SugarMap only.
+        self_cover: what counts as "covered by itself" for an explorer's planner (Sect. 3.2):
+            "map" (only the GlobalMap at COVER_TH, as for the other explorers' cells) or
+            "tree" (also every cell its own spanning tree has stood in, by its pose estimate;
+            ours); None: "map". SugarMap only.
         proximity: T_p, the dispersion's proximity threshold (m); None: half the spacing of a
             square lattice of the anchors over the free area, 0.5 sqrt(A / N_a). SugarMap
+            only.
+        anchor_placement: "disperse" (Fig. 3's dispersion) or "spread" (ours, a control: the
+            anchors land at once on free cells spread by greedy farthest-point sampling from
+            the entrance, what an ideal dispersion would reach); None: "disperse". SugarMap
             only.
         init_cutoff: InitCutoff: anchors still flying then land where they are (s; ours).
         dispersion_period: P_d, the flight leg between two RToF checks of a dispersing anchor
@@ -142,14 +157,17 @@ class SugarMapParams(SwarmParams):
     weights: str | None = param(None, choices=("eq8", "gauss"))
     sigma_m: float | None = param(None, low=0.0, low_open=True)
     resample: str | None = param(None, choices=("on_match", "every_tick"))
+    resample_noise: float | None = param(None, low=0.0, shown=(0.0, 1.0))
     min_match_age: float | None = param(None, low=0.0)
     sig_norm: str | None = param(None, choices=("count", "rms"))
     planner_pose: str | None = param(None, choices=("particles", "presumed"))
-    backtrack: str | None = param(None, choices=("soft", "hard"))
+    backtrack: str | None = param(None, choices=("soft", "hard", "frontier"))
     beta: float | None = param(None, low=0.0)
     blocked_ttl: float | None = param(None, low=0.0)
     pick: str | None = param(None, choices=("one_minus", "inverse"))
+    self_cover: str | None = param(None, choices=("map", "tree"))
     proximity: float | None = param(None, low=0.0, low_open=True)
+    anchor_placement: str | None = param(None, choices=("disperse", "spread"))
     init_cutoff: float = param(600.0, low=0.0)
     dispersion_period: float = param(5.0, low=0.0, low_open=True)
     random_walk: str | None = param(None, choices=("lattice", "bounce"))
@@ -213,6 +231,7 @@ RESOLVED = {
     "weights": "eq8",
     "sigma_m": 0.5,
     "resample": "on_match",
+    "resample_noise": 0.0,
     "min_match_age": 0.0,
     "sig_norm": "count",
     "planner_pose": "particles",
@@ -220,6 +239,8 @@ RESOLVED = {
     "beta": 1.0,
     "blocked_ttl": 30.0,
     "pick": "one_minus",
+    "self_cover": "map",
+    "anchor_placement": "disperse",
     "random_walk": "lattice",
 }
 

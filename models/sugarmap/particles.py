@@ -227,6 +227,9 @@ class ParticleFilter:
         sigma_m: the Gaussian weights' length (m; ours: D).
         resample: "on_match" (only after a match) or "every_tick" (also uniformly without
             one, as the generic filter of Sect. 3.3.1 does) (README "Choices": resampling).
+        resample_noise: SD (m, per axis) of the Gaussian jitter added to every particle's
+            position after each resampling ("roughening"; 0, the paper's reading: none, and no
+            draw).
         min_match_age: stored signatures younger than this (s) cannot match, so a match means a
             loop closure rather than the last few ticks (README "Choices": match; 0 = off).
         sig_norm: eq. 11's normaliser, "count" (literal) or "rms" (README "Choices": eq. 11's
@@ -260,6 +263,7 @@ class ParticleFilter:
         weights: str = "eq8",
         sigma_m: float = 0.5,
         resample: str = "on_match",
+        resample_noise: float = 0.0,
         min_match_age: float = 0.0,
         sig_norm: str = "count",
     ) -> None:
@@ -272,6 +276,7 @@ class ParticleFilter:
         check_choice("weights", weights, WEIGHT_RULES)
         check_range("sigma_m", sigma_m, 0.0, low_open=True)
         check_choice("resample", resample, RESAMPLE_RULES)
+        check_range("resample_noise", resample_noise, 0.0)
         check_range("min_match_age", min_match_age, 0.0)
         check_choice("sig_norm", sig_norm, SIG_NORMS)
         if not isinstance(grid, MapGrid):
@@ -287,6 +292,7 @@ class ParticleFilter:
         self.turn_noise, self.speed_noise = float(turn_noise), float(speed_noise)
         self.weight_rule, self.sigma_m = weights, float(sigma_m)
         self.resample, self.min_match_age = resample, float(min_match_age)
+        self.resample_noise = float(resample_noise)
         self.sig_norm = sig_norm
         self._init_particles(starts, int(n_particles))
         self._init_memory(len(starts), int(n_particles), int(n_anchors))
@@ -467,7 +473,9 @@ class ParticleFilter:
     def _resample(self, rng: np.random.Generator, e: int) -> None:
         """Multinomial resampling with replacement [Sect. 3.3.2]: a particle's position,
         heading, LocalMap and Store travel together (README "Choices": resampling); the weights are
-        reset to 1/N.
+        reset to 1/N. With ``resample_noise`` > 0 every position then moves by a Gaussian
+        jitter of that SD per axis (drawn after the picks), so copies of one particle part; the
+        jitter marks no cell until the next prediction.
         """
         n = self.n_particles
         # N independent draws from the weights by inverse CDF: what Generator.choice(n, n,
@@ -476,6 +484,8 @@ class ParticleFilter:
         pick = np.searchsorted(cdf / cdf[-1], rng.random(n), side="right")
         s = int(self.n_stored[e])
         self.pos[e] = self.pos[e, pick]
+        if self.resample_noise > 0:
+            self.pos[e] += rng.normal(0.0, self.resample_noise, (n, 2))
         self.phi[e] = self.phi[e, pick]
         self.localmap[e] = self.localmap[e, pick]
         self.store[e, :, :s] = self.store[e, pick, :s]

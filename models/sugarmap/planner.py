@@ -13,12 +13,18 @@ blocked it backtracks:
   last covered cell", read as any unblocked neighbour with the tree parent's weight raised by
   ``beta`` (the last covered cell read as the tree parent);
 - ``"hard"``: the idealised DFS, straight back to the tree parent; at the root with nothing
-  left the explorer idles and re-checks every tick (COVER_TH is "an exit condition").
+  left the explorer idles and re-checks every tick (COVER_TH is "an exit condition");
+- ``"frontier"`` (ours, a control for Fig. 11): the first step of a shortest path through cells
+  counted covered to the nearest uncovered, unblocked cell (a breadth-first search on the
+  estimate grid, as OMSTC's help step), so an explorer whose surroundings others have covered
+  heads for what is left instead of back along its own tree; "soft" when there is none.
 
 The explorer has no range sensor, so a cell is known to be blocked only by bumping into it
 (README "Choices": walls); the mark lives in the brain's frame, which drifts from the true one, so
 it expires after ``blocked_ttl`` s. Neighbours outside the estimate grid count as blocked.
 """
+
+from collections import deque
 
 import numpy as np
 
@@ -27,6 +33,9 @@ from abm.errors import ConfigError, check_choice, check_range
 __all__ = ["CoveragePlanner", "HEADINGS", "heading_to"]
 
 Cell = tuple[int, int]
+
+#: The backtracking rules (module docstring).
+BACKTRACKS = ("soft", "hard", "frontier")
 
 #: Compass heading (deg, clockwise from north, README "Choices": heading frame) of each 4-neighbour
 #: step (dx, dy).
@@ -79,12 +88,15 @@ class CoveragePlanner:
         root: the explorer's start cell ``(ix, iy)`` in the estimate grid.
         cover_th: COVER_TH in (0, 1]: a cell with ``G >= cover_th`` counts as covered; 0.95
             (Sect. 4.3.6).
-        backtrack: ``"soft"`` or ``"hard"`` (see the module docstring; README "Choices":
-            backtracking).
+        backtrack: ``"soft"``, ``"hard"`` or ``"frontier"`` (see the module docstring; README
+            "Choices": backtracking).
         beta: the tree parent's weight bonus under soft backtracking (>= 0; ours: 1).
         blocked_ttl: seconds a bumped cell stays blocked (> 0; ours: 30, README "Choices": walls).
         pick: a candidate's weight: ``"one_minus"`` ``(1 - G) + eps`` or ``"inverse"``
             ``1 / (G + eps)`` (README "Choices": next-cell weight).
+        self_cover: what is "covered by itself" (Sect. 3.2's step 1): ``"map"``, only what the
+            GlobalMap says at COVER_TH, as for the other explorers; ``"tree"``, also every cell
+            this planner has stood in (:attr:`visited`), whatever the GlobalMap says there.
         eps: keeps every weight positive and finite (> 0).
 
     Attributes:
@@ -94,6 +106,7 @@ class CoveragePlanner:
             cell that is not 4-adjacent, e.g. after a jump of the pose estimate).
         prev_cell: the cell of the last decision (P6).
         idle: True while hard backtracking has nothing left at the root (P15).
+        visited: the cells this planner has decided in (its own path, by its pose estimate).
         blocked_at: cell -> the time (s) it was last bumped into (P18).
 
     """
@@ -107,25 +120,29 @@ class CoveragePlanner:
         beta: float = 1.0,
         blocked_ttl: float = 30.0,
         pick: str = "one_minus",
+        self_cover: str = "map",
         eps: float = 1e-3,
     ) -> None:
         self.root = _as_cell("root", root)
         check_range("cover_th", cover_th, 0.0, 1.0, low_open=True)
-        check_choice("backtrack", backtrack, ("soft", "hard"))
+        check_choice("backtrack", backtrack, BACKTRACKS)
         check_range("beta", beta, 0.0)
         check_range("blocked_ttl", blocked_ttl, 0.0, low_open=True)
         check_choice("pick", pick, ("one_minus", "inverse"))
+        check_choice("self_cover", self_cover, ("map", "tree"))
         check_range("eps", eps, 0.0, low_open=True)
         self.cover_th = float(cover_th)
         self.backtrack = backtrack
         self.beta = float(beta)
         self.blocked_ttl = float(blocked_ttl)
         self.pick = pick
+        self.self_cover = self_cover
         self.eps = float(eps)
         self.target: Cell | None = None
         self.tree_parent: dict[Cell, Cell | None] = {}
         self.prev_cell: Cell | None = None
         self.idle = False
+        self.visited: set[Cell] = set()
         self.blocked_at: dict[Cell, float] = {}
 
     def decide(
@@ -165,6 +182,7 @@ class CoveragePlanner:
             prev = self.prev_cell
             self.tree_parent[cell] = prev if prev in _neighbours(cell) else None
         self.prev_cell = cell  # P6
+        self.visited.add(cell)
         self.target = self._choose(cell, coverage, rng)
         return None if self.target is None else heading_to(cell, self.target)  # P17
 
@@ -187,14 +205,19 @@ class CoveragePlanner:
             if 0 <= n[0] < cols and 0 <= n[1] < rows and n not in self.blocked_at
         ]
         g = {n: _probability(coverage, n) for n in free}
-        uncovered = [n for n in free if g[n] < self.cover_th]  # P7
+        mine = self.visited if self.self_cover == "tree" else set()
+        uncovered = [n for n in free if g[n] < self.cover_th and n not in mine]  # P7
         if uncovered:  # P8-P11
             child = self._draw(uncovered, g, rng)
             if child not in self.tree_parent and child != self.root:  # P10: a tree edge
                 self.tree_parent[child] = cell
             return child
         parent = self.tree_parent.get(cell)
-        if self.backtrack == "soft":  # P13
+        if self.backtrack == "frontier":
+            step = self._toward_frontier(cell, coverage, mine)
+            if step is not None:
+                return step
+        if self.backtrack != "hard":  # P13
             return self._draw(free, g, rng, bonus=parent) if free else None
         if parent in free:  # P14
             return parent
@@ -202,6 +225,28 @@ class CoveragePlanner:
             self.idle = True
             return None
         return free[int(rng.integers(len(free)))] if free else None  # P16: escape
+
+    def _toward_frontier(self, cell: Cell, coverage: np.ndarray, mine: set[Cell]) -> Cell | None:
+        """The first step of a shortest 4-neighbour path from ``cell`` through covered cells
+        (G >= COVER_TH, or its own path under ``self_cover="tree"``) to the nearest uncovered
+        cell, blocked cells avoided; None when no uncovered cell is reachable so.
+        """
+        rows, cols = coverage.shape
+        first: dict[Cell, Cell | None] = {cell: None}
+        queue = deque([cell])
+        while queue:
+            here = queue.popleft()
+            for n in _neighbours(here):
+                if n in first or not (0 <= n[0] < cols and 0 <= n[1] < rows):
+                    continue
+                if n in self.blocked_at:
+                    continue
+                step = first[here] or n
+                if coverage[n[1], n[0]] < self.cover_th and n not in mine:
+                    return step
+                first[n] = step
+                queue.append(n)
+        return None
 
     def _draw(
         self,
