@@ -1,9 +1,13 @@
 """Likelihood-free calibration of a model against measured numbers: ABC-SMC with pyABC.
 
 Each particle (values of the free parameters, drawn from uniform or log-uniform priors) runs
-the model once per condition of the target; its summary statistics are the target's metrics,
-row by row. The distance of a particle is ``sqrt(mean_i ((x_i - value_i) / sd_i)^2)``: each
-metric counts in units of the target's spread, so a count and a time weigh alike. ABC-SMC
+the model ``replicates`` times per condition of the target; its summary statistics are the
+target's metrics, row by row, each the mean over those runs. With one run per particle the
+distance carries a single run's spread, so the posterior cannot be narrower than what one run
+tells apart; a target measured as the mean of many runs is matched by particles that are means
+of several (then give the target the spread of such a mean as ``sd``). The distance of a
+particle is ``sqrt(mean_i ((x_i - value_i) / sd_i)^2)``: each metric counts in units of the
+target's spread, so a count and a time weigh alike. ABC-SMC
 (Toni et al. 2009; pyABC's ``ABCSMC``) lowers the acceptance threshold population by
 population (the median of the previous distances) until ``epsilon`` or the population budget.
 
@@ -76,6 +80,7 @@ class Calibration:
         priors: the free parameters.
         fixed: the parameters set with ``--set``.
         seed: the calibration's seed.
+        replicates: runs per condition and particle; each statistic is their mean.
 
     """
 
@@ -84,22 +89,29 @@ class Calibration:
     priors: tuple[Prior, ...]
     fixed: Mapping
     seed: int
+    replicates: int = 1
 
     def evaluate(self, values: Mapping[str, float], seed: int) -> dict:
-        """One run per condition of the target at ``values``: the target's metrics by row."""
+        """``replicates`` runs per condition of the target at ``values``: the target's
+        metrics by row, each the mean of its runs (NaN when a run does not report it).
+        """
         from analysis.runner import run_model
 
         summaries = []
         for k, cond in enumerate(self.target.condition_list()):
             params = {**self.fixed, **cond, **{p.name: float(values[p.name]) for p in self.priors}}
-            run_seed = int(np.random.SeedSequence([seed, k]).generate_state(1)[0])
-            summaries.append((cond, run_model(self.model, params, run_seed).summary))
+            runs = [
+                run_model(self.model, params, _run_seed(seed, k, r)).summary
+                for r in range(self.replicates)
+            ]
+            summaries.append((cond, runs))
         out = {}
         for i in range(len(self.target.rows)):
             cond = self.target.condition_of(i)
-            summary = next(s for c, s in summaries if c == cond)
-            value = summary.get(self.target.rows["metric"].iloc[i])
-            out[f"r{i}"] = math.nan if value is None else float(value)
+            runs = next(s for c, s in summaries if c == cond)
+            metric = self.target.rows["metric"].iloc[i]
+            got = [run.get(metric) for run in runs]
+            out[f"r{i}"] = math.nan if None in got else float(np.mean(np.asarray(got, float)))
         return out
 
     def __call__(self, particle: Mapping) -> dict:
@@ -111,6 +123,12 @@ class Calibration:
     def observed(self) -> dict:
         """The target as summary statistics."""
         return {f"r{i}": float(v) for i, v in enumerate(self.target.rows["value"])}
+
+
+def _run_seed(seed: int, condition: int, replicate: int) -> int:
+    """The seed of one run of an evaluation (replicate 0 keeps the seed of a single run)."""
+    key = [seed, condition] if replicate == 0 else [seed, condition, replicate]
+    return int(np.random.SeedSequence(key).generate_state(1)[0])
 
 
 def _prior(priors: Sequence[Prior]):

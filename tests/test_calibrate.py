@@ -285,3 +285,36 @@ def test_conjugate_posterior_on_a_dask_cluster(tmp_path, tiny_package):
     assert abs(post["mean"] - Y0) < 0.6 * SIGMA
     assert abs(_posterior_sd(tmp_path) - SIGMA) < 0.5 * SIGMA
     assert history.n_populations == 5
+
+
+def test_replicates_average_runs_on_their_own_seeds(tmp_path):
+    """A particle's statistic is the mean of ``replicates`` runs; replicate 0 runs on the seed a
+    single run had, so calibrations without replicates repeat as before."""
+    from abm.registry import model_class
+    from analysis.calibrate import Calibration, _run_seed
+    from analysis.calibration_inputs import parse_prior, read_target
+    from analysis.runner import run_model
+
+    cls = model_class(NORMAL)
+    fixed = {"sigma": SIGMA}
+    prior = parse_prior(cls, "mu=-20:20", fixed)
+    target = read_target(cls, _target(tmp_path), fixed, ["mu"])
+    single = Calibration(cls, target, (prior,), fixed, seed=4)
+    triple = Calibration(cls, target, (prior,), fixed, seed=4, replicates=3)
+    runs = [run_model(cls, {"sigma": SIGMA, "mu": 2.0}, _run_seed(77, 0, r)).summary["y"]
+            for r in range(3)]  # fmt: skip
+    assert single.evaluate({"mu": 2.0}, 77)["r0"] == runs[0]
+    assert np.isclose(triple.evaluate({"mu": 2.0}, 77)["r0"], np.mean(runs))
+    assert len(set(runs)) == 3  # three runs, three seeds
+    # a mean of 16 runs is four times less spread than one run
+    many = Calibration(cls, target, (prior,), fixed, seed=4, replicates=16)
+    means = [many.evaluate({"mu": 0.0}, s)["r0"] for s in range(60)]
+    assert 0.15 < np.std(means) < 0.4
+
+
+def test_replicates_below_one_refused_before_any_run(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert _calibrate(tmp_path, "--replicates", "0", out=out) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("--replicates must be at least 1, got 0") and len(err.splitlines()) == 1
+    assert not out.exists()

@@ -59,6 +59,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--check-runs", type=int, default=20, help="runs of each predictive/held-out check [20]"
     )
     parser.add_argument(
+        "--replicates",
+        type=int,
+        default=1,
+        help="runs per condition and particle, averaged (give the target the spread of such "
+        "a mean as its sd) [1]",
+    )
+    parser.add_argument(
         "--holdout",
         type=Path,
         default=None,
@@ -90,6 +97,7 @@ def main(args: argparse.Namespace) -> int:
         ("--population-size", args.population_size, 2),
         ("--workers", args.workers, 1),
         ("--check-runs", args.check_runs, 2),
+        ("--replicates", args.replicates, 1),
     ):
         if value < low:
             raise ConfigError(f"{opt} must be at least {low}, got {value}")  # fmt: skip
@@ -115,6 +123,7 @@ def main(args: argparse.Namespace) -> int:
         "set": {k: v for k, v in fixed.items()},
         "seed": args.seed,
         "population_size": args.population_size,
+        **({"replicates": args.replicates} if args.replicates > 1 else {}),
     }
     if importlib.util.find_spec("pyabc") is None:
         raise ConfigError(
@@ -129,7 +138,7 @@ def main(args: argparse.Namespace) -> int:
     )
     for line in target.skipped:
         print(f"  skipped {line}", file=sys.stderr)
-    calib = Calibration(cls, target, tuple(priors), fixed, args.seed)
+    calib = Calibration(cls, target, tuple(priors), fixed, args.seed, args.replicates)
     with SweepLock(args.out):
         (args.out / MANIFEST).write_text(json.dumps(manifest, indent=2, default=str))
         return _calibrate(args, calib, holdout, resume)
