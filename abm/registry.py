@@ -119,9 +119,9 @@ def model_class(model: str | type) -> type:
         ContractError: the class does not keep the model contract.
 
     """
-    from abm.contract import check_model
-
     if isinstance(model, type):
+        from abm.contract import check_model
+
         check_model(model)
         return model
     if not isinstance(model, str):
@@ -138,6 +138,8 @@ def model_class(model: str | type) -> type:
 
         check_target(target)  # a user's "module:Class": not imported unless it defines Class
     cls = _import(target, model)
+    from abm.contract import check_model  # Mesa: imported once there is a class to check
+
     check_model(cls)
     if model in _targets:
         _classes[model] = cls
@@ -170,9 +172,9 @@ def declared(model: str) -> "Declared":
                 _declared[model] = found
         if model in _declared:
             return _declared[model]
+    cls = model_class(model)  # an unknown name is refused here, before Mesa is imported
     from abm.contract import description
 
-    cls = model_class(model)
     return Declared(cls.Params, description(cls))
 
 
