@@ -10,6 +10,7 @@ import itertools
 import sys
 from functools import cache
 from importlib.metadata import entry_points
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -361,3 +362,25 @@ def test_abm_run_of_a_plugin_answers_help_and_refuses_a_bad_value_in_one_line(
     assert main(["run", name, "--speed", "-1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["abm run: error: speed must be in (0, inf], got -1.0"]
+
+
+def test_a_model_read_from_source_that_breaks_the_contract_is_refused_before_any_work(
+    plugins, tmp_path, monkeypatch, capsys
+):
+    """Reading a model from source checks only what help and the parameters need; the rest
+    of the contract is checked when the class is imported, still before the run: a run of a
+    plain-shaped model whose STATES is no tuple is refused in one line, and no run folder is
+    made.
+    """
+    model = {"imports": _IMPORT, "doc": '"A broken model."', "body": "    Params = PlugParams\n"}
+    name, target = plugins(model)
+    package = target.partition(":")[0]
+    folder = next(Path(p) for p in sys.path if (Path(p) / package).is_dir())
+    path = folder / package / "model.py"
+    path.write_text(path.read_text().replace('STATES = ("idle",)', 'STATES = "idle"'))
+    assert declared_params(target) is not None
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", name, "--speed", "2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "STATES must be a non-empty tuple of state names" in err[0]
+    assert not (tmp_path / "out").exists()
