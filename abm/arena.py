@@ -4,6 +4,10 @@ The world is a boolean grid ``free[iy, ix]`` of square pixels of side ``resoluti
 its origin at (0, 0): x grows east (columns), y grows north (rows). Everything outside the grid is
 wall. Grid walls make every geometric query exact and cheap: a ray or a move is walked cell by
 cell (Amanatides-Woo traversal) in compiled loops over all rays (:mod:`abm.gridkernels`).
+
+The compiled kernels (numba) are imported by the queries that use them, not with this module:
+a model's parameters name :class:`Arena` as a type, and checking them (``abm run MODEL
+--help``, a refused parameter) should not wait for numba to load.
 """
 
 from collections.abc import Callable, Iterable, Mapping
@@ -11,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 
-from abm import gridkernels
 from abm.errors import ABMError, MapError, check_range
 from abm.memory import check_map_memory
 
@@ -188,6 +191,8 @@ class Arena:
 
         """
         origins, directions = _point_pairs(origins, directions)
+        from abm import gridkernels
+
         return gridkernels.raycasts(
             self.padded, self.resolution, origins, directions, float(max_range)
         )
@@ -199,6 +204,8 @@ class Arena:
         run of free cells beyond it in that direction (precomputed per cell), capped at
         ``max_range``; 0 for a point inside a wall.
         """
+        from abm import gridkernels
+
         return gridkernels.cardinal_distances(
             self.padded, self.runs, self.resolution, _points(points), float(max_range)
         )
@@ -211,6 +218,8 @@ class Arena:
         walked cell by cell.
         """
         start, end = _point_pairs(start, end)
+        from abm import gridkernels
+
         return gridkernels.segments_cross(self.padded, self.walls_sat, self.resolution, start, end)
 
     def nearest_visible(
@@ -220,6 +229,8 @@ class Arena:
 
         -1 where no target qualifies; e.g. the beacon an explorer can communicate with.
         """
+        from abm import gridkernels
+
         return gridkernels.nearest_visible(
             self.padded,
             self.walls_sat,
@@ -235,6 +246,8 @@ class Arena:
         Exact for grid walls (the segment is walked cell boundary by cell boundary); what a
         radio model that attenuates per metre of wall crossed needs.
         """
+        from abm import gridkernels
+
         return gridkernels.wall_lengths(
             self.padded,
             self.resolution,

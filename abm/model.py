@@ -32,7 +32,7 @@ from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
 from abm.lifecycle import Lifecycle
-from abm.params import SwarmParams, make_params, param_fields, with_faults
+from abm.params import SwarmParams, bind_params, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
@@ -128,11 +128,7 @@ class SwarmModel(mesa.Model):
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         # the fault keywords of the kinds the model declares, and only those, join its params
-        cls.Params = with_faults(cls.Params, cls.FAULTS, cls.__name__)
-        cls.Params.__module__, cls.Params.__qualname__ = (
-            cls.__module__,
-            f"{cls.__qualname__}.Params",
-        )
+        cls.Params = bind_params(cls.Params, cls.FAULTS, cls.__module__, cls.__qualname__)
         cls.__signature__ = _signature(cls.Params)
         if isinstance(cls.SUMMARY_UNITS, Mapping):  # else the contract refuses the class
             declare_units(cls.SUMMARY_UNITS)

@@ -33,6 +33,7 @@ __all__ = [
     "RobotFaultParams",
     "SensorFaultParams",
     "SwarmParams",
+    "bind_params",
     "check_value",
     "field_help",
     "field_rule",
@@ -349,6 +350,28 @@ def with_faults(params_cls: type[SwarmParams], kinds: frozenset[str], owner: str
     made._fault_base = base
     made.fault_owner = owner
     made.fault_kinds_declared = frozenset(kinds)
+    return made
+
+
+def bind_params(
+    params_cls: type[SwarmParams], kinds: frozenset[str], module: str, qualname: str
+) -> type:
+    """What a model class's ``Params`` becomes when the class is defined: ``params_cls`` with
+    the fault keywords of ``kinds`` (:func:`with_faults`), named as the class's attribute
+    (``module``, ``<qualname>.Params``).
+
+    ``SwarmModel.__init_subclass__`` calls it, and :mod:`abm.declared` calls it from the
+    model's source alone, so both build the same class.
+
+    Args:
+        params_cls: the dataclass the model class names as its ``Params``.
+        kinds: the fault kinds the model declares (``FAULTS``).
+        module: the module the model class is defined in.
+        qualname: the model class's qualified name.
+
+    """
+    made = with_faults(params_cls, kinds, qualname.rpartition(".")[2])
+    made.__module__, made.__qualname__ = module, f"{qualname}.Params"
     return made
 
 

@@ -9,15 +9,25 @@ so a package of your own adds a model by declaring, in its ``pyproject.toml``::
 or, at run time, with :func:`register`. Classes are imported only when first asked for. A
 ``"module:Class"`` string is accepted wherever a name is, so a model that is not registered
 still works in sweep files and worker processes.
+
+:func:`declared` answers what ``abm run MODEL --help`` and the parameter check need (the
+model's ``Params`` and description) from the model's source and its params module, without
+importing the model's module where its source declares them plainly (:mod:`abm.declared`).
 """
 
 import importlib
+import sys
 from importlib.metadata import entry_points
+from typing import TYPE_CHECKING
 
 from abm.errors import ConfigError, ContractError
 
+if TYPE_CHECKING:
+    from abm.declared import Declared
+
 __all__ = [
     "ENTRY_POINT_GROUP",
+    "declared",
     "model_class",
     "model_names",
     "name_of",
@@ -33,6 +43,7 @@ ENTRY_POINT_GROUP = "swarm_abm.models"
 _targets: dict[str, str] = {}  # name -> "module:Class"
 _classes: dict[str, type] = {}  # name -> class, once imported or registered as a class
 _registered: set[str] = set()  # names given to register() (they win over entry points)
+_declared: dict[str, "Declared"] = {}  # name -> Params and description, read without the class
 _loaded = False
 
 
@@ -52,6 +63,7 @@ def refresh() -> None:
     for name in [n for n in _targets if n not in _registered]:
         _targets.pop(name)
         _classes.pop(name, None)
+        _declared.pop(name, None)
     _loaded = False
     _discover()
 
@@ -68,6 +80,7 @@ def register(name: str, model: type | str) -> None:
     if not isinstance(name, str) or not name or name != name.strip():
         raise ConfigError(f"a model name must be a non-empty string, got {name!r}")
     _discover()
+    _declared.pop(name, None)
     if isinstance(model, str):
         _check_target(model)
         _targets[name] = model
@@ -87,6 +100,7 @@ def unregister(name: str) -> None:
     """
     _targets.pop(name, None)
     _classes.pop(name, None)
+    _declared.pop(name, None)
     _registered.discard(name)
 
 
@@ -105,9 +119,9 @@ def model_class(model: str | type) -> type:
         ContractError: the class does not keep the model contract.
 
     """
-    from abm.contract import check_model
-
     if isinstance(model, type):
+        from abm.contract import check_model
+
         check_model(model)
         return model
     if not isinstance(model, str):
@@ -124,10 +138,44 @@ def model_class(model: str | type) -> type:
 
         check_target(target)  # a user's "module:Class": not imported unless it defines Class
     cls = _import(target, model)
+    from abm.contract import check_model  # Mesa: imported once there is a class to check
+
     check_model(cls)
     if model in _targets:
         _classes[model] = cls
     return cls
+
+
+def declared(model: str) -> "Declared":
+    """The ``Params`` (with its fault keywords) and the description of a model, as
+    :func:`model_class` would give them (``cls.Params``, the first line of its docstring).
+
+    For a registered name whose class is not imported yet, they are read from the model's
+    source and the module its ``Params`` comes from, without importing the model's module or
+    its package (:func:`abm.declared.declared_params`): ``abm run MODEL --help`` and a refused
+    parameter then load no simulation code. Where the source does not declare them plainly (a
+    model of another shape, a ``"module:Class"`` target), the class is imported.
+
+    Raises:
+        ConfigError: as :func:`model_class`.
+        ContractError: as :func:`model_class`, where the class is imported.
+
+    """
+    from abm.declared import Declared, declared_params
+
+    _discover()
+    if isinstance(model, str) and model in _targets and model not in _classes:
+        target = _targets[model]
+        if model not in _declared and target.partition(":")[0] not in sys.modules:
+            found = declared_params(target)
+            if found is not None:
+                _declared[model] = found
+        if model in _declared:
+            return _declared[model]
+    cls = model_class(model)  # an unknown name is refused here, before Mesa is imported
+    from abm.contract import description
+
+    return Declared(cls.Params, description(cls))
 
 
 def name_of(model: type) -> str | None:

@@ -26,7 +26,7 @@ from pathlib import Path
 from abm.errors import ConfigError
 from abm.registry import model_names
 
-__all__ = ["check_target"]
+__all__ = ["check_target", "source_of"]
 
 _RULE = "a 'module:Class' model names a class defined or imported at the top level of its module"
 
@@ -45,7 +45,7 @@ def check_target(model: str) -> None:
         raise ConfigError(f"model {model!r}: not a 'package.module:Class' target")
     if module in sys.modules:
         return
-    source = _source(module, model)
+    source = source_of(module, model)
     name = attr.split(".")[0]
     try:
         tree = ast.parse(source.read_bytes(), filename=str(source))
@@ -58,8 +58,14 @@ def check_target(model: str) -> None:
         )
 
 
-def _source(module: str, model: str) -> Path:
-    """The ``.py`` file of ``module``, found without importing it or its parent packages."""
+def source_of(module: str, model: str) -> Path:
+    """The ``.py`` file of ``module``, found without importing it or its parent packages.
+
+    Raises:
+        ConfigError: no such module, or one without Python source; naming ``model`` (the
+            model as the user gave it).
+
+    """
     path = None  # None: sys.path
     spec = None
     parts = module.split(".")

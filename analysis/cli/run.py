@@ -38,18 +38,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
+def model_parser(name: str, params_cls: type, description: str) -> argparse.ArgumentParser:
     """The parser of ``abm run NAME ...``: seed, output folder, progress, one flag per parameter.
 
-    Raises:
-        ContractError: the model class has no docstring (:func:`abm.contract.description`).
+    Args:
+        name: the model as the user named it.
+        params_cls: the model's ``Params`` (:func:`abm.registry.declared`).
+        description: what the model is, the first line of its class's docstring.
 
     """
-    from abm.contract import description
     from analysis.cli import OneLineParser
     from analysis.cli.flags import add_param_flags, seed_argument
 
-    parser = OneLineParser(prog=f"abm run {name}", description=description(model_cls))
+    parser = OneLineParser(prog=f"abm run {name}", description=description)
     parser.add_argument(
         "--seed",
         type=seed_argument,
@@ -68,32 +69,39 @@ def model_parser(name: str, model_cls: type) -> argparse.ArgumentParser:
         default=True,
         help="a progress line on stderr once the run takes more than a few seconds [yes]",
     )
-    add_param_flags(parser, model_cls.Params)
+    add_param_flags(parser, params_cls)
     return parser
 
 
 def main(args: argparse.Namespace) -> int:
     """Check every input, build, run, print, save.
 
-    What only a run needs (the drawing, the run folder's writer, the progress line) is imported
-    after the inputs are checked, so ``--help`` and a bad parameter answer at once.
+    The parameters are checked against the model's ``Params`` read without importing the
+    model's module (:func:`abm.registry.declared`), and what only a run needs (the model
+    class, the drawing, the run folder's writer, the progress line) is imported after, so
+    ``--help`` and a bad parameter answer at once.
     """
     from abm.errors import ConfigError
-    from abm.registry import model_class, model_names, name_of
+    from abm.params import make_params
+    from abm.registry import declared, model_class, model_names, name_of
     from analysis.cli.flags import given_params
 
     if args.model is None:
         raise ConfigError(
             f"name a model: {', '.join(model_names())} (abm run MODEL --help lists its flags)"
         )
-    cls = model_class(args.model)
-    name = name_of(cls) or args.model
-    options = model_parser(name, cls).parse_args(args.options)
+    model = declared(args.model)
+    if args.model in model_names():
+        name = args.model
+    else:  # "module:Class": the name it is registered under, if any
+        name = name_of(model_class(args.model)) or args.model
+    options = model_parser(name, model.params, model.description).parse_args(args.options)
     params = given_params(options)
     # `abm render` draws from the sampled positions: sample them even where the model's
     # default (fast sweeps) is not to.
-    params.setdefault("trace_interval", cls.Params().trace_interval or 1.0)
-    planned = cls.make_params(**params)  # every parameter checked before the run
+    params.setdefault("trace_interval", model.params().trace_interval or 1.0)
+    planned = make_params(model.params, params)  # every parameter checked before the run
+    cls = model_class(args.model)
     if options.out is not None:
         from analysis.run_folder import check_run_target
 
