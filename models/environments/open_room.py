@@ -22,7 +22,6 @@ distribution as placing obstacles at random and rejecting bad layouts.
 from functools import cache
 
 import numpy as np
-from scipy import ndimage
 
 from abm.errors import ConfigError, check_choice, check_range
 from models.environments.world import COMPLEXITIES, World, as_generator, world_from_cells
@@ -143,5 +142,7 @@ def open_world(
 
 def _connected(free: np.ndarray) -> bool:
     """Tell whether the free cells are 4-connected."""
+    from scipy import ndimage  # 0.4 s to import: only when a room is made, not for `--help`
+
     _labels, count = ndimage.label(free)
     return count == 1
