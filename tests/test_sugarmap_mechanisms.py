@@ -82,15 +82,16 @@ def test_anchor_placement_spread_reaches_the_serpentines_far_lanes():
     assert east["disperse"] < 6.0 < 15.0 < east["spread"]
 
 
-@pytest.mark.parametrize(
-    "keyword, value",
-    [
-        ("resample_noise", 0.3),
-        ("self_cover", "tree"),
-        ("anchor_placement", "spread"),
-        ("backtrack", "frontier"),
-    ],
-)
+#: One non-default value of each mechanism's keyword.
+MECHANISMS = [
+    ("resample_noise", 0.3),
+    ("self_cover", "tree"),
+    ("anchor_placement", "spread"),
+    ("backtrack", "frontier"),
+]
+
+
+@pytest.mark.parametrize("keyword, value", MECHANISMS)
 def test_each_mechanism_changes_a_testbed_run(keyword, value):
     base = SugarMapModel(horizon=60.0, seed=7, **TESTBED).run().samples()
     other = SugarMapModel(horizon=60.0, seed=7, **TESTBED, **{keyword: value}).run()
@@ -112,15 +113,7 @@ def test_bad_values_are_refused_in_one_line(keyword, value, rule):
     assert "\n" not in str(info.value)
 
 
-@pytest.mark.parametrize(
-    "keyword, value",
-    [
-        ("resample_noise", 0.3),
-        ("self_cover", "tree"),
-        ("anchor_placement", "spread"),
-        ("backtrack", "frontier"),
-    ],
-)
+@pytest.mark.parametrize("keyword, value", MECHANISMS)
 def test_baselines_refuse_the_mechanisms(keyword, value):
     with pytest.raises(ConfigError, match=f"{keyword} applies to algorithm='sugarmap' only"):
         SugarMapModel(algorithm="omstc", seed=1, **{keyword: value})
