@@ -302,6 +302,7 @@ def why(seeds: int) -> None:
                 "mean": d["mean"],
                 "ci_low": d["ci_low"],
                 "ci_high": d["ci_high"],
+                "runs_at_or_below_85": 100 * d["runs_at_or_below_85"],
                 "change": change.mean(),
                 "change_low": change.mean() - half,
                 "change_high": change.mean() + half,
