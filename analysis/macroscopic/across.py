@@ -190,10 +190,10 @@ def fit_across(
         values = model.effect_values(condition)
         for log in group:
             tables.append(exposure_table(log, bin_width).assign(**values))
+    # a state no robot of a run ever entered has no count or transition column there: 0
+    counted = sorted({c for t in tables for c in t.columns if c.startswith(("to:", "n:"))})
+    tables = [t.assign(**{c: 0.0 for c in counted if c not in t}) for t in tables]
     every = pd.concat(tables, ignore_index=True)
-    to = [c for c in every.columns if c.startswith(("to:", "n:"))]
-    every[to] = every[to].fillna(0.0)
-    tables = [every[every["run"] == t["run"].iloc[0]] for t in tables]
     effects = sorted(c for c in every.columns if c.startswith("x:"))
     moves = pd.concat([transitions(log) for log in logs])
     hazard_moves = moves[(moves["source"] != LAUNCH) & ~moves["launch"].astype(bool)]
