@@ -18,6 +18,8 @@ from analysis.sweep.storage import load_results, swept_keys
 
 __all__ = ["SweepLogs", "sweep_logs"]
 
+_NO_EVENTS = pd.DataFrame({"time": [], "event": [], "robot": [], "state": []})
+
 
 @dataclass(frozen=True)
 class SweepLogs:
@@ -71,25 +73,30 @@ def sweep_logs(folder: str | Path) -> SweepLogs:
     ranked = summaries.assign(
         _order=[tuple(order[k][repr(r[k])] for k in conditions) for _, r in summaries.iterrows()]
     ).sort_values(["_order", "rep"], kind="stable")
+    # each run's rows, split once (not filtered out of the whole sweep once per run)
+    by_run = {
+        kind: dict(tuple(frame.groupby("run_id", sort=False))) if not frame.empty else {}
+        for kind, frame in (("changes", changes), ("series", series), ("samples", samples))
+    }
     points, logs, seeds, run_ids = [], [], [], []
     for _, group in ranked.groupby("_order", sort=True):
         first = group.iloc[0]
         points.append({k: first[k] for k in conditions})
-        logs.append([_log(row, changes, series, samples) for _, row in group.iterrows()])
+        logs.append([_log(row, by_run) for _, row in group.iterrows()])
         seeds.append(tuple(int(s) for s in group["seed"]))
         run_ids.append(tuple(group["run_id"]))
     return SweepLogs(manifest["target"], grid, points, logs, seeds, run_ids)
 
 
-def _log(row: pd.Series, changes: pd.DataFrame, series: pd.DataFrame, samples) -> RunLog:
+def _log(row: pd.Series, by_run: dict[str, dict[str, pd.DataFrame]]) -> RunLog:
     rid = row["run_id"]
-    counts = series[series["run_id"] == rid].dropna(axis=1, how="all")
+    counts = by_run["series"][rid].dropna(axis=1, how="all")
     states = check_states([c for c in counts.columns if c not in ("time", "run_id")])
-    own = None
-    if not samples.empty:
-        own = samples[samples["run_id"] == rid].drop(columns="run_id").dropna(axis=1, how="all")
+    own = by_run["samples"].get(rid)
+    if own is not None:
+        own = own.drop(columns="run_id").dropna(axis=1, how="all")
         own = own if not own.empty else None
-    events = changes[changes["run_id"] == rid]
+    events = by_run["changes"].get(rid, _NO_EVENTS)  # a run whose robots never changed state
     return log_from_events(
         events, states, row["time"], int(row["seed"]), samples=own, wall_time=row["wall_time"]
     )
