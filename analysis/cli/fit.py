@@ -179,9 +179,7 @@ def _rates(args: argparse.Namespace, cls: type, name: str) -> int:
     result = fit_rate_equations(cls, params, args.seed, args.runs, args.held, args.workers)
     title = f"{name}: {args.runs} runs fitted, {args.held} held out (seeds from {args.seed})"
     paths = write_rate_fit(result, out, title)
-    print(*summary_lines(result), sep="\n")
-    print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
-    print("", *(f"wrote {p}" for p in paths), sep="\n")
+    _print_fit(summary_lines(result), time.perf_counter() - start, args.workers, paths)
     return 0
 
 
@@ -204,9 +202,7 @@ def _rates_across(args: argparse.Namespace, cls: type, name: str, fixed: dict, o
         f"out per fitted point (seeds from {args.seed})"
     )
     paths = write_across(result, out, title)
-    print(*summary_lines(result), sep="\n")
-    print(f"wall time {_wall_time(time.perf_counter() - start, args.workers)}")
-    print("", *(f"wrote {p}" for p in paths), sep="\n")
+    _print_fit(summary_lines(result), time.perf_counter() - start, args.workers, paths)
     return 0
 
 
@@ -246,10 +242,15 @@ def _rates_read(args: argparse.Namespace, cls: type, name: str, out: Path) -> in
         title = f"{name}: runs of {args.read}, rates across {', '.join(found.grid)}"
         paths = write_across(result, out, title)
         lines = across_lines(result)
-    print(*lines, sep="\n")
-    print(f"wall time {_wall_time(time.perf_counter() - start, None)}")
-    print("", *(f"wrote {p}" for p in paths), sep="\n")
+    _print_fit(lines, time.perf_counter() - start, None, paths)
     return 0
+
+
+def _print_fit(lines: list[str], seconds: float, workers: int | None, paths: list[Path]) -> None:
+    """What a rate-equation fit prints: its summary, its wall time, the files it wrote."""
+    print(*lines, sep="\n")
+    print(f"wall time {_wall_time(seconds, workers)}")
+    print("", *(f"wrote {p}" for p in paths), sep="\n")
 
 
 def _wall_time(seconds: float, workers: int | None) -> str:
