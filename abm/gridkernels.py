@@ -270,7 +270,8 @@ def flight_rows(
     last,
 ):
     """Advance flyers ``first`` to ``last - 1`` one tick in place; ``contact[k]`` tells whether
-    body k touches a wall now.
+    body k touches a wall now. Returns the path length these flyers moved (m): each one's
+    displacement this tick, after walls stopped it, summed (an odometer, for the distance flown).
 
     Control force ``m (v_desired - v) / tau`` capped at ``max_force``, quadratic drag
     ``-drag |v| v`` (drag = rho A C_d / 2), speed capped at ``max_speed``, then the displacement
@@ -283,7 +284,10 @@ def flight_rows(
     """
     force_cap2 = _cap_below(max_force)
     speed_cap2 = _cap_below(max_speed)
+    travelled = 0.0
     for k in range(first, last):
+        x0 = pos[k, 0]
+        y0 = pos[k, 1]
         fx = mass * (desired[k, 0] - vel[k, 0]) / tau
         fy = mass * (desired[k, 1] - vel[k, 1]) / tau
         scale = _capped(fx, fy, max_force, force_cap2)
@@ -315,3 +319,5 @@ def flight_rows(
                 touching = True
             pos[k, axis] = new
         contact[k] = touching
+        travelled += math.hypot(pos[k, 0] - x0, pos[k, 1] - y0)
+    return travelled

@@ -189,6 +189,8 @@ class Physics:
         self._skin = CONTACT_SKIN_TICKS * step
         self.wall_collisions = 0
         self.robot_collisions = 0
+        #: Path length flown by all flyers so far (m), walls' stops included, noise included.
+        self.distance = 0.0
         self.ticks = 0
         self.flyer_steps = 0
         self.trace: list[tuple[float, np.ndarray, np.ndarray]] | None = None
@@ -354,9 +356,9 @@ class Physics:
         (first, last), *others = row_chunks(n)
         pool = _thread_pool() if others else None
         elsewhere = [pool.submit(gridkernels.flight_rows, *args, *rows) for rows in others]
-        gridkernels.flight_rows(*args, first, last)
+        self.distance += gridkernels.flight_rows(*args, first, last)
         for job in elsewhere:
-            job.result()
+            self.distance += job.result()
         return contact
 
     def _count_wall_contacts(self, contact: np.ndarray) -> None:

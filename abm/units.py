@@ -6,8 +6,8 @@ of key, or ``fnmatch`` pattern such as ``"coverage_*"``, to a :class:`Quantity`)
 the model contract. ``abm run`` prints the units beside the values; reports label axes with
 them.
 
-Units are SI (s, m, m^2, J, W), also where a source publishes its numbers in other units (the
-model's documentation then gives the conversion); besides those:
+Units are SI (s, m, m^2, J, W, m/s), also where a source publishes its numbers in other units
+(the model's documentation then gives the conversion); besides those:
 
 * ``%``: percent; ``1``: a dimensionless number (a ratio, a share in [0, 1], a score);
 * ``count``: a number of things (the description says of what);
@@ -24,7 +24,8 @@ __all__ = ["COMMON", "UNITS", "Quantity", "declare", "quantity_of", "undocumente
 
 #: The unit symbols a summary key may have.
 UNITS = frozenset(
-    {"s", "m", "m^2", "J", "W", "1/s", "%", "1", "count", "flag", "text", "id", "bit", "byte"}
+    {"s", "m", "m^2", "J", "W", "1/s", "m/s",
+     "%", "1", "count", "flag", "text", "id", "bit", "byte"}
 )  # fmt: skip
 
 

@@ -212,3 +212,23 @@ def test_the_cap_factor_equals_the_measured_one_bit_for_bit(x, y, cap, near):
 def _measured_cap_factor(x: float, y: float, cap: float) -> float:
     """The flight kernel's cap factor before the ``hypot`` skip."""
     return min(1.0, cap / max(math.hypot(x, y), 1e-12))
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 20))
+def test_the_odometer_is_the_path_length_of_the_trace(seed, n):
+    """``Physics.distance`` sums each flyer's displacement per tick, walls' stops and body
+    noise included: exactly the length of the polyline the trace draws from the starts."""
+    rng = np.random.default_rng(seed)
+    free = rng.random((10, 10)) > 0.35
+    arena = Arena(free, 1.0)
+    env = simpy.Environment()
+    physics = Physics(env, arena, rng, RandomPilot(rng), params=FlightParams(max_speed=2.0))
+    physics.trace = []
+    starts = arena.free_cell_centres()[rng.integers(0, free.sum(), n)]
+    for i, p in enumerate(starts):
+        physics.fly(i, p)
+    env.run(until=20.0)
+    points = [starts] + [pos for _t, _ids, pos in physics.trace]
+    path = sum(np.hypot(*(b - a).T).sum() for a, b in pairwise(points))
+    assert physics.distance == pytest.approx(path, rel=1e-9)

@@ -55,8 +55,24 @@ def test_abm_run_prints_each_models_units():
     assert text.splitlines()[2].split()[-1] == "J"
 
 
-#: Every unit a summary may use: SI (s, m, m^2, J, W, 1/s) and the unit-free kinds.
-SI = {"s", "m", "m^2", "J", "W", "1/s", "%", "1", "count", "flag", "text", "id", "bit", "byte"}
+#: Every unit a summary may use: SI (s, m, m^2, J, W, 1/s, m/s) and the unit-free kinds.
+SI = {
+    "s",
+    "m",
+    "m^2",
+    "J",
+    "W",
+    "1/s",
+    "m/s",
+    "%",
+    "1",
+    "count",
+    "flag",
+    "text",
+    "id",
+    "bit",
+    "byte",
+}
 
 
 @pytest.mark.parametrize("name", registry.model_names())

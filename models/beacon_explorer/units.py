@@ -21,6 +21,12 @@ SUMMARY_UNITS = {
     "coverage_time": Quantity("s", "simulated time when the run ended (coverage or time limit)"),
     "complete": Quantity("flag", "the covered share reached complete_fraction"),
     "flight_time": Quantity("s", "total swarm flight time, summed over robots"),
+    "flight_distance": Quantity(
+        "m", "path length flown by the explorers, summed over robots (the robots' odometry)"
+    ),
+    "mean_flight_speed": Quantity(
+        "m/s", "flight_distance / flight_time: the explorers' mean ground speed in flight"
+    ),
     "energy_flight": Quantity("J", "energy drawn in flight, summed over robots"),
     "energy_beacon": Quantity("J", "energy drawn as a beacon (attached or hovering)"),
     "energy_ground": Quantity("J", "energy drawn waiting on the ground"),
