@@ -233,3 +233,20 @@ def test_bad_link_parameters():
         StigmergyModel(link_model="radio", link_fading_sd=-1.0)
     with pytest.raises(ConfigError, match="link_exponent"):
         StigmergyModel(link_model="radio", link_exponent=0.0)
+
+
+def test_a_landing_offset_is_the_link_threshold_it_implies():
+    """``landing_offset`` delta reads l_i = C_rb - delta: the very run ``link_threshold`` gives."""
+    offset = _small(seed=23, landing_offset=4.0).run()
+    threshold = _small(seed=23, link_threshold=6.0).run()
+    pd.testing.assert_frame_equal(offset.events(), threshold.events())
+    assert offset.params.l_i == 6.0
+
+
+def test_bad_landing_offsets():
+    with pytest.raises(ConfigError, match="landing_offset must be below pheromone_radius"):
+        StigmergyModel(pheromone_radius=10.0, landing_offset=10.0)
+    with pytest.raises(ConfigError, match="both set l_i: give one of them"):
+        StigmergyModel(landing_offset=2.0, link_threshold=15.0)
+    with pytest.raises(ConfigError, match="landing_offset"):
+        StigmergyModel(landing_offset=-1.0)

@@ -50,6 +50,10 @@ class StigmergyParams(SwarmParams):
         wander_intensity: C_dw, pheromone a flying robot deposits per model step.
         decay: C_eps, exponential pheromone decay rate (1/s).
         link_threshold: l_i: a wander lands when no beacon is closer (m); None: C_rb.
+        landing_offset: delta, a wander lands at l_i = C_rb - delta (m; ours, 0: the paper's
+            l_i = C_rb). Table 1's beacon counts at C_rb = 10 m imply wanders land nearer the
+            swarm than C_rb; this is the one number that reading needs, calibrated against
+            Table 1 in the README. Excludes ``link_threshold``; must be below C_rb.
         link_model: how a wander reads its link quality to the swarm (ours; the paper says
             only that it lands when "its quality of communication with the swarm decreases
             from the established thresholds", l_i = C_rb). ``"distance"``: the nearest
@@ -110,6 +114,7 @@ class StigmergyParams(SwarmParams):
     wander_intensity: float = param(0.03, low=0.0)
     decay: float = param(0.0001, low=0.0)
     link_threshold: float | None = param(None, low=0.0, low_open=True)
+    landing_offset: float = param(0.0, low=0.0)
     link_model: str = param("distance", choices=LINK_MODELS)
     link_exponent: float = param(_RADIO_DEFAULTS["link_exponent"], low=0.0, low_open=True)
     link_wall_loss: float = param(_RADIO_DEFAULTS["link_wall_loss"], low=0.0)
@@ -144,6 +149,16 @@ class StigmergyParams(SwarmParams):
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.landing_offset > 0 and self.link_threshold is not None:
+            raise ConfigError(
+                f"landing_offset={self.landing_offset!r} and link_threshold="
+                f"{self.link_threshold!r} both set l_i: give one of them"
+            )
+        if self.landing_offset >= self.pheromone_radius:
+            raise ConfigError(
+                f"landing_offset must be below pheromone_radius (l_i = C_rb - delta > 0), "
+                f"got {self.landing_offset!r} >= {self.pheromone_radius!r}"
+            )
         if self.link_model != "radio":
             for name, default in _RADIO_DEFAULTS.items():
                 if getattr(self, name) != default:
@@ -165,8 +180,10 @@ class StigmergyParams(SwarmParams):
 
     @property
     def l_i(self) -> float:
-        """l_i in effect (m)."""
-        return self.pheromone_radius if self.link_threshold is None else self.link_threshold
+        """l_i in effect (m): ``link_threshold``, or C_rb - ``landing_offset``."""
+        if self.link_threshold is not None:
+            return self.link_threshold
+        return self.pheromone_radius - self.landing_offset
 
     @property
     def swarmsize(self) -> int:

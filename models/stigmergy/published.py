@@ -108,6 +108,7 @@ def _table1_records() -> list[Published]:
                             "time_limit": LIMIT,
                             # the landing rule these rows were measured with: l_i = C_rb, distance
                             "link_threshold": None,
+                            "landing_offset": 0.0,
                             "link_model": "distance",
                         },
                         value,
