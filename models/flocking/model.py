@@ -13,7 +13,7 @@ from abm.arena import Arena
 from abm.model import SwarmModel
 from abm.styles import StateStyle
 from models.flocking.agents import Bird
-from models.flocking.kernel import CellList, flock_step, order_parameters
+from models.flocking.kernel import CellList, flock_step, order_parameters, squared_limit
 from models.flocking.params import FlockingParams
 from models.flocking.published import PUBLISHED, REPORT
 from models.flocking.units import SUMMARY_UNITS
@@ -56,6 +56,8 @@ class FlockingModel(SwarmModel):
         self.place(np.array([bird.unique_id for bird in birds]), positions)
         self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
         self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
+        self._visual_sq = squared_limit(p.visual_distance)
+        self._separation_sq = squared_limit(p.separation, strict=True)
         #: Neighbours each bird saw at its last update.
         self.seen = np.zeros(p.birds, dtype=np.int64)
         self.updates = 0
@@ -76,8 +78,8 @@ class FlockingModel(SwarmModel):
             self.velocity,
             self.rng.permutation(p.birds),
             p.extent,
-            p.visual_distance,
-            p.separation,
+            self._visual_sq,
+            self._separation_sq,
             self._factors,
             p.speed * p.dt,
             cells.cells,
