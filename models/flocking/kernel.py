@@ -176,7 +176,8 @@ def flock_step(
     separation distance x separate factor, match = mean velocity x match factor (means over
     all neighbours, 1 when there are none); its velocity becomes the unit vector of (vel +
     cohere + separate + match) / 2 (unchanged in the measure-zero case of a zero sum), and it
-    moves ``move`` (m) along it, wrapping on the periodic square. ``seen[i]`` is set to bird i's neighbour count.
+    moves ``move`` (m) along it, wrapping on the periodic square. ``seen[i]`` is set to bird
+    i's neighbour count.
 
     Args:
         pos: ``(N, 2)`` positions (m), updated.
