@@ -87,6 +87,23 @@ class Recorder:
         else:
             self._series.append(row)
 
+    def entered(self, state: str, robots: list[int]) -> None:
+        """The ``robots`` joined the model in ``state`` at ``env.now``: the ``state`` events and
+        the counts of a :meth:`move` from None and a ``log("state", ...)`` for each in turn.
+        """
+        if not robots:
+            return
+        if "state" in self._kept:  # a capped kind: counted one by one
+            for robot in robots:
+                self.log("state", robot, state=state)
+        else:
+            now = self.env.now
+            self._events.extend(
+                {"time": now, "event": "state", "robot": robot, "state": state} for robot in robots
+            )
+        self.counts[state] += len(robots) - 1
+        self.move(None, state)
+
     def sample(self, **values: float) -> None:
         """Record the model's measurements at ``env.now`` (one row of :meth:`samples`)."""
         self._samples.append({"time": self.env.now, **values})

@@ -53,6 +53,7 @@ class FlockingModel(SwarmModel):
         #: Unit velocity of every bird, one row per bird (the rows of the Mesa space).
         self.velocity = heading / np.linalg.norm(heading, axis=1)[:, None]
         birds = [Bird(self, row) for row in range(p.birds)]
+        Bird.enter_all(birds, "flying")
         self.place(np.array([bird.unique_id for bird in birds]), positions)
         self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
         self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
