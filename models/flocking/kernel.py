@@ -168,8 +168,10 @@ def flock_step(
     before: np.ndarray,
     cell: np.ndarray,
     seen: np.ndarray,
-) -> None:
-    """One update step of the whole flock, in place, birds taken in ``order``.
+) -> tuple[float, float]:
+    """One update step of the whole flock, in place, birds taken in ``order``; returns the
+    flock's order parameters after it (:func:`order_parameters`: polarisation, mean
+    neighbours), which the model samples every step.
 
     Each bird: the neighbours within the visual distance (excluding itself) give cohere =
     mean offset x cohere factor, separate = minus the mean offset to those closer than the
@@ -198,6 +200,9 @@ def flock_step(
         before: previous bird in the same cell, updated.
         cell: each bird's cell, updated.
         seen: ``(N,)`` neighbour counts, written.
+
+    Returns:
+        ``order_parameters(vel, seen)`` after the step.
 
     """
     half = 0.5 * extent
@@ -261,6 +266,7 @@ def flock_step(
         if c_new != c:
             _unlink(i, head, after, before, cell)
             _link(i, c_new, head, after, before, cell)
+    return order_parameters(vel, seen)
 
 
 @numba.njit(cache=True)
