@@ -157,3 +157,22 @@ def test_robots_entered_together_log_count_and_publish_as_one_by_one(capped):
         Walker.enter_all(walkers, "walking")
     with pytest.raises(ValueError, match="unknown state 'flying'"):
         Walker.enter_all([Walker(all_, all_.centre, None)], "flying")
+
+
+def test_position_samples_follow_joins_state_changes_and_removals():
+    """The trace reuses the ids and states of the space's rows between samples: a robot that
+    joins, changes state or leaves shows in the very next sample."""
+    model = TinyModel(seed=2, walkers=6, launch_period=0.7, rest_rate=1e-6, trace_interval=1.0)
+    model.run(until=3.2)
+    walkers = list(model.agents_by_type[Walker])
+    walkers[0].set_state("resting")
+    walkers[1].remove()
+    model.run(until=4.1)
+    samples = model.positions().groupby("time")
+    last = samples.get_group(4.0).set_index("robot")["state"]
+    assert last[walkers[0].unique_id] == "resting"
+    assert walkers[1].unique_id not in last.index
+    assert sorted(last.index) == sorted(a.unique_id for a in model.agents)
+    before = samples.get_group(3.0).set_index("robot")["state"]
+    assert len(before) == len(last) == 4 and (before == "walking").all()
+    assert model.recorder.moves == model.events()["event"].isin(["state", "removed"]).sum()
