@@ -174,6 +174,9 @@ class SwarmModel(mesa.Model):
             [[0.0, arena.width], [0.0, arena.height]], torus=torus, random=self.random
         )
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
+        # the ids and states of the space's rows, and recorder.moves when they were read:
+        # position samples reuse them until an agent joins, leaves or changes state
+        self._space_rows: tuple[np.ndarray, tuple, int] | None = None
         self.comms = CommNetwork(
             self.env, arena, self.rng, comm_range, latency, message_loss, shadowing
         )
@@ -458,6 +461,7 @@ class SwarmModel(mesa.Model):
         calls it from its constructor, so the id -> row table stays complete.
         """
         row = len(self.space.active_agents) - 1
+        self._space_rows = None
         if robot_id >= len(self._row_of):
             grown = np.full(max(2 * len(self._row_of), robot_id + 1), -1, dtype=np.int64)
             grown[: len(self._row_of)] = self._row_of
@@ -468,6 +472,7 @@ class SwarmModel(mesa.Model):
         """Rows shift when an agent leaves the space: rebuild the id -> row table (called by
         :meth:`Robot.remove <abm.robot.Robot.remove>` after the agent is gone).
         """
+        self._space_rows = None
         self._row_of[:] = -1
         for row, agent in enumerate(self.space.active_agents):
             self._row_of[agent.unique_id] = row
@@ -477,12 +482,19 @@ class SwarmModel(mesa.Model):
         while True:
             agents = self.space.active_agents
             if agents:
+                rows = self._space_rows
+                if rows is None or rows[2] != self.recorder.moves or len(rows[0]) != len(agents):
+                    rows = self._space_rows = (
+                        np.array([a.unique_id for a in agents]),
+                        tuple([a.state for a in agents]),
+                        self.recorder.moves,
+                    )
                 graph = self.comms.graph
                 self.recorder.snapshot(
-                    np.array([a.unique_id for a in agents]),
+                    rows[0],
                     self.space.agent_positions.copy(),
-                    [a.state for a in agents],
-                    [a.unique_id in graph for a in agents],
+                    rows[1],
+                    [a.unique_id in graph for a in agents] if graph else (False,) * len(agents),
                 )
             yield self.env.timeout(interval)
 

@@ -1,6 +1,6 @@
 """The recorder: an event log and state-count time series, as tidy pandas DataFrames."""
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -45,7 +45,10 @@ class Recorder:
         self._events: list[dict] = []
         self._series: list[tuple] = []
         self._samples: list[dict] = []
-        self._positions: list[tuple[float, np.ndarray, np.ndarray, list[str], list[bool]]] = []
+        self._positions: list[tuple[float, np.ndarray, np.ndarray, tuple, tuple]] = []
+        #: State changes recorded so far (:meth:`move` calls): whoever keeps the robots'
+        #: states knows they are unchanged while this is.
+        self.moves = 0
 
     @property
     def logged(self) -> int:
@@ -77,6 +80,7 @@ class Recorder:
         """One robot changed state from ``old`` (None when it appears) to ``new`` (None when
         it leaves the model).
         """
+        self.moves += 1
         if old is not None:
             self.counts[old] -= 1
         if new is not None:
@@ -87,6 +91,23 @@ class Recorder:
         else:
             self._series.append(row)
 
+    def entered(self, state: str, robots: list[int]) -> None:
+        """The ``robots`` joined the model in ``state`` at ``env.now``: the ``state`` events and
+        the counts of a :meth:`move` from None and a ``log("state", ...)`` for each in turn.
+        """
+        if not robots:
+            return
+        if "state" in self._kept:  # a capped kind: counted one by one
+            for robot in robots:
+                self.log("state", robot, state=state)
+        else:
+            now = self.env.now
+            self._events.extend(
+                {"time": now, "event": "state", "robot": robot, "state": state} for robot in robots
+            )
+        self.counts[state] += len(robots) - 1
+        self.move(None, state)
+
     def sample(self, **values: float) -> None:
         """Record the model's measurements at ``env.now`` (one row of :meth:`samples`)."""
         self._samples.append({"time": self.env.now, **values})
@@ -96,10 +117,16 @@ class Recorder:
         return pd.DataFrame(self._samples)
 
     def snapshot(
-        self, robots: np.ndarray, positions: np.ndarray, states: list[str], comm: list[bool]
+        self,
+        robots: np.ndarray,
+        positions: np.ndarray,
+        states: Sequence[str],
+        comm: Sequence[bool],
     ) -> None:
-        """Record where every robot is, what it is and whether it is a comm node at ``env.now``."""
-        self._positions.append((self.env.now, robots, positions, list(states), list(comm)))
+        """Record where every robot is, what it is and whether it is a comm node at ``env.now``
+        (the arrays are kept as given: pass copies of arrays that change).
+        """
+        self._positions.append((self.env.now, robots, positions, tuple(states), tuple(comm)))
 
     def positions(self) -> pd.DataFrame:
         """Sampled positions: one row per robot and sample (time, robot, x, y, state, comm)."""

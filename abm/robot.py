@@ -1,7 +1,7 @@
 """Robot: a Mesa continuous-space agent with a state, a power mode and a SimPy behaviour."""
 
 import inspect
-from collections.abc import Generator
+from collections.abc import Generator, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -41,7 +41,9 @@ class Robot(ContinuousSpaceAgent):
         model: the swarm model.
         position: where the robot starts (m); None when the model places its robots itself,
             all at once (:meth:`~abm.model.SwarmModel.place`), before they move.
-        state: its first state (one of ``model.STATES``).
+        state: its first state (one of ``model.STATES``); None for a robot that a model makes
+            among many at once and puts in its first state with the others, in one call of
+            :meth:`enter_all`, before anything else happens to it.
         mode: its first power mode; None for a robot whose energy is not modelled (it then
             has no mode, and draws nothing).
 
@@ -51,7 +53,7 @@ class Robot(ContinuousSpaceAgent):
         self,
         model: "SwarmModel",
         position: np.ndarray | None,
-        state: str,
+        state: str | None,
         mode: str | None = None,
     ) -> None:
         super().__init__(model.space, model)
@@ -62,7 +64,8 @@ class Robot(ContinuousSpaceAgent):
         self.process: simpy.Process | None = None
         self.failure: Failure | None = None
         self._removed = False
-        self.set_state(state)
+        if state is not None:
+            self.set_state(state)
         if mode is not None:
             self.set_mode(mode)
 
@@ -82,6 +85,35 @@ class Robot(ContinuousSpaceAgent):
         self.model.recorder.move(old, state)
         self.model.recorder.log("state", self.unique_id, state=state)
         self.model.lifecycle.publish("state", self, old, state)
+
+    @staticmethod
+    def enter_all(robots: Sequence["Robot"], state: str) -> None:
+        """Put robots of one model, just made without a state, into their first ``state``
+        together: the event rows, counts and lifecycle events of ``set_state`` on each in
+        turn, in one pass (a flock of hundreds of birds is made at once).
+
+        Raises:
+            ValueError: ``state`` is not one of the model's states, or a robot already has a
+                state or belongs to another model.
+
+        """
+        if not robots:
+            return
+        model = robots[0].model
+        if state not in model.STATES:
+            raise ValueError(f"unknown state {state!r}; states are {model.STATES}")
+        for robot in robots:
+            if robot.state is not None or robot.model is not model:
+                raise ValueError(
+                    f"robot {robot.unique_id} already has a state or another model; enter_all "
+                    "takes robots of one model made with state=None"
+                )
+        model.recorder.entered(state, [robot.unique_id for robot in robots])
+        told = model.lifecycle.subscribers("state")
+        for robot in robots:
+            robot.state = state
+            for callback in told:
+                callback(robot, None, state)
 
     def set_mode(self, mode: str) -> None:
         """Switch power mode (the ledger integrates power piecewise)."""

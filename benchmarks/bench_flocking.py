@@ -1,168 +1,257 @@
-"""The ABMFrameworksComparison flocking benchmark: our model beside Mesa 3.5, small and large.
+"""The ABMFrameworksComparison flocking benchmark: our model beside Mesa 3.5 and Mesa 3.2.0.
 
-The Mesa side is written the way Mesa's own ``boid_flockers`` example writes boids (a
-``ContinuousSpaceAgent`` per bird on a periodic ``ContinuousSpace``, ``get_neighbors_in_radius``
-and numpy per agent, ``agents.shuffle_do("step")`` per step), with the example's update
-replaced by the comparison's declared rule (means over all neighbours, vel = unit((vel +
-cohere + separate + match) / 2)). Ours is ``models.flocking.FlockingModel`` (Mesa agents, the
-SimPy clock, the compiled sequential update) with position tracing off, as the comparison
-records nothing.
+The Mesa side is ``flocking_mesa.py`` (beside this script): Mesa's own ``boid_flockers``
+example with its update replaced by the comparison's declared rule. It runs in worker
+processes, one per Mesa: this environment's Mesa (3.5.1 here) and Mesa 3.2.0, the version of
+the comparison's published table, installed by this script in a venv of its own
+(``--venvs``, by default ``out/bench/venvs/mesa-3.2.0``) on first use; when pip cannot reach
+PyPI it says so and the benchmark goes on without it. Ours is
+``models.flocking.FlockingModel`` (Mesa agents, the SimPy clock, the compiled sequential
+update), in this process, in two modes:
+
+- *data collection off*: no position trace (``trace_interval=None``), as the comparison records
+  nothing; the model still samples its two order parameters after every step (its
+  ``samples()``, a few hundred nanoseconds per step);
+- *defaults*: the constructor's defaults, which also trace every bird's position every second
+  (``positions()``, what ``abm render`` draws). Mesa's example collects nothing by default, so
+  the Mesa side is the same in both.
 
 What is timed, as the comparison's current harnesses do (``Flocking/Agents/
 benchmark_flocking.jl`` and ``Flocking/Mesa/benchmark_flocking.py``): one run is the model's
 construction plus exactly 100 steps, from a seed drawn for the run; the median over the runs
-is reported. Both wall time (what the comparison reports) and CPU time of this process (what
-is fair on a machine shared with other work) are measured, and the 100 steps alone as well.
-The two frameworks' runs are interleaved, so both see the same machine load.
+is reported. Both wall time (what the comparison reports) and CPU time of the process that ran
+it (fairer on a machine shared with other work) are measured. All runs are interleaved: each
+round is one run of every Mesa, then a few of ours in each mode, so all see the same load.
 
-Run: ``.venv/bin/python benchmarks/bench_flocking.py`` (``--mesa-runs``, ``--our-runs``).
+Run: ``.venv/bin/python benchmarks/bench_flocking.py`` (``--mesa-runs``, ``--our-runs``,
+``--mesa``, ``--venvs``).
 """
 
 import argparse
+import datetime
+import json
+import os
+import subprocess
+import sys
 import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 import mesa
 import numpy as np
-from mesa.experimental.continuous_space import ContinuousSpace, ContinuousSpaceAgent
 from tqdm import tqdm
 
 from models.flocking import LARGE, SMALL, FlockingModel
 from models.flocking.published import SLOWER_THAN_AGENTS_JL
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from machine import machine  # noqa: E402  (benchmarks/machine.py, beside this script)
+
 STEPS = 100  # the declaration: exactly 100 steps
 CASES = {"small": SMALL, "large": LARGE}
 SEED = 42  # seeds of the runs are drawn from this one, as the comparison draws them
+TARGET = 400.0  # the goal: at least this many times faster than Mesa, on both cases
+#: Our two modes: data collection off, and the constructor's defaults.
+MODES = {"DC off": {"trace_interval": None}, "defaults": {}}
+WORKER = Path(__file__).resolve().parent / "flocking_mesa.py"
+ROOT = Path(__file__).resolve().parent.parent
+#: The columns of one run's row (s, s, s, s, -).
+FIELDS = ("wall", "cpu", "wall_steps", "cpu_steps", "polarisation")
 
 
-class MesaBoid(ContinuousSpaceAgent):
-    """Mesa's boid_flockers ``Boid`` with the comparison's declared update."""
-
-    def __init__(self, model, space, position, direction, speed, vision, separation,
-                 cohere, separate, match):  # fmt: skip
-        super().__init__(space, model)
-        self.position = position
-        self.direction = direction
-        self.speed = speed
-        self.vision = vision
-        self.separation = separation
-        self.cohere_factor = cohere
-        self.separate_factor = separate
-        self.match_factor = match
-
-    def step(self):
-        neighbors, distances = self.get_neighbors_in_radius(radius=self.vision)
-        if not neighbors:  # unit((vel + 0) / 2) is vel: keep the heading
-            self.position += self.direction * self.speed
-            return
-        n = len(neighbors)
-        delta = self.space.calculate_difference_vector(self.position, agents=neighbors)
-        cohere = delta.sum(axis=0) / n * self.cohere_factor
-        separate = -delta[distances < self.separation].sum(axis=0) / n * self.separate_factor
-        match = np.asarray([b.direction for b in neighbors]).sum(axis=0) / n * self.match_factor
-        self.direction = (self.direction + cohere + separate + match) / 2
-        self.direction /= np.linalg.norm(self.direction)
-        self.position += self.direction * self.speed
+class MesaUnavailableError(RuntimeError):
+    """A Mesa version could not be installed (no network to PyPI, most likely)."""
 
 
-class MesaFlock(mesa.Model):
-    """Mesa's BoidFlockers model (periodic ContinuousSpace, random activation each step)."""
+def mesa_python(
+    version: str, venvs: Path, run: Callable[..., subprocess.CompletedProcess] = subprocess.run
+) -> Path:
+    """The Python of a venv that holds ``mesa==version``, made under ``venvs`` on first use.
 
-    def __init__(self, seed, birds, extent, visual_distance, speed=1.0, separation=1.0,
-                 cohere=0.03, separate=0.015, match=0.05):  # fmt: skip
-        super().__init__(rng=seed)
-        self.space = ContinuousSpace(
-            [[0, extent], [0, extent]], torus=True, random=self.random, n_agents=birds
+    Raises:
+        MesaUnavailableError: the venv or pip failed (pip's last words in the message).
+
+    """
+    home = venvs / f"mesa-{version}"
+    python = home / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
+    stamp = home / "installed.txt"
+    if stamp.exists():
+        return python
+    print(
+        f"Mesa {version}: making a venv of its own at {home} and installing mesa=={version} "
+        "into it with pip (first use only; about a minute)",
+        flush=True,
+    )
+    steps = (
+        [sys.executable, "-m", "venv", "--clear", str(home)],
+        [str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
+         "--timeout", "20", "--retries", "1", f"mesa=={version}"],
+    )  # fmt: skip
+    for command in steps:
+        done = run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            said = (done.stderr or done.stdout or "").strip().splitlines()[-3:]
+            raise MesaUnavailableError(
+                f"Mesa {version} could not be installed ({' '.join(command[:4])} ... failed: "
+                f"{' / '.join(said) or 'no message'}). pip needs PyPI (or a local index) for "
+                f"mesa=={version} and its dependencies; the benchmark goes on without Mesa "
+                f"{version}. Run it again once PyPI can be reached (or delete {home} to retry)."
+            )
+    stamp.write_text(f"mesa=={version}\n")
+    return python
+
+
+class MesaWorker:
+    """A worker process running ``flocking_mesa.py`` under one Python (one Mesa)."""
+
+    def __init__(self, python: str | Path) -> None:
+        self.process = subprocess.Popen(
+            [str(python), str(WORKER), "--worker"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+            cwd=WORKER.parent,
         )
-        positions = self.rng.random(size=(birds, 2)) * self.space.size
-        directions = self.rng.uniform(-1, 1, size=(birds, 2))
-        directions /= np.linalg.norm(directions, axis=1)[:, None]  # declared: a unit vector
-        MesaBoid.create_agents(
-            self, birds, self.space, position=positions, direction=directions, speed=speed,
-            vision=visual_distance, separation=separation, cohere=cohere, separate=separate,
-            match=match,
-        )  # fmt: skip
+        #: What the worker runs: {"mesa": .., "numpy": .., "python": ..}.
+        self.versions = json.loads(self._read())
 
-    def step(self):
-        self.agents.shuffle_do("step")
+    def _read(self) -> str:
+        line = self.process.stdout.readline()
+        if not line:
+            raise RuntimeError(f"the Mesa worker {self.process.args} ended without answering")
+        return line
 
-    def polarisation(self) -> float:
-        return float(np.linalg.norm(np.mean([b.direction for b in self.agents], axis=0)))
+    def run(self, seed: int, case: dict, steps: int = STEPS) -> tuple[float, ...]:
+        """One timed Mesa run (:data:`FIELDS`)."""
+        self.process.stdin.write(json.dumps({"seed": seed, "steps": steps, **case}) + "\n")
+        self.process.stdin.flush()
+        answer = json.loads(self._read())
+        return tuple(answer[f] for f in FIELDS)
+
+    def close(self) -> None:
+        """End the worker."""
+        self.process.stdin.close()
+        self.process.wait(timeout=30)
 
 
-def _mesa_run(seed: int, case: dict) -> tuple[float, float, float, float, float]:
-    """(wall, cpu, wall of the steps, cpu of the steps, polarisation) of one Mesa run (s)."""
+def our_run(seed: int, case: dict, mode: dict, steps: int = STEPS) -> tuple[float, ...]:
+    """One timed run of ours (:data:`FIELDS`)."""
     w0, c0 = time.perf_counter(), time.process_time()
-    model = MesaFlock(seed, **case)
-    w1, c1 = time.perf_counter(), time.process_time()
-    for _ in range(STEPS):
-        model.step()
-    w2, c2 = time.perf_counter(), time.process_time()
-    return w2 - w0, c2 - c0, w2 - w1, c2 - c1, model.polarisation()
-
-
-def _our_run(seed: int, case: dict) -> tuple[float, float, float, float, float]:
-    """The same for our model."""
-    w0, c0 = time.perf_counter(), time.process_time()
-    model = FlockingModel(seed=seed, trace_interval=None, steps=STEPS, **case)
+    model = FlockingModel(seed=seed, steps=steps, **mode, **case)
     w1, c1 = time.perf_counter(), time.process_time()
     model.run()
     w2, c2 = time.perf_counter(), time.process_time()
     return w2 - w0, c2 - c0, w2 - w1, c2 - c1, model.summary()["polarisation"]
 
 
-def _bench(case: dict, mesa_runs: int, our_runs: int, bar: tqdm) -> dict:
+def summarise(rows: dict[str, Sequence[tuple[float, ...]]], mesa_names: Sequence[str]) -> dict:
+    """Medians of every framework's rows, and Mesa's medians over ours (times faster than each
+    Mesa) for each of our modes: ``{"median": {name: array}, "ratio": {(mesa, mode): array of
+    wall, cpu, wall of the steps, cpu of the steps}}``.
+    """
+    median = {name: np.median(np.asarray(r, dtype=float), axis=0) for name, r in rows.items()}
+    ours = [name for name in rows if name not in mesa_names]
+    ratio = {(m, o): median[m][:4] / median[o][:4] for m in mesa_names for o in ours}
+    return {"median": median, "ratio": ratio}
+
+
+def _bench(case: dict, workers: dict, mesa_runs: int, our_runs: int, bar: tqdm) -> dict:
     seeds = np.random.default_rng(SEED).integers(1, 10_001, size=max(mesa_runs, our_runs))
-    ours_per_mesa = -(-our_runs // mesa_runs)
-    mesa_rows, our_rows = [], []
-    for r in range(mesa_runs):  # interleaved: every Mesa run, then a few of ours
-        mesa_rows.append(_mesa_run(int(seeds[r]), case))
-        bar.update(1)
-        for k in range(r * ours_per_mesa, min((r + 1) * ours_per_mesa, our_runs)):
-            our_rows.append(_our_run(int(seeds[k]), case))
-    mesa_med = np.median(np.array(mesa_rows), axis=0)
-    our_med = np.median(np.array(our_rows), axis=0)
-    return {"mesa": mesa_med, "ours": our_med, "ratio": mesa_med[:4] / our_med[:4]}
+    per_round = -(-our_runs // mesa_runs)
+    rows = {name: [] for name in (*workers, *MODES)}
+    for r in range(mesa_runs):  # one run of every Mesa, then a few of ours in each mode
+        for name, worker in workers.items():
+            rows[name].append(worker.run(int(seeds[r]), case))
+            bar.update(1)
+        for k in range(r * per_round, min((r + 1) * per_round, our_runs)):
+            for mode, keywords in MODES.items():
+                rows[mode].append(our_run(int(seeds[k]), case, keywords))
+    return summarise(rows, list(workers))
+
+
+def _load() -> str:
+    try:
+        return "load average " + " / ".join(f"{x:.1f}" for x in os.getloadavg())
+    except OSError:
+        return "load average unknown"
+
+
+def _report(results: dict, workers: dict, args: argparse.Namespace, load: tuple) -> None:
+    print(
+        f"\nFlocking, construction + {STEPS} steps: medians of {args.mesa_runs} runs per Mesa "
+        f"and {args.our_runs} of ours per mode (seeds from {SEED}), "
+        f"{datetime.date.today().isoformat()}\n{machine()}; {load[0]} before, {load[1]} after"
+    )
+    for name, worker in workers.items():
+        v = worker.versions
+        print(f"  {name}: Mesa {v['mesa']}, numpy {v['numpy']}, Python {v['python']}")
+    print(
+        f"\n{'case':6} {'Mesa':7} {'Mesa wall':>10} {'Mesa CPU':>10} | {'ours':9}"
+        f"{'wall':>9} {'CPU':>9} {'x wall':>7} {'x CPU':>7}  >= {TARGET:.0f}x (CPU)"
+    )
+    for case, res in results.items():
+        for name in workers:
+            m = res["median"][name]
+            for mode in MODES:
+                o, x = res["median"][mode], res["ratio"][(name, mode)]
+                print(
+                    f"{case:6} {name:7} {m[0] * 1e3:8.1f}ms {m[1] * 1e3:8.1f}ms | {mode:9}"
+                    f"{o[0] * 1e3:7.2f}ms {o[1] * 1e3:7.2f}ms {x[0]:6.0f}x {x[1]:6.0f}x  "
+                    f"{'yes' if x[1] >= TARGET else 'no'}"
+                )
+    print(f"\nThe {STEPS} steps alone (construction excluded), ratios wall / CPU")
+    for case, res in results.items():
+        for name in workers:
+            ratios = {mode: res["ratio"][(name, mode)] for mode in MODES}
+            parts = [f"{mode} {x[2]:.0f}x / {x[3]:.0f}x" for mode, x in ratios.items()]
+            print(f"{case:6} {name:7} " + "   ".join(parts))
+    print(f"\nSame rules: median polarisation after {STEPS} steps")
+    for case, res in results.items():
+        said = "   ".join(f"{name} {res['median'][name][4]:.2f}" for name in res["median"])
+        print(f"{case:6} {said}")
+    print("\nPublished (ABMFrameworksComparison): times slower than Agents.jl, small / large")
+    for framework, (small, large) in SLOWER_THAN_AGENTS_JL.items():
+        print(f"  {framework:9} {small:6.2f} / {large:5.2f}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--mesa-runs", type=int, default=15, help="seeded Mesa runs per case")
-    parser.add_argument("--our-runs", type=int, default=100, help="seeded runs of ours per case")
+    parser.add_argument("--mesa-runs", type=int, default=10, help="seeded runs per Mesa and case")
+    parser.add_argument("--our-runs", type=int, default=100, help="seeded runs of ours per mode")
+    parser.add_argument(
+        "--mesa",
+        action="append",
+        help="a Mesa version to time in a venv of its own, besides this environment's "
+        "(repeatable; default 3.2.0, the published table's; 'none' for this one alone)",
+    )
+    parser.add_argument(
+        "--venvs",
+        type=Path,
+        default=ROOT / "out" / "bench" / "venvs",
+        help="where the other Mesa versions' venvs are made (default out/bench/venvs)",
+    )
     args = parser.parse_args()
     if args.mesa_runs < 1 or args.our_runs < 1:
         parser.error("--mesa-runs and --our-runs must be at least 1")
-    _our_run(1, {"birds": 20, "extent": 30.0, "visual_distance": 5.0})  # compile the kernel
+    versions = [v for v in (args.mesa or ["3.2.0"]) if v != "none"]
+    pythons = {mesa.__version__: Path(sys.executable)}
+    for version in versions:
+        try:
+            pythons.setdefault(version, mesa_python(version, args.venvs))
+        except MesaUnavailableError as why:
+            print(f"note: {why}", file=sys.stderr, flush=True)
+    workers = {version: MesaWorker(python) for version, python in pythons.items()}
+    for mode in MODES.values():  # compile the kernel, warm the caches
+        our_run(1, {"birds": 20, "extent": 30.0, "visual_distance": 5.0}, mode)
+    load_before = _load()
     results = {}
-    with tqdm(total=2 * args.mesa_runs, desc="Mesa runs (ours interleaved)") as bar:
+    total = len(CASES) * args.mesa_runs * len(workers)
+    with tqdm(total=total, desc="Mesa runs (ours interleaved)") as bar:
         for name, case in CASES.items():
-            results[name] = _bench(case, args.mesa_runs, args.our_runs, bar)
-    print(f"\nFlocking, construction + {STEPS} steps, median of {args.mesa_runs} Mesa "
-          f"{mesa.__version__} runs and {args.our_runs} of ours (seeds from {SEED})")  # fmt: skip
-    header = (
-        f"{'case':6} {'Mesa wall':>10} {'ours wall':>10} {'ratio':>7}   {'Mesa CPU':>10} "
-        f"{'ours CPU':>10} {'ratio':>7}   {'target':>7}"
-    )
-    print(header)
-    agents_jl = SLOWER_THAN_AGENTS_JL["Mesa 3.2"]
-    for i, (name, res) in enumerate(results.items()):
-        m, o, ratio = res["mesa"], res["ours"], res["ratio"]
-        print(
-            f"{name:6} {m[0] * 1e3:8.1f}ms {o[0] * 1e3:8.2f}ms {ratio[0]:6.0f}x   "
-            f"{m[1] * 1e3:8.1f}ms {o[1] * 1e3:8.2f}ms {ratio[1]:6.0f}x   >={agents_jl[i]:5.1f}x"
-        )
-    print(f"\nThe {STEPS} steps alone (construction excluded)")
-    for name, res in results.items():
-        m, o, ratio = res["mesa"], res["ours"], res["ratio"]
-        print(
-            f"{name:6} {m[2] * 1e3:8.1f}ms {o[2] * 1e3:8.2f}ms {ratio[2]:6.0f}x   "
-            f"{m[3] * 1e3:8.1f}ms {o[3] * 1e3:8.2f}ms {ratio[3]:6.0f}x"
-        )
-    print(f"\nSame rules, same order: median polarisation after {STEPS} steps")
-    for name, res in results.items():
-        print(f"{name:6} Mesa {res['mesa'][4]:.2f}   ours {res['ours'][4]:.2f}")
-    print("\nPublished (ABMFrameworksComparison): times slower than Agents.jl, small / large")
-    for framework, (small, large) in SLOWER_THAN_AGENTS_JL.items():
-        print(f"  {framework:9} {small:6.2f} / {large:5.2f}")
+            results[name] = _bench(case, workers, args.mesa_runs, args.our_runs, bar)
+    for worker in workers.values():
+        worker.close()
+    _report(results, workers, args, (load_before, _load()))
 
 
 if __name__ == "__main__":

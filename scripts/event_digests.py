@@ -120,6 +120,11 @@ CASES: dict[str, tuple[str, dict]] = {
     "sugarmap-1": ("sugarmap", {"seed": 1, "time_limit": 300.0}),
     "hierarchy-1": ("hierarchy", {"seed": 1, "time_limit": 600.0}),
     "tangible-pso-1": ("tangible-pso", {"seed": 1, "time_limit": 300.0}),
+    "flocking-small-1": ("flocking", {"seed": 1}),
+    "flocking-large-2": (
+        "flocking",
+        {"seed": 2, "birds": 400, "extent": 150.0, "visual_distance": 15.0},
+    ),
 }
 #: The cases the test suite checks (a few seconds in all).
 QUICK = (
@@ -131,6 +136,8 @@ QUICK = (
     "sugarmap-1",
     "hierarchy-1",
     "tangible-pso-1",
+    "flocking-small-1",
+    "flocking-large-2",
 )
 
 

@@ -13,6 +13,7 @@ from abm.arena import Arena
 from abm.errors import ConfigError
 from abm.model import SwarmModel
 from models.flocking import LARGE, Bird, FlockingModel, FlockingParams
+from models.flocking.kernel import squared_limit
 
 DECLARED = {"speed": 1.0, "separation": 1.0, "cohere": 0.03, "separate": 0.015, "match": 0.05}
 
@@ -85,6 +86,27 @@ def test_a_seeded_run_equals_the_declared_rules_step_for_step(birds, extent, vis
         assert _torus_gap(model.space.agent_positions, pos, extent) < 1e-9, step
         assert np.abs(model.velocity - vel).max() < 1e-9, step
     assert model.summary()["mean_neighbours"] > 1  # the birds did see each other
+
+
+@settings(max_examples=200, deadline=None)
+@given(limit=st.floats(0.0, 1e6), strict=st.booleans(), ulps=st.integers(-4, 4))
+def test_the_squared_limit_decides_as_the_distance_does(limit, strict, ulps):
+    """The kernel's neighbour test on squared distances is the declared test on distances,
+    decision for decision, also for squared distances a few ulps either side of the limit."""
+    bound = squared_limit(limit, strict)
+    squared = limit * limit
+    for _ in range(abs(ulps)):
+        squared = math.nextafter(squared, math.copysign(math.inf, ulps))
+    squared = max(squared, 0.0)
+    inside = math.sqrt(squared) < limit if strict else math.sqrt(squared) <= limit
+    assert inside == (squared <= bound)
+
+
+def test_the_squared_limit_of_the_small_case_is_not_its_square():
+    """sqrt(25 + 1 ulp) rounds to 5: such a bird is a neighbour at visual distance 5."""
+    assert squared_limit(5.0) == math.nextafter(25.0, math.inf)
+    assert math.sqrt(squared_limit(5.0)) <= 5.0 < math.sqrt(math.nextafter(squared_limit(5.0), 30))
+    assert squared_limit(1.0, strict=True) < 1.0 and squared_limit(0.0, strict=True) == -1.0
 
 
 def test_the_update_is_sequential_not_simultaneous():

@@ -9,6 +9,7 @@ import pytest
 from abm.errors import ConfigError
 from abm.faults import FAILED
 from abm.lifecycle import EVENTS, Lifecycle
+from abm.record import Recorder
 from tests.tiny_model import TinyModel, Walker
 
 
@@ -123,3 +124,55 @@ def test_robots_of_a_role_is_an_empty_agentset_before_the_first_is_made():
     model.run(until=11.0)
     assert list(model.robots_of(Walker)) == list(model.agents_by_type[Walker])
     assert len(model.robots_of(Walker)) == 2
+
+
+@pytest.mark.parametrize("capped", [False, True])
+def test_robots_entered_together_log_count_and_publish_as_one_by_one(capped):
+    """``Robot.enter_all`` (a flock made at once) leaves the same event rows, counts and
+    lifecycle events as ``set_state`` on each robot in turn, also for a capped event kind."""
+
+    def made(together):
+        model = TinyModel(seed=1, walkers=3)
+        if capped:
+            model.recorder = Recorder(model.env, model.STATES, row_limits={"state": 2})
+        heard = []
+        model.lifecycle.subscribe(
+            "state", lambda r, old, new: heard.append((r.unique_id, old, new))
+        )
+        walkers = [Walker(model, model.centre, None) for _ in range(4)]
+        if together:
+            Walker.enter_all(walkers, "resting")
+        else:
+            for walker in walkers:
+                walker.set_state("resting")
+        return model, heard, walkers
+
+    (one, heard_one, _), (all_, heard_all, walkers) = made(False), made(True)
+    assert heard_all == heard_one and len(heard_all) == 4
+    assert all_.events().equals(one.events()) and len(all_.events()) == (3 if capped else 4)
+    assert all_.state_counts().equals(one.state_counts())
+    assert all_.recorder.counts == {"walking": 0, "resting": 4}
+    assert all_.recorder.dropped == one.recorder.dropped
+    with pytest.raises(ValueError, match="already has a state"):
+        Walker.enter_all(walkers, "walking")
+    with pytest.raises(ValueError, match="unknown state 'flying'"):
+        Walker.enter_all([Walker(all_, all_.centre, None)], "flying")
+
+
+def test_position_samples_follow_joins_state_changes_and_removals():
+    """The trace reuses the ids and states of the space's rows between samples: a robot that
+    joins, changes state or leaves shows in the very next sample."""
+    model = TinyModel(seed=2, walkers=6, launch_period=0.7, rest_rate=1e-6, trace_interval=1.0)
+    model.run(until=3.2)
+    walkers = list(model.agents_by_type[Walker])
+    walkers[0].set_state("resting")
+    walkers[1].remove()
+    model.run(until=4.1)
+    samples = model.positions().groupby("time")
+    last = samples.get_group(4.0).set_index("robot")["state"]
+    assert last[walkers[0].unique_id] == "resting"
+    assert walkers[1].unique_id not in last.index
+    assert sorted(last.index) == sorted(a.unique_id for a in model.agents)
+    before = samples.get_group(3.0).set_index("robot")["state"]
+    assert len(before) == len(last) == 4 and (before == "walking").all()
+    assert model.recorder.moves == model.events()["event"].isin(["state", "removed"]).sum()

@@ -21,13 +21,14 @@ class Bird(Robot):
     the flock's velocity array, where the bird's rows are.
 
     Args:
-        model: the flocking model (which places all birds at once).
+        model: the flocking model (which places all birds at once and puts them in their
+            state, ``flying``, together: :meth:`~abm.robot.Robot.enter_all`).
         row: its row in the space's position array and the flock's velocity array.
 
     """
 
     def __init__(self, model: "FlockingModel", row: int) -> None:
-        super().__init__(model, None, "flying")
+        super().__init__(model, None, None)
         self.row = row
 
     @property

@@ -11,6 +11,10 @@ around it (wrapping at the edges). Each cell keeps a doubly linked list of its b
 (``head``, ``after``, ``before``), so a bird that crosses into another cell is unlinked and
 linked again in O(1) right after it moves. With fewer than three cells per side the eight
 surrounding cells would repeat, so there is then one cell holding every bird.
+
+Whether a candidate is a neighbour is decided on the squared distance against a squared limit
+(:func:`squared_limit`) that gives exactly the decisions of comparing the distance itself, so
+the loop takes no square root per candidate and the run is the same bit for bit.
 """
 
 import math
@@ -18,7 +22,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["CellList", "flock_step", "order_parameters", "wrap"]
+__all__ = ["CellList", "flock_step", "order_parameters", "squared_limit", "wrap"]
 
 
 class CellList:
@@ -54,6 +58,29 @@ class CellList:
         self.cell = np.zeros(n, dtype=np.int64)
         self.around = _around(self.cells)
         _fill(positions, self.cells, self.side, self.head, self.after, self.before, self.cell)
+
+
+def squared_limit(limit: float, strict: bool = False) -> float:
+    """The largest squared distance ``s`` (m^2) with ``sqrt(s) <= limit`` (``< limit`` when
+    ``strict``); -1 when there is none (``strict`` with ``limit`` 0).
+
+    IEEE square roots are correctly rounded, so ``sqrt`` is monotone on doubles and
+    ``sqrt(s) <= limit`` holds exactly when ``s <= squared_limit(limit)``: the same decision as
+    on the distance, without the root. ``limit * limit`` itself can be off by an ulp (for a
+    visual distance of 5 m, ``sqrt(25.000000000000004)`` rounds to 5.0, a neighbour), hence
+    the search from it to the exact boundary.
+    """
+    inside = (lambda s: math.sqrt(s) < limit) if strict else (lambda s: math.sqrt(s) <= limit)
+    s = limit * limit
+    if math.isinf(s):
+        return s
+    while not inside(s):
+        if s <= 0.0:
+            return -1.0
+        s = math.nextafter(s, -math.inf)
+    while inside(math.nextafter(s, math.inf)):
+        s = math.nextafter(s, math.inf)
+    return s
 
 
 @numba.njit(cache=True)
@@ -129,8 +156,8 @@ def flock_step(
     vel: np.ndarray,
     order: np.ndarray,
     extent: float,
-    visual: float,
-    separation: float,
+    visual_sq: float,
+    separation_sq: float,
     factors: np.ndarray,
     move: float,
     cells: int,
@@ -141,23 +168,28 @@ def flock_step(
     before: np.ndarray,
     cell: np.ndarray,
     seen: np.ndarray,
-) -> None:
-    """One update step of the whole flock, in place, birds taken in ``order``.
+) -> tuple[float, float]:
+    """One update step of the whole flock, in place, birds taken in ``order``; returns the
+    flock's order parameters after it (:func:`order_parameters`: polarisation, mean
+    neighbours), which the model samples every step.
 
-    Each bird: the neighbours within ``visual`` (excluding itself) give cohere = mean offset
-    x cohere factor, separate = minus the mean offset to those closer than ``separation`` x
-    separate factor, match = mean velocity x match factor (means over all neighbours, 1 when
-    there are none); its velocity becomes the unit vector of (vel + cohere + separate +
-    match) / 2 (unchanged in the measure-zero case of a zero sum), and it moves ``move`` (m)
-    along it, wrapping on the periodic square. ``seen[i]`` is set to bird i's neighbour count.
+    Each bird: the neighbours within the visual distance (excluding itself) give cohere =
+    mean offset x cohere factor, separate = minus the mean offset to those closer than the
+    separation distance x separate factor, match = mean velocity x match factor (means over
+    all neighbours, 1 when there are none); its velocity becomes the unit vector of (vel +
+    cohere + separate + match) / 2 (unchanged in the measure-zero case of a zero sum), and it
+    moves ``move`` (m) along it, wrapping on the periodic square. ``seen[i]`` is set to bird
+    i's neighbour count.
 
     Args:
         pos: ``(N, 2)`` positions (m), updated.
         vel: ``(N, 2)`` unit velocities, updated.
         order: the activation order of this step (a permutation of the rows).
         extent: side of the periodic square (m).
-        visual: visual distance (m).
-        separation: separation distance (m).
+        visual_sq: ``squared_limit(visual distance)`` (m^2): a bird at distance d is a
+            neighbour when d <= the visual distance, i.e. when d^2 <= visual_sq.
+        separation_sq: ``squared_limit(separation, strict=True)`` (m^2): a neighbour is
+            pushed away from when d < the separation distance, i.e. d^2 <= separation_sq.
         factors: cohere, separate and match factors.
         move: distance moved per step (m).
         cells: cells per side of the cell list (1: search every bird).
@@ -168,6 +200,9 @@ def flock_step(
         before: previous bird in the same cell, updated.
         cell: each bird's cell, updated.
         seen: ``(N,)`` neighbour counts, written.
+
+    Returns:
+        ``order_parameters(vel, seen)`` after the step.
 
     """
     half = 0.5 * extent
@@ -192,11 +227,11 @@ def flock_step(
                         dy -= extent
                     elif dy < -half:
                         dy += extent
-                    distance = math.sqrt(dx * dx + dy * dy)
+                    squared = dx * dx + dy * dy
                     # weights 1 or 0 instead of branches: whether a candidate is a neighbour
                     # is a coin toss the processor cannot predict
-                    near = 1.0 if distance <= visual else 0.0
-                    close = near if distance < separation else 0.0
+                    near = 1.0 if squared <= visual_sq else 0.0
+                    close = near if squared <= separation_sq else 0.0
                     seen_i += near
                     cohere_x += near * dx
                     cohere_y += near * dy
@@ -231,6 +266,7 @@ def flock_step(
         if c_new != c:
             _unlink(i, head, after, before, cell)
             _link(i, c_new, head, after, before, cell)
+    return order_parameters(vel, seen)
 
 
 @numba.njit(cache=True)

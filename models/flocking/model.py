@@ -13,7 +13,7 @@ from abm.arena import Arena
 from abm.model import SwarmModel
 from abm.styles import StateStyle
 from models.flocking.agents import Bird
-from models.flocking.kernel import CellList, flock_step, order_parameters
+from models.flocking.kernel import CellList, flock_step, order_parameters, squared_limit
 from models.flocking.params import FlockingParams
 from models.flocking.published import PUBLISHED, REPORT
 from models.flocking.units import SUMMARY_UNITS
@@ -53,11 +53,29 @@ class FlockingModel(SwarmModel):
         #: Unit velocity of every bird, one row per bird (the rows of the Mesa space).
         self.velocity = heading / np.linalg.norm(heading, axis=1)[:, None]
         birds = [Bird(self, row) for row in range(p.birds)]
+        Bird.enter_all(birds, "flying")
         self.place(np.array([bird.unique_id for bird in birds]), positions)
-        self.cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
-        self._factors = np.array([p.cohere_factor, p.separate_factor, p.match_factor])
+        self.cells = cells = CellList(self.space.agent_positions, p.extent, p.visual_distance)
         #: Neighbours each bird saw at its last update.
         self.seen = np.zeros(p.birds, dtype=np.int64)
+        # the kernel's arguments after positions, velocities and order, all fixed for the run
+        # (its arrays are updated in place), gathered once: a step's Python work is the draw
+        # of the order and one call
+        self._kernel_args = (
+            p.extent,
+            squared_limit(p.visual_distance),
+            squared_limit(p.separation, strict=True),
+            np.array([p.cohere_factor, p.separate_factor, p.match_factor]),
+            p.speed * p.dt,
+            cells.cells,
+            cells.side,
+            cells.around,
+            cells.head,
+            cells.after,
+            cells.before,
+            cells.cell,
+            self.seen,
+        )
         self.updates = 0
         self.env.process(self._flock())
 
@@ -70,27 +88,14 @@ class FlockingModel(SwarmModel):
 
     def update(self) -> None:
         """One update step: every bird in a new random order, each seeing those moved before."""
-        p, cells = self.params, self.cells
-        flock_step(
+        polarisation, mean_neighbours = flock_step(
             self.space.agent_positions,
             self.velocity,
-            self.rng.permutation(p.birds),
-            p.extent,
-            p.visual_distance,
-            p.separation,
-            self._factors,
-            p.speed * p.dt,
-            cells.cells,
-            cells.side,
-            cells.around,
-            cells.head,
-            cells.after,
-            cells.before,
-            cells.cell,
-            self.seen,
+            self.rng.permutation(self.params.birds),
+            *self._kernel_args,
         )
         self.updates += 1
-        self.recorder.sample(**self._order())
+        self.recorder.sample(polarisation=polarisation, mean_neighbours=mean_neighbours)
 
     def _order(self) -> dict:
         polarisation, mean_neighbours = order_parameters(self.velocity, self.seen)
