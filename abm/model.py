@@ -479,8 +479,8 @@ class SwarmModel(mesa.Model):
             if agents:
                 graph = self.comms.graph
                 self.recorder.snapshot(
-                    np.array([a.unique_id for a in agents]),
-                    self.space.agent_positions.copy(),
+                    np.fromiter((a.unique_id for a in agents), dtype=np.int64, count=len(agents)),
+                    self.space.agent_positions,  # copied (the rows that changed) by the recorder
                     [a.state for a in agents],
                     [a.unique_id in graph for a in agents],
                 )
