@@ -20,6 +20,8 @@ of log(wall per simulated second) against log(robots): b = 1 is linear cost.
 Every run is a process of its own (after a 20-robot warm-up run there that loads the compiled
 kernels), so each row also reports that process's peak memory (``ru_maxrss``, MB; the warm-up
 and the imports included), and its per-robot cost as a multiple of the smallest size's.
+"x real time (CPU)" is simulated time over the run's CPU time: what one idle core would give,
+on a machine shared with other work the steadier figure.
 
 The worlds are built from plain cell lists and arrays (not the generators' size options) so
 the same script times older revisions of the framework.
@@ -121,10 +123,13 @@ def time_run(
     if profiler:
         profiler.enable()
     model = cls(seed=seed, **params)
-    progress = [(0.0, time.perf_counter() - start)]  # (simulated s, wall s) after each chunk
+    # (simulated s, wall s, CPU s) after each chunk
+    progress = [(0.0, time.perf_counter() - start, time.process_time() - cpu_start)]
     while model.running and model.env.now < duration:
         model.run(until=min(duration, model.env.now + chunk))
-        progress.append((float(model.env.now), time.perf_counter() - start))
+        progress.append(
+            (float(model.env.now), time.perf_counter() - start, time.process_time() - cpu_start)
+        )
         if progress[-1][1] > budget:
             break
     if profiler:
@@ -141,6 +146,7 @@ def time_run(
         "cpu": cpu,
         "per_robot_us": 1e6 * wall / simulated / n,
         "rtf": simulated / wall,
+        "rtf_cpu": simulated / cpu,
         "truncated": simulated < duration and model.running,
         "events": len(model.events()),
         "end": model.end_reason or "",
@@ -148,10 +154,12 @@ def time_run(
     }
 
 
-def wall_at(row: dict, simulated: float) -> float:
-    """Wall time (s) a run took to reach ``simulated`` seconds (linear between chunks)."""
-    sims, walls = zip(*row["progress"], strict=True)
-    return float(np.interp(simulated, sims, walls))
+def wall_at(row: dict, simulated: float, column: int = 1) -> float:
+    """Wall time (s; CPU time with ``column=2``) a run took to reach ``simulated`` seconds
+    (linear between chunks).
+    """
+    sims, times = [p[0] for p in row["progress"]], [p[column] for p in row["progress"]]
+    return float(np.interp(simulated, sims, times))
 
 
 def start_child(
@@ -179,10 +187,12 @@ def side_by_side(
     return tuple(child_row(run) for run in runs)
 
 
-def speedup(after: dict, before: dict) -> float:
-    """Ratio of the wall times both revisions took to reach the simulated time both reached."""
+def speedup(after: dict, before: dict, column: int = 1) -> float:
+    """Ratio of the wall (``column=2``: CPU) times both revisions took to reach the simulated
+    time both reached (a run stopped at the budget is compared over the part both ran).
+    """
     common = min(after["simulated"], before["simulated"])
-    return wall_at(before, common) / wall_at(after, common)
+    return wall_at(before, common, column) / wall_at(after, common, column)
 
 
 def growth_exponent(rows: list[dict]) -> float:
@@ -230,7 +240,7 @@ def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> None:
     print(f"{name} (seed {args.seed}):")
     print(
         f"  {'robots':>7} {'sim s':>8} {'wall s':>8} {'CPU s':>8} {'us/robot/sim-s':>15} "
-        f"{'vs smallest':>11} {'x real time':>11} {'peak MB':>8} {'events':>8}  end"
+        f"{'vs smallest':>11} {'x real time':>11} {'(CPU)':>7} {'peak MB':>8} {'events':>8}  end"
     )
     rows = []
     for n in sizes:
@@ -240,7 +250,8 @@ def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> None:
         print(
             f"  {n:>7} {row['simulated']:>7.0f}{cut(row)} {row['wall']:>8.1f} {row['cpu']:>8.1f} "
             f"{row['per_robot_us']:>15.1f} {row['per_robot_us'] / rows[0]['per_robot_us']:>10.2f}x "
-            f"{row['rtf']:>11.1f} {row['peak_mb']:>8.0f} {row['events']:>8}  {row['end']}",
+            f"{row['rtf']:>11.1f} {row['rtf_cpu']:>7.1f} {row['peak_mb']:>8.0f} "
+            f"{row['events']:>8}  {row['end']}",
             flush=True,
         )
     if len(rows) > 1:
@@ -252,8 +263,9 @@ def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> Non
     print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
     print(
         f"  {'robots':>7} {'sim s':>8} {'us/robot/sim-s':>15} {'vs smallest':>11} "
-        f"{'x real time':>11} {'peak MB':>8}   {'before: sim s':>13} {'us/robot/sim-s':>15} "
-        f"{'x real time':>11} {'peak MB':>8}  speed-up (wall to the same sim time; CPU)"
+        f"{'x real time':>11} {'(CPU)':>7} {'peak MB':>8}   {'before: sim s':>13} "
+        f"{'us/robot/sim-s':>15} {'x real time':>11} {'(CPU)':>7} {'peak MB':>8}  "
+        f"speed-up to the same sim time (wall; CPU)"
     )
     pairs = []
     for n in sizes:
@@ -262,10 +274,10 @@ def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> Non
         print(
             f"  {n:>7} {after['simulated']:>7.0f}{cut(after)} {after['per_robot_us']:>15.1f} "
             f"{after['per_robot_us'] / pairs[0][0]['per_robot_us']:>10.2f}x "
-            f"{after['rtf']:>11.1f} {after['peak_mb']:>8.0f}   "
+            f"{after['rtf']:>11.1f} {after['rtf_cpu']:>7.1f} {after['peak_mb']:>8.0f}   "
             f"{before['simulated']:>12.0f}{cut(before)} {before['per_robot_us']:>15.1f} "
-            f"{before['rtf']:>11.1f} {before['peak_mb']:>8.0f}  "
-            f"{speedup(after, before):>6.2f}x; {before['cpu'] / after['cpu']:.2f}x",
+            f"{before['rtf']:>11.1f} {before['rtf_cpu']:>7.1f} {before['peak_mb']:>8.0f}  "
+            f"{speedup(after, before):>6.2f}x; {speedup(after, before, 2):.2f}x",
             flush=True,
         )
     for label, rows in (("this code", [a for a, _ in pairs]), ("before", [b for _, b in pairs])):
