@@ -14,6 +14,7 @@ hooks below; every tool of the project reads those and nothing else (see
 
 import inspect
 from collections.abc import Callable, Mapping, Sequence
+from operator import attrgetter
 from typing import ClassVar
 
 import mesa
@@ -479,22 +480,30 @@ class SwarmModel(mesa.Model):
 
     # ------------------------------------------------------------------ plumbing
     def _trace(self, interval: float):
+        """Sample every robot's position, state and comm membership every ``interval`` s.
+
+        The per-robot attributes are read with ``map`` (C loops, no Python frame per robot):
+        at 10,000 robots a sample took 16 ms as list comprehensions.
+        """
+        state_of, id_of = attrgetter("state"), attrgetter("unique_id")
         while True:
             agents = self.space.active_agents
             if agents:
                 rows = self._space_rows
                 if rows is None or rows[2] != self.recorder.moves or len(rows[0]) != len(agents):
                     rows = self._space_rows = (
-                        np.array([a.unique_id for a in agents]),
-                        tuple([a.state for a in agents]),
+                        np.fromiter(map(id_of, agents), dtype=np.int64, count=len(agents)),
+                        list(map(state_of, agents)),
                         self.recorder.moves,
                     )
                 graph = self.comms.graph
                 self.recorder.snapshot(
                     rows[0],
-                    self.space.agent_positions.copy(),
+                    self.space.agent_positions,  # copied (the rows that changed) by the recorder
                     rows[1],
-                    [a.unique_id in graph for a in agents] if graph else (False,) * len(agents),
+                    list(map(graph._adj.__contains__, rows[0].tolist()))
+                    if graph
+                    else [False] * len(agents),
                 )
             yield self.env.timeout(interval)
 

@@ -45,7 +45,7 @@ class Recorder:
         self._events: list[dict] = []
         self._series: list[tuple] = []
         self._samples: list[dict] = []
-        self._positions: list[tuple[float, np.ndarray, np.ndarray, tuple, tuple]] = []
+        self._trace = _Trace(self.states)
         #: State changes recorded so far (:meth:`move` calls): whoever keeps the robots'
         #: states knows they are unchanged while this is.
         self.moves = 0
@@ -121,29 +121,14 @@ class Recorder:
         robots: np.ndarray,
         positions: np.ndarray,
         states: Sequence[str],
-        comm: Sequence[bool],
+        comm: Sequence[bool] | np.ndarray,
     ) -> None:
-        """Record where every robot is, what it is and whether it is a comm node at ``env.now``
-        (the arrays are kept as given: pass copies of arrays that change).
-        """
-        self._positions.append((self.env.now, robots, positions, tuple(states), tuple(comm)))
+        """Record where every robot is, what it is and whether it is a comm node at ``env.now``."""
+        self._trace.add(self.env.now, robots, positions, states, comm)
 
     def positions(self) -> pd.DataFrame:
         """Sampled positions: one row per robot and sample (time, robot, x, y, state, comm)."""
-        if not self._positions:
-            return pd.DataFrame(columns=["time", "robot", "x", "y", "state", "comm"])
-        times, robots, positions, states, comm = zip(*self._positions, strict=True)
-        xy = np.concatenate(positions)
-        return pd.DataFrame(
-            {
-                "time": np.repeat(times, [len(r) for r in robots]),
-                "robot": np.concatenate(robots),
-                "x": xy[:, 0],
-                "y": xy[:, 1],
-                "state": [s for sample in states for s in sample],
-                "comm": np.array([c for sample in comm for c in sample], dtype=bool),
-            }
-        )
+        return self._trace.frame()
 
     def events(self) -> pd.DataFrame:
         """The event log, one row per event, in time order."""
@@ -152,3 +137,86 @@ class Recorder:
     def state_counts(self) -> pd.DataFrame:
         """Robots per state after every change: a ``time`` column and one column per state."""
         return pd.DataFrame(self._series, columns=["time", *self.states])
+
+
+class _Trace:
+    """The sampled positions, stored as changes: a sample keeps only the robots whose
+    position, state or comm membership differ from their previous sample.
+
+    Most robots of a large swarm hang still (beacons) or wait (on the ground) between two
+    samples: a 10,000-robot beacon/explorer run samples 3e8 robot-seconds, 11 GB when every
+    row was kept, of which a few per cent move. :meth:`frame` gives every row back, as the
+    full samples would.
+
+    Args:
+        states: the robot states, in the order their codes number them.
+
+    """
+
+    def __init__(self, states: Sequence[str]) -> None:
+        self._states = tuple(states)
+        self._code = {s: k for k, s in enumerate(self._states)}
+        #: per sample: (time, robots, changed rows, their positions, state codes, comm)
+        self._samples: list[
+            tuple[float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+        ] = []
+        self._last: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def add(
+        self,
+        time: float,
+        robots: np.ndarray,
+        positions: np.ndarray,
+        states: Sequence[str],
+        comm: Sequence[bool] | np.ndarray,
+    ) -> None:
+        """Keep one sample (the rows that changed since the previous one)."""
+        robots = np.asarray(robots, dtype=np.int64)
+        positions = np.array(positions, dtype=float).reshape(-1, 2)
+        codes = np.array(list(map(self._code.__getitem__, states)), dtype=np.int8)
+        comm = np.asarray(comm, dtype=bool)
+        last = self._last
+        if last is not None and np.array_equal(last[0], robots):
+            robots = last[0]  # the same robots in the same rows: one array for both samples
+            changed = np.flatnonzero(
+                (positions != last[1]).any(axis=1) | (codes != last[2]) | (comm != last[3])
+            )
+        else:
+            changed = np.arange(len(robots))
+        self._last = (robots, positions, codes, comm)
+        self._samples.append(
+            (time, robots, changed, positions[changed], codes[changed], comm[changed])
+        )
+
+    def frame(self) -> pd.DataFrame:
+        """One row per robot and sample (time, robot, x, y, state, comm)."""
+        if not self._samples:
+            return pd.DataFrame(columns=["time", "robot", "x", "y", "state", "comm"])
+        sizes = [len(sample[1]) for sample in self._samples]
+        total = sum(sizes)
+        xy = np.empty((total, 2))
+        codes = np.empty(total, dtype=np.int8)
+        comm = np.empty(total, dtype=bool)
+        start = 0
+        for (_time, _robots, changed, where, code, linked), size in zip(
+            self._samples, sizes, strict=True
+        ):
+            rows = slice(start, start + size)
+            if len(changed) < size:  # the rest as in the previous sample (the same robots)
+                xy[rows] = xy[start - size : start]
+                codes[rows] = codes[start - size : start]
+                comm[rows] = comm[start - size : start]
+            xy[start + changed] = where
+            codes[start + changed] = code
+            comm[start + changed] = linked
+            start += size
+        return pd.DataFrame(
+            {
+                "time": np.repeat([sample[0] for sample in self._samples], sizes),
+                "robot": np.concatenate([sample[1] for sample in self._samples]),
+                "x": xy[:, 0],
+                "y": xy[:, 1],
+                "state": np.array(self._states, dtype=object)[codes].tolist(),
+                "comm": comm,
+            }
+        )

@@ -1,4 +1,4 @@
-"""Cost growth with swarm size: wall time per simulated second per robot, 50 to 2,000 robots.
+"""Cost growth with swarm size: wall time per simulated second per robot, 50 to 10,000 robots.
 
 Each model runs at four sizes in a world that grows with the swarm, so the density of robots
 stays about the same and a linear-cost framework shows the same wall time per simulated second
@@ -17,6 +17,12 @@ then measured over the early, cheaper part of the deployment only (fewer robots 
 truncated row *under*states that size's cost. The growth exponent b is the least-squares slope
 of log(wall per simulated second) against log(robots): b = 1 is linear cost.
 
+Every run is a process of its own (after a 20-robot warm-up run there that loads the compiled
+kernels), so each row also reports that process's peak memory (``ru_maxrss``, MB; the warm-up
+and the imports included), and its per-robot cost as a multiple of the smallest size's.
+"x real time (CPU)" is simulated time over the run's CPU time: what one idle core would give,
+on a machine shared with other work the steadier figure.
+
 The worlds are built from plain cell lists and arrays (not the generators' size options) so
 the same script times older revisions of the framework.
 
@@ -28,7 +34,7 @@ need not get the same share of the cores: the CPU-time ratio is the steadier one
 both runs reached the same simulated time).
 
 Usage: python benchmarks/bench_scale.py [--quick] [--models beacon-explorer stigmergy]
-    [--sizes 50 200 1000 2000] [--budget 600] [--seed 1] [--profile out/scale.prof]
+    [--sizes 50 200 1000 2000 10000] [--budget 600] [--seed 1] [--profile out/scale.prof]
     [--compare DIR]
 """
 
@@ -37,19 +43,19 @@ import cProfile
 import json
 import math
 import os
+import resource
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from abm.registry import model_class
 from models.environments.world import world_from_cells
 
 #: Sizes of the full and the quick run (robots).
-SIZES = (50, 200, 1000, 2000)
+SIZES = (50, 200, 1000, 2000, 10000)
 QUICK_SIZES = (50, 100, 200, 400)
 #: Explorer launch period (s) of the beacon/explorer runs.
 LAUNCH_PERIOD = 3.0
@@ -102,6 +108,8 @@ def stigmergy_case(n: int) -> tuple[dict, float]:
 
 
 CASES = {"beacon-explorer": beacon_explorer_case, "stigmergy": stigmergy_case}
+#: The checkout this script belongs to.
+HERE = str(Path(__file__).resolve().parent.parent)
 
 
 def time_run(
@@ -115,10 +123,13 @@ def time_run(
     if profiler:
         profiler.enable()
     model = cls(seed=seed, **params)
-    progress = [(0.0, time.perf_counter() - start)]  # (simulated s, wall s) after each chunk
+    # (simulated s, wall s, CPU s) after each chunk
+    progress = [(0.0, time.perf_counter() - start, time.process_time() - cpu_start)]
     while model.running and model.env.now < duration:
         model.run(until=min(duration, model.env.now + chunk))
-        progress.append((float(model.env.now), time.perf_counter() - start))
+        progress.append(
+            (float(model.env.now), time.perf_counter() - start, time.process_time() - cpu_start)
+        )
         if progress[-1][1] > budget:
             break
     if profiler:
@@ -135,6 +146,7 @@ def time_run(
         "cpu": cpu,
         "per_robot_us": 1e6 * wall / simulated / n,
         "rtf": simulated / wall,
+        "rtf_cpu": simulated / cpu,
         "truncated": simulated < duration and model.running,
         "events": len(model.events()),
         "end": model.end_reason or "",
@@ -142,32 +154,45 @@ def time_run(
     }
 
 
-def wall_at(row: dict, simulated: float) -> float:
-    """Wall time (s) a run took to reach ``simulated`` seconds (linear between chunks)."""
-    sims, walls = zip(*row["progress"], strict=True)
-    return float(np.interp(simulated, sims, walls))
+def wall_at(row: dict, simulated: float, column: int = 1) -> float:
+    """Wall time (s; CPU time with ``column=2``) a run took to reach ``simulated`` seconds
+    (linear between chunks).
+    """
+    sims, times = [p[0] for p in row["progress"]], [p[column] for p in row["progress"]]
+    return float(np.interp(simulated, sims, times))
+
+
+def start_child(
+    root: str, name: str, n: int, seed: int, budget: float, chunk: float, profile: str | None
+) -> subprocess.Popen:
+    """Start a process timing one case on the code checked out in directory ``root``."""
+    env = {**os.environ, "PYTHONPATH": root}
+    argv = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
+    argv += ["--seed", str(seed), "--budget", str(budget), "--chunk", str(chunk)]
+    if profile:
+        argv += ["--profile", profile]
+    return subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, text=True, cwd=root)
+
+
+def child_row(run: subprocess.Popen) -> dict:
+    """The row a process started by :func:`start_child` printed last."""
+    return json.loads(run.communicate()[0].strip().splitlines()[-1])
 
 
 def side_by_side(
     name: str, n: int, seed: int, budget: float, chunk: float, other: str
 ) -> tuple[dict, dict]:
     """Run a case on this code and on the code in directory ``other`` at the same time."""
-
-    def start(root: str) -> subprocess.Popen:
-        env = {**os.environ, "PYTHONPATH": root}
-        argv = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
-        argv += ["--seed", str(seed), "--budget", str(budget), "--chunk", str(chunk)]
-        return subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, text=True, cwd=root)
-
-    here = str(Path(__file__).resolve().parent.parent)
-    runs = [start(here), start(other)]
-    return tuple(json.loads(run.communicate()[0].strip().splitlines()[-1]) for run in runs)
+    runs = [start_child(root, name, n, seed, budget, chunk, None) for root in (HERE, other)]
+    return tuple(child_row(run) for run in runs)
 
 
-def speedup(after: dict, before: dict) -> float:
-    """Ratio of the wall times both revisions took to reach the simulated time both reached."""
+def speedup(after: dict, before: dict, column: int = 1) -> float:
+    """Ratio of the wall (``column=2``: CPU) times both revisions took to reach the simulated
+    time both reached (a run stopped at the budget is compared over the part both ran).
+    """
     common = min(after["simulated"], before["simulated"])
-    return wall_at(before, common) / wall_at(after, common)
+    return wall_at(before, common, column) / wall_at(after, common, column)
 
 
 def growth_exponent(rows: list[dict]) -> float:
@@ -190,69 +215,78 @@ def main() -> None:
     parser.add_argument("--one", nargs=2, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
     sizes = args.sizes or (QUICK_SIZES if args.quick else SIZES)
-    if args.one:  # a worker of --compare: warm up, time one case, print it as JSON
+    if args.one:  # one timed run in a process of its own: warm up, time, print it as JSON
         name, n = args.one[0], int(args.one[1])
         model_class(name)(seed=0, **CASES[name](20)[0]).run(until=30.0)
-        print(json.dumps(time_run(name, n, args.seed, args.budget, args.chunk)))
+        row = time_run(name, n, args.seed, args.budget, args.chunk, args.profile)
+        row["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        print(json.dumps(row))
         return
-    if args.compare:
-        for name in args.models:
-            print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
-            print(
-                f"  {'robots':>7} {'sim s':>7} {'us/robot/sim-s':>15} {'x real time':>11}   "
-                f"{'before: sim s':>13} {'us/robot/sim-s':>15} {'x real time':>11}  "
-                f"speed-up (wall to the same sim time; CPU)"
-            )
-            pairs = []
-            for n in sizes:
-                after, before = side_by_side(
-                    name, n, args.seed, args.budget, args.chunk, args.compare
-                )
-                pairs.append((after, before))
-                cut = [" *" if r["truncated"] else "  " for r in (after, before)]
-                print(
-                    f"  {n:>7} {after['simulated']:>7.0f}{cut[0]}{after['per_robot_us']:>13.1f} "
-                    f"{after['rtf']:>11.1f}   {before['simulated']:>13.0f}{cut[1]}"
-                    f"{before['per_robot_us']:>13.1f} {before['rtf']:>11.1f}  "
-                    f"{speedup(after, before):>6.1f}x; {before['cpu'] / after['cpu']:.2f}x",
-                    flush=True,
-                )
-            for label, rows in (
-                ("this code", [a for a, _ in pairs]),
-                ("before", [b for _, b in pairs]),
-            ):
-                ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
-                print(
-                    f"  {label}: per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} "
-                    f"robots {ratio:.2f}x, growth exponent b = {growth_exponent(rows):.2f}"
-                )
-            print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
-        return
-    for name in args.models:  # warm-up: load (or compile) the numba kernels
-        params, _ = CASES[name](20)
-        model_class(name)(seed=0, **params).run(until=30.0)
     for name in args.models:
-        rows = []
-        for n in tqdm(sizes, desc=name, leave=False):
-            profile = args.profile if n == max(sizes) else None
-            rows.append(time_run(name, n, args.seed, args.budget, args.chunk, profile))
-        print(f"{name} (seed {args.seed}):")
+        if args.compare:
+            print_compared(name, sizes, args)
+        else:
+            print_rows(name, sizes, args)
+    print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
+
+
+def cut(row: dict) -> str:
+    """A mark for a row stopped at the wall budget."""
+    return "*" if row["truncated"] else " "
+
+
+def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> None:
+    """Time each size of one model, one process after the other, and print the table."""
+    print(f"{name} (seed {args.seed}):")
+    print(
+        f"  {'robots':>7} {'sim s':>8} {'wall s':>8} {'CPU s':>8} {'us/robot/sim-s':>15} "
+        f"{'vs smallest':>11} {'x real time':>11} {'(CPU)':>7} {'peak MB':>8} {'events':>8}  end"
+    )
+    rows = []
+    for n in sizes:
+        profile = args.profile if n == max(sizes) else None
+        row = child_row(start_child(HERE, name, n, args.seed, args.budget, args.chunk, profile))
+        rows.append(row)
         print(
-            f"  {'robots':>7} {'sim s':>7} {'wall s':>8} {'us/robot/sim-s':>15} "
-            f"{'x real time':>11} {'events':>8}  end"
+            f"  {n:>7} {row['simulated']:>7.0f}{cut(row)} {row['wall']:>8.1f} {row['cpu']:>8.1f} "
+            f"{row['per_robot_us']:>15.1f} {row['per_robot_us'] / rows[0]['per_robot_us']:>10.2f}x "
+            f"{row['rtf']:>11.1f} {row['rtf_cpu']:>7.1f} {row['peak_mb']:>8.0f} "
+            f"{row['events']:>8}  {row['end']}",
+            flush=True,
         )
-        for r in rows:
-            cut = " (stopped at budget)" if r["truncated"] else ""
+    if len(rows) > 1:
+        print(f"  growth exponent b = {growth_exponent(rows):.2f} (wall per sim-s ~ robots^b)")
+
+
+def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> None:
+    """Time each size of one model on this code and on ``args.compare`` side by side."""
+    print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
+    print(
+        f"  {'robots':>7} {'sim s':>8} {'us/robot/sim-s':>15} {'vs smallest':>11} "
+        f"{'x real time':>11} {'(CPU)':>7} {'peak MB':>8}   {'before: sim s':>13} "
+        f"{'us/robot/sim-s':>15} {'x real time':>11} {'(CPU)':>7} {'peak MB':>8}  "
+        f"speed-up to the same sim time (wall; CPU)"
+    )
+    pairs = []
+    for n in sizes:
+        after, before = side_by_side(name, n, args.seed, args.budget, args.chunk, args.compare)
+        pairs.append((after, before))
+        print(
+            f"  {n:>7} {after['simulated']:>7.0f}{cut(after)} {after['per_robot_us']:>15.1f} "
+            f"{after['per_robot_us'] / pairs[0][0]['per_robot_us']:>10.2f}x "
+            f"{after['rtf']:>11.1f} {after['rtf_cpu']:>7.1f} {after['peak_mb']:>8.0f}   "
+            f"{before['simulated']:>12.0f}{cut(before)} {before['per_robot_us']:>15.1f} "
+            f"{before['rtf']:>11.1f} {before['rtf_cpu']:>7.1f} {before['peak_mb']:>8.0f}  "
+            f"{speedup(after, before):>6.2f}x; {speedup(after, before, 2):.2f}x",
+            flush=True,
+        )
+    for label, rows in (("this code", [a for a, _ in pairs]), ("before", [b for _, b in pairs])):
+        if len(rows) > 1:
+            ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
             print(
-                f"  {r['robots']:>7} {r['simulated']:>7.0f} {r['wall']:>8.1f} "
-                f"{r['per_robot_us']:>15.1f} {r['rtf']:>11.1f} {r['events']:>8}  "
-                f"{r['end']}{cut}"
+                f"  {label}: per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} "
+                f"robots {ratio:.2f}x, growth exponent b = {growth_exponent(rows):.2f}"
             )
-        ratio = rows[-1]["per_robot_us"] / rows[0]["per_robot_us"]
-        print(
-            f"  per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} robots: {ratio:.2f}x; "
-            f"growth exponent b = {growth_exponent(rows):.2f} (wall per sim-s ~ robots^b)"
-        )
 
 
 if __name__ == "__main__":

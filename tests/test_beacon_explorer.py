@@ -512,3 +512,44 @@ def test_floor_plans_are_built_in_maps_with_a_free_start():
     assert np.allclose(moved.world.start, (30.5, 20.5))
     with pytest.raises(ConfigError, match="map_resolution applies to map files only"):
         BeaconExplorerModel(world="office", map_resolution=0.5)
+
+
+def test_a_beacon_the_newest_wave_has_not_reached_polls_and_each_poll_senses():
+    """Pins the wake-up behaviour that the event logs hold (see docs/history.md, "Large
+    swarms"): a beacon woken while the newest hop-count wave has not reached it or its lattice
+    neighbours decides nothing and looks again one message latency plus one control period
+    later (or sooner, if a hop count it holds changes meanwhile); it decides only on settled
+    hop counts. Every look measures its neighbours with the relative-positioning sensor and so
+    draws from the model's generator: a beacon woken only once the wave arrived would skip
+    those draws and change every later draw of the run.
+    """
+    model = BeaconExplorerModel(world="open", complexity="low", seed=2, time_limit=200.0)
+    network, p = model.beacons, model.params
+    looks = []  # (time, robot, decided, drew)
+    evaluate, publish = network._evaluate, network._publish
+    decided = []
+
+    def publishing(beacon, *args):
+        decided.append(beacon.robot)
+        return publish(beacon, *args)
+
+    def looking(robot):
+        before = model.rng.bit_generator.state["state"]["state"]
+        decided.clear()
+        nodes = [robot, *network.comms.neighbours(robot)] if robot in network.beacons else []
+        evaluate(robot)
+        drew = model.rng.bit_generator.state["state"]["state"] != before
+        looks.append((model.env.now, robot, bool(decided), drew, bool(nodes[1:])))
+
+    network._evaluate, network._publish = looking, publishing
+    model.run()
+    polls = [(t, r) for t, r, d, _drew, _linked in looks if not d]
+    assert len(polls) > 50
+    assert all(drew for *_x, drew, linked in looks if linked)
+    later = {}
+    for t, r, *_rest in looks:
+        later.setdefault(r, []).append(t)
+    for t, r in polls:
+        following = [u for u in later[r] if u > t]
+        if following and r in network.beacons:
+            assert following[0] <= t + p.latency + model.physics.dt + 1e-9

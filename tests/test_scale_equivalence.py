@@ -241,3 +241,37 @@ def test_a_beacons_cached_view_of_its_neighbours_equals_a_fresh_look():
     network._sense_beacons = checked
     model.run()
     assert (model.events()["event"] == "detach").sum() > 0 and len(checks) > 100
+
+
+def test_the_signal_arrays_kept_through_attaches_and_detaches_equal_a_rebuild():
+    """What explorers read (ids, positions, desired vectors D, target-is-empty, corridor) is
+    kept row by row as beacons come and go: the same arrays as built afresh from every beacon.
+    """
+    model = BeaconExplorerModel(world="corridor", complexity="high", seed=3)
+    network = model.beacons
+    checks = []
+
+    def rebuilt():
+        kept, network._members = network._members, None
+        fresh = network._current_members()
+        network._members = kept
+        return fresh
+
+    def check(change):
+        def checked(robot, *args, **kwargs):
+            out = change(robot, *args, **kwargs)
+            network._current_members()
+            kept, fresh = network._members, rebuilt()
+            for name in ("ids", "pos", "corridor", "vectors", "to_empty"):
+                np.testing.assert_array_equal(getattr(kept, name), getattr(fresh, name))
+            ids = kept.ids.tolist()
+            assert [kept.rows[r] for r in ids] == list(range(len(ids)))
+            assert (kept.rows >= 0).sum() == len(ids)
+            checks.append(robot)
+            return out
+
+        return checked
+
+    network.attach, network.detach = check(network.attach), check(network.detach)
+    model.run()
+    assert (model.events()["event"] == "detach").sum() > 0 and len(checks) > 20

@@ -139,7 +139,12 @@ class GradientFlood:
     def _take(self, node: Node, epoch: int, value: int) -> None:
         """``node`` adopts ``value`` of wave ``epoch`` and passes it on."""
         self._epoch_of[node] = epoch
-        self._set(node, value)
+        values = self.values
+        old = values.get(node, self.floor)
+        values[node] = value
+        if old != value:  # _set inlined: a flood takes millions of values
+            for listener in self._listeners:
+                listener(node, old, value)
         onward = value + self.step
         if onward < self.floor:
             return
