@@ -49,13 +49,15 @@ def design_block(
         manifest: its ``sweep.json``.
         runs: every row (finished and failed).
         cls: the model class (its censored metrics, and the metrics its report layout draws
-            first); None when it cannot be imported.
+            first, with its total); None when it cannot be imported.
         folder: where its figures go.
         title: the block's heading ("" for a single sweep).
 
     """
     censored = () if cls is None else cls.CENSORED
-    first = () if cls is None or cls.REPORT is None else cls.REPORT.metrics
+    first: tuple = ()
+    if cls is not None and cls.REPORT is not None:  # the paper's metrics, its total energy too
+        first = (*cls.REPORT.metrics, *((cls.REPORT.total,) if cls.REPORT.total else ()))
     design = manifest["design"]
     kind = design["kind"]
     names = () if cls is None else [f.name for f in param_fields(cls.Params)]
@@ -109,15 +111,19 @@ def design_block(
             "method": _METHOD[kind].replace("{levels}", str(MORRIS_LEVELS))
             + f"; intervals: {CONF_LEVEL:.0%} bootstrap ({RESAMPLES} resamples).",
             "notes": notes,
-            "table": _table(frame, kind) if len(frame) else None,
+            "table": _table(frame, kind, first) if len(frame) else None,
             "frame": frame.assign(sweep=name, kind=kind) if len(frame) else frame,
         },
     }
 
 
-def _table(frame: pd.DataFrame, kind: str) -> str:
-    """Parameters by rank, each metric's headline index ``value +- half`` (Morris: and sigma)."""
+def _table(frame: pd.DataFrame, kind: str, first: tuple = ()) -> str:
+    """Parameters by rank, each metric's headline index ``value +- half`` (Morris: and sigma),
+    the metrics of ``first`` (the model's report metrics) in the first columns.
+    """
     order = ranking(frame, kind)
+    shown = [m for m in first if m in order.columns]
+    order = order[shown + [m for m in order.columns if m not in shown]]
     full = frame[frame["full"]].set_index(["parameter", "metric", "index"])
     rows = []
     for rank, parameter in enumerate(order.index, start=1):
