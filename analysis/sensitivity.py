@@ -295,7 +295,7 @@ def save_figures(
     fig, (bar, heat) = plt.subplots(
         1,
         2,
-        figsize=(4 + 0.45 * n_m + 3, 1.2 + 0.28 * n_p),
+        figsize=(4 + 0.45 * n_m + 3, 2.6 + 0.28 * n_p),  # room for titles and metric names
         gridspec_kw={"width_ratios": [3, max(n_m * 0.45, 1.5)]},
         sharey=True,
     )
