@@ -16,7 +16,7 @@ from analysis.sensitivity import CONF_LEVEL, HEADLINE, RESAMPLES, design_data, i
 from analysis.sensitivity import save_figures as save_sensitivity_figures
 from analysis.sweep.design import MORRIS_LEVELS
 
-__all__ = ["design_block", "write_csv"]
+__all__ = ["design_block", "share_text", "write_csv"]
 
 _CAPTIONS = {
     "ranking": "Ranking: each parameter's {what} on the whole sample, per output metric (right) "
@@ -84,8 +84,8 @@ def design_block(
     notes = list(data.notes)
     if data.censored:
         notes += [
-            f"{m}: {share:.0%} of runs report a lower bound (the run's end cut it short); its "
-            "indices describe the reported value"
+            f"{m}: {share_text(share)} of runs report a lower bound (the run's end cut it "
+            "short); its indices describe the reported value"
             for m, share in data.censored.items()
             if share > 0
         ]
@@ -115,6 +115,13 @@ def design_block(
             "frame": frame.assign(sweep=name, kind=kind) if len(frame) else frame,
         },
     }
+
+
+def share_text(share: float) -> str:
+    """A share of runs as a percentage that is never "0%" for a share above 0 (2 of 764
+    censored runs read "0%" beside the note that they cut the metric short).
+    """
+    return f"{share:.0%}" if share >= 0.01 or share == 0 else f"{share:.1%}"
 
 
 def _table(frame: pd.DataFrame, kind: str, first: tuple = ()) -> str:
