@@ -116,17 +116,34 @@ def parameter_defaults(cls: type | None) -> dict[str, object]:
 
 
 def matching_runs(
-    df: pd.DataFrame, condition: Mapping[str, object], defaults: Mapping[str, object]
+    df: pd.DataFrame,
+    condition: Mapping[str, object],
+    defaults: Mapping[str, object],
+    varied: Sequence[str] = (),
 ) -> tuple[pd.DataFrame, str]:
     """The finished, fault-free runs of ``df`` that match every setting of ``condition``, and
     (when none does) why: "<setting> is X here, Y in the paper".
 
     A setting a run does not record (the sweep did not vary it) takes its value from
-    ``defaults`` (the model's parameter defaults).
+    ``defaults`` (the model's parameter defaults). A setting in ``varied`` (the parameters a
+    sensitivity design varies) that the condition does not name must be at its default too:
+    the paper's condition leaves it at the paper's value (or our reading), and a design's runs
+    each move dozens of them, so pooling them would put numbers of other models beside the
+    paper's.
     """
     runs = fault_free(stats.ok_runs(df), keep=list(condition))
     if runs.empty:
         return runs, "no finished run"
+    for key in varied:
+        if key in condition or key not in runs or key not in defaults:
+            continue
+        column = runs[key].astype(object).where(runs[key].notna(), None)
+        runs = runs[_equal(column, defaults[key])]
+        if runs.empty:
+            return runs, (
+                f"{_name(key)} varies here (a sensitivity design), "
+                f"{_shown(defaults[key])} at the paper's condition"
+            )
     for key, want in condition.items():
         if key in runs:
             column = runs[key]
@@ -212,6 +229,7 @@ def compare_published(
     records: Sequence[Published],
     defaults: Mapping[str, object] | None = None,
     censored: Sequence[Censored] = (),
+    varied: Sequence[str] = (),
 ) -> pd.DataFrame:
     """Every published record beside ours for the same condition, with its verdict.
 
@@ -221,6 +239,9 @@ def compare_published(
         defaults: the model's parameter defaults (the value of a setting a run does not
             record).
         censored: the summary metrics the runs' ends can censor (the model's ``CENSORED``).
+        varied: parameters a sensitivity design varies; a run counts for a record only at
+            their defaults (unless the record's condition or factor names them), see
+            :func:`matching_runs`.
 
     Returns:
         Columns section, quantity, condition, published, ours, runs, rule, verdict ("holds",
@@ -234,7 +255,8 @@ def compare_published(
     previous: dict = {}
     rows = []
     for item in records:
-        runs, why = matching_runs(df, item.condition, defaults)
+        free = [k for k in varied if k != item.factor]  # a change's factor is compared
+        runs, why = matching_runs(df, item.condition, defaults, free)
         key, before = (item.section, item.quantity), None
         if item.kind == "ordering" and item.measure == "mean":
             before = previous.get(key)
@@ -376,10 +398,13 @@ def judge_claims(
     samples: pd.DataFrame | None,
     claims: Sequence[Claim],
     defaults: Mapping[str, object] | None = None,
+    varied: Sequence[str] = (),
 ) -> list[dict]:
     """Every claim with ours and its verdict on the finished, fault-free runs.
 
-    A claim whose ``condition`` no run matches is "not comparable" (which setting differs);
+    A claim whose ``condition`` no run matches is "not comparable" (which setting differs;
+    ``varied``: parameters a sensitivity design varies, which must be at their defaults, see
+    :func:`matching_runs`);
     a claim whose test finds no set-up in the runs is "not in this sweep"; a claim that holds
     by construction is labelled so whatever its test says, and is never counted as reproduced.
 
@@ -391,7 +416,7 @@ def judge_claims(
     defaults = defaults or {}
     rows = []
     for claim in claims:
-        selected, differs = matching_runs(runs, claim.condition, defaults)
+        selected, differs = matching_runs(runs, claim.condition, defaults, varied)
         verdict: Verdict | None = None
         if claim.test is not None and not selected.empty:
             kept = samples

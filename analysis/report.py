@@ -184,8 +184,13 @@ def write_report(
     published = list(cls.PUBLISHED) if cls is not None else []
     claims = list(cls.CLAIMS) if cls is not None else []
     defaults = parameter_defaults(cls)
-    comparison = compare_published(every, published, defaults, cls.CENSORED) if published else None
-    judged = _claims(sweeps, claims, defaults)
+    varied = sorted(
+        {name for s in sweeps for name in s.manifest.get("design", {}).get("parameters", {})}
+    )
+    comparison = (
+        compare_published(every, published, defaults, cls.CENSORED, varied) if published else None
+    )
+    judged = _claims(sweeps, claims, defaults, varied)
     names = ", ".join(s.name for s in sweeps)
     blocks = [_block(s, cls, published, len(sweeps) > 1) for s in sweeps]
     statistics = _statistics(blocks, out)
@@ -316,8 +321,12 @@ def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
     return f"Mean ± {spread} over the runs of each condition ({by}) against {layout.curve_x}."
 
 
-def _claims(sweeps: list[_Sweep], claims: list[Claim], defaults: dict) -> list[dict] | None:
-    """Every claim with ours and its verdict on all the sweeps' fault-free runs."""
+def _claims(
+    sweeps: list[_Sweep], claims: list[Claim], defaults: dict, varied: Sequence[str] = ()
+) -> list[dict] | None:
+    """Every claim with ours and its verdict on all the sweeps' fault-free runs (at the
+    defaults of the parameters a design varies, ``varied``).
+    """
     if not claims:
         return None
     # the papers' claims are about swarms without injected faults
@@ -328,7 +337,7 @@ def _claims(sweeps: list[_Sweep], claims: list[Claim], defaults: dict) -> list[d
         samples = pd.concat(frames, ignore_index=True)
         params = runs.drop(columns=[c for c in samples.columns if c != "run_id" and c in runs])
         samples = samples.merge(params, on="run_id")
-    return judge_claims(runs, samples, claims, defaults)
+    return judge_claims(runs, samples, claims, defaults, varied)
 
 
 def _model(manifest: dict) -> tuple[type | None, str | None]:

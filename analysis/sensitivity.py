@@ -272,9 +272,9 @@ def ranking(frame: pd.DataFrame, kind: str) -> pd.DataFrame:
 def save_figures(
     frame: pd.DataFrame, kind: str, folder: Path, first: Sequence[str] = ()
 ) -> dict[str, Path]:
-    """The ranking (a bar of each parameter's mean and a heat map per metric) and the
-    convergence figure (headline index against n, top parameters of up to four metrics:
-    those of ``first`` that have indices, e.g. the model's report layout, then the others);
+    """The ranking (a bar of each parameter's mean and a heat map per metric, the metrics of
+    ``first`` that have indices first, e.g. the model's report layout, then the others) and the
+    convergence figure (headline index against n, top parameters of the first four metrics);
     PNGs in ``folder``.
     """
     import matplotlib
@@ -284,6 +284,8 @@ def save_figures(
 
     folder.mkdir(parents=True, exist_ok=True)
     table = ranking(frame, kind)
+    shown = [m for m in first if m in table.columns]
+    table = table[shown + [m for m in table.columns if m not in shown]]  # the model's first
     what = {
         "morris": "mu* / largest mu* of the metric",
         "sobol": "total index ST",
@@ -293,7 +295,7 @@ def save_figures(
     fig, (bar, heat) = plt.subplots(
         1,
         2,
-        figsize=(4 + 0.45 * n_m + 3, 1.2 + 0.28 * n_p),
+        figsize=(4 + 0.45 * n_m + 3, 2.6 + 0.28 * n_p),  # room for titles and metric names
         gridspec_kw={"width_ratios": [3, max(n_m * 0.45, 1.5)]},
         sharey=True,
     )
@@ -320,9 +322,7 @@ def save_figures(
     fig.savefig(paths["ranking"], dpi=110)
     plt.close(fig)
     if frame["n"].nunique() > 1:
-        shown = [m for m in first if m in table.columns]
-        shown += [m for m in table.columns if m not in shown]
-        paths["convergence"] = _convergence(frame, kind, table[shown[:4]], folder, plt)
+        paths["convergence"] = _convergence(frame, kind, table.iloc[:, :4], folder, plt)
     return paths
 
 

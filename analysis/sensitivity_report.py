@@ -16,7 +16,7 @@ from analysis.sensitivity import CONF_LEVEL, HEADLINE, RESAMPLES, design_data, i
 from analysis.sensitivity import save_figures as save_sensitivity_figures
 from analysis.sweep.design import MORRIS_LEVELS
 
-__all__ = ["design_block", "write_csv"]
+__all__ = ["design_block", "share_text", "write_csv"]
 
 _CAPTIONS = {
     "ranking": "Ranking: each parameter's {what} on the whole sample, per output metric (right) "
@@ -49,13 +49,15 @@ def design_block(
         manifest: its ``sweep.json``.
         runs: every row (finished and failed).
         cls: the model class (its censored metrics, and the metrics its report layout draws
-            first); None when it cannot be imported.
+            first, with its total); None when it cannot be imported.
         folder: where its figures go.
         title: the block's heading ("" for a single sweep).
 
     """
     censored = () if cls is None else cls.CENSORED
-    first = () if cls is None or cls.REPORT is None else cls.REPORT.metrics
+    first: tuple = ()
+    if cls is not None and cls.REPORT is not None:  # the paper's metrics, its total energy too
+        first = (*cls.REPORT.metrics, *((cls.REPORT.total,) if cls.REPORT.total else ()))
     design = manifest["design"]
     kind = design["kind"]
     names = () if cls is None else [f.name for f in param_fields(cls.Params)]
@@ -82,8 +84,8 @@ def design_block(
     notes = list(data.notes)
     if data.censored:
         notes += [
-            f"{m}: {share:.0%} of runs report a lower bound (the run's end cut it short); its "
-            "indices describe the reported value"
+            f"{m}: {share_text(share)} of runs report a lower bound (the run's end cut it "
+            "short); its indices describe the reported value"
             for m, share in data.censored.items()
             if share > 0
         ]
@@ -109,15 +111,26 @@ def design_block(
             "method": _METHOD[kind].replace("{levels}", str(MORRIS_LEVELS))
             + f"; intervals: {CONF_LEVEL:.0%} bootstrap ({RESAMPLES} resamples).",
             "notes": notes,
-            "table": _table(frame, kind) if len(frame) else None,
+            "table": _table(frame, kind, first) if len(frame) else None,
             "frame": frame.assign(sweep=name, kind=kind) if len(frame) else frame,
         },
     }
 
 
-def _table(frame: pd.DataFrame, kind: str) -> str:
-    """Parameters by rank, each metric's headline index ``value +- half`` (Morris: and sigma)."""
+def share_text(share: float) -> str:
+    """A share of runs as a percentage that is never "0%" for a share above 0 (2 of 764
+    censored runs read "0%" beside the note that they cut the metric short).
+    """
+    return f"{share:.0%}" if share >= 0.01 or share == 0 else f"{share:.1%}"
+
+
+def _table(frame: pd.DataFrame, kind: str, first: tuple = ()) -> str:
+    """Parameters by rank, each metric's headline index ``value +- half`` (Morris: and sigma),
+    the metrics of ``first`` (the model's report metrics) in the first columns.
+    """
     order = ranking(frame, kind)
+    shown = [m for m in first if m in order.columns]
+    order = order[shown + [m for m in order.columns if m not in shown]]
     full = frame[frame["full"]].set_index(["parameter", "metric", "index"])
     rows = []
     for rank, parameter in enumerate(order.index, start=1):

@@ -316,3 +316,30 @@ def test_table1_is_not_compared_with_runs_of_another_landing_rule():
     assert offset["reason"].str.contains("link threshold is 5 here").all()
     paper = compare_published(runs[runs["link_threshold"].isna()], table1, defaults)
     assert "not comparable" not in set(paper["verdict"])
+
+
+def test_runs_of_a_design_count_for_the_paper_only_at_the_defaults_it_varies():
+    # a sensitivity design moves parameters the paper's conditions do not name (slow_radius,
+    # ours, default 1 m); its runs are another model's, never pooled beside the paper's numbers
+    defaults = parameter_defaults(BeaconExplorerModel)
+    runs = corridor_results().assign(slow_radius=1.5)
+    rows = compare_published(runs, BEACON, defaults, BEACON_CENSORED, varied=["slow_radius"])
+    corridor = rows[rows["section"] == "corridor"]
+    assert set(corridor["verdict"]) == {NOT_COMPARABLE}
+    assert corridor["reason"].str.contains("slow radius varies here").all()
+    assert (rows["runs"] == 0).all()
+    # the same runs pooled as before when nothing is varied: judged on all of them
+    pooled = compare_published(runs, BEACON, defaults, BEACON_CENSORED)
+    assert pooled[pooled["section"] == "corridor"]["runs"].max() > 0
+    # runs at the default count, the others not
+    half = runs.assign(slow_radius=np.where(np.arange(len(runs)) % 2, 1.5, 1.0))
+    kept = compare_published(half, BEACON, defaults, BEACON_CENSORED, varied=["slow_radius"])
+    assert kept["runs"].max() == pooled["runs"].max() // 2
+    # a varied parameter a condition names is matched by that condition as before
+    named = compare_published(runs, BEACON, defaults, BEACON_CENSORED, varied=["launch_period"])
+    change = named["quantity"].str.startswith("flight time: change 24")
+    assert (named[change]["runs"] == pooled[change]["runs"]).all()
+    assert named[change]["runs"].max() > 0
+    claims = judge_claims(runs, None, PSO_CLAIMS[:1], parameter_defaults(TangiblePSOModel),
+                          varied=["slow_radius"])  # fmt: skip
+    assert len(claims) == 1

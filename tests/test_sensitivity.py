@@ -294,3 +294,10 @@ def test_a_design_runs_the_same_on_local_processes_as_serially(tmp_path, tiny_pa
     serial = execute(sweep, tmp_path / "a", executor="serial", progress=False)
     pooled = execute(sweep, tmp_path / "b", executor="processes", workers=2, progress=False)
     pd.testing.assert_frame_equal(_stable(serial), _stable(pooled))
+
+
+def test_a_few_censored_runs_never_read_as_zero_percent():
+    from analysis.sensitivity_report import share_text
+
+    assert share_text(2 / 764) == "0.3%"  # was "0%" beside "report a lower bound"
+    assert share_text(0.15) == "15%" and share_text(0.0) == "0%"

@@ -13,7 +13,7 @@ from pathlib import Path
 
 VERB = "explore"
 HELP = "run a sweep file's [design] (Sobol', Morris, LHS) and report the sensitivity indices"
-EXAMPLE = "abm explore experiments/screen_beacon_explorer.toml"
+EXAMPLE = "abm explore experiments/morris_beacon_explorer.toml"
 
 #: Parameters named in the ranking printed at the end.
 SHOWN = 10
