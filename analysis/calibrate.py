@@ -263,7 +263,7 @@ def posterior_figure(history, priors: Sequence[Prior], table: pd.DataFrame, path
     import matplotlib.pyplot as plt
 
     frame, w = history.get_distribution()
-    fig, axes = plt.subplots(1, len(priors), figsize=(4 * len(priors), 3), squeeze=False)
+    fig, axes = plt.subplots(1, len(priors), figsize=(4 * len(priors), 3.4), squeeze=False)
     for ax, p, (_, row) in zip(axes[0], priors, table.iterrows(), strict=True):
         x = frame[p.name].to_numpy(float)
         lo, hi = (x.min(), x.max()) if x.max() > x.min() else (p.low, p.high)
@@ -275,7 +275,8 @@ def posterior_figure(history, priors: Sequence[Prior], table: pd.DataFrame, path
         if p.log:
             ax.set_xscale("log")
         kind = "log-uniform" if p.log else "uniform"
-        ax.set_xlabel(f"{p.name} (prior {kind} {p.low:g}..{p.high:g}; dashed: 5 %, 95 %)")
+        ax.set_title(p.name)
+        ax.set_xlabel(f"prior {kind} {p.low:g}..{p.high:g}\ndashed: 5 % and 95 % quantiles")
         ax.set_ylabel("posterior density")
         ax.legend(fontsize="small")
     fig.suptitle(f"posterior after {history.n_populations} populations")

@@ -29,9 +29,9 @@ def square_in_free_space(arena: Arena, pos: np.ndarray, r: float) -> np.ndarray:
     return np.all([arena.is_free(pos + c) for c in corners], axis=0)
 
 
-@settings(max_examples=15, deadline=None)
-@given(st.integers(0, 10_000), st.sampled_from([1.0, 3.0]), st.integers(1, 30))
-def test_robots_never_pass_through_walls(seed, resolution, n):
+def random_flight(seed: int, resolution: float, n: int, until: float):
+    """``n`` random pilots from free cells of a seeded 10 x 10 room with 35 % wall cells, flown
+    with their positions traced: (arena, start positions, physics)."""
     rng = np.random.default_rng(seed)
     free = rng.random((10, 10)) > 0.35
     arena = Arena(free, resolution)
@@ -41,7 +41,14 @@ def test_robots_never_pass_through_walls(seed, resolution, n):
     starts = arena.free_cell_centres()[rng.integers(0, free.sum(), n)]
     for i, p in enumerate(starts):
         physics.fly(i, p)
-    env.run(until=30.0)
+    env.run(until=until)
+    return arena, starts, physics
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from([1.0, 3.0]), st.integers(1, 30))
+def test_robots_never_pass_through_walls(seed, resolution, n):
+    arena, _starts, physics = random_flight(seed, resolution, n, until=30.0)
     r = physics.params.body_radius
     for (_t0, ids0, p0), (_t1, ids1, p1) in pairwise(physics.trace):
         assert (ids0 == ids1).all()
@@ -219,16 +226,7 @@ def _measured_cap_factor(x: float, y: float, cap: float) -> float:
 def test_the_odometer_is_the_path_length_of_the_trace(seed, n):
     """``Physics.distance`` sums each flyer's displacement per tick, walls' stops and body
     noise included: exactly the length of the polyline the trace draws from the starts."""
-    rng = np.random.default_rng(seed)
-    free = rng.random((10, 10)) > 0.35
-    arena = Arena(free, 1.0)
-    env = simpy.Environment()
-    physics = Physics(env, arena, rng, RandomPilot(rng), params=FlightParams(max_speed=2.0))
-    physics.trace = []
-    starts = arena.free_cell_centres()[rng.integers(0, free.sum(), n)]
-    for i, p in enumerate(starts):
-        physics.fly(i, p)
-    env.run(until=20.0)
+    _arena, starts, physics = random_flight(seed, 1.0, n, until=20.0)
     points = [starts] + [pos for _t, _ids, pos in physics.trace]
     path = sum(np.hypot(*(b - a).T).sum() for a, b in pairwise(points))
     assert physics.distance == pytest.approx(path, rel=1e-9)

@@ -53,6 +53,12 @@ def test_abm_run_prints_each_models_units():
         assert unit_of(key) == "", key
     text = format_summary({"n_robots": 20, "robots": 21, "energy_flight": 2.5})
     assert text.splitlines()[2].split()[-1] == "J"
+    # a value under 10 keeps three significant digits, a larger one a decimal
+    text = format_summary({"mean_flight_speed": 0.6757, "flight_time": 1715.43})
+    assert [line.split()[1:] for line in text.splitlines()] == [
+        ["0.676", "m/s"],
+        ["1,715.4", "s"],
+    ]
 
 
 #: Every unit a summary may use: SI (s, m, m^2, J, W, 1/s, m/s) and the unit-free kinds.

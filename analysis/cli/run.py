@@ -8,6 +8,7 @@ finished run is never lost to a failure while saving (see :func:`save_or_rescue`
 """
 
 import argparse
+import math
 import re
 import shlex
 import sys
@@ -282,6 +283,14 @@ def format_summary(summary: dict) -> str:
     """A two-column table of a run's summary, with units."""
     lines = []
     for key, value in summary.items():
-        shown = f"{value:,.1f}" if isinstance(value, float) else str(value)
-        lines.append(f"  {key:<18} {shown:>14} {unit_of(key)}".rstrip())
+        lines.append(f"  {key:<18} {_shown(value):>14} {unit_of(key)}".rstrip())
     return "\n".join(lines)
+
+
+def _shown(value: object) -> str:
+    """A summary value as printed: floats of 10 or more to one decimal, smaller ones to three
+    significant digits (a mean speed of 0.676 m/s would read 0.7 to one decimal).
+    """
+    if not isinstance(value, float):
+        return str(value)
+    return f"{value:,.1f}" if abs(value) >= 10 or not math.isfinite(value) else f"{value:.3g}"
