@@ -137,8 +137,7 @@ def matching_runs(
     for key in varied:
         if key in condition or key not in runs or key not in defaults:
             continue
-        column = runs[key].astype(object).where(runs[key].notna(), None)
-        runs = runs[_equal(column, defaults[key])]
+        runs = runs[_equal(_recorded(runs, key, defaults), defaults[key])]
         if runs.empty:
             return runs, (
                 f"{_name(key)} varies here (a sensitivity design), "
@@ -146,9 +145,7 @@ def matching_runs(
             )
     for key, want in condition.items():
         if key in runs:
-            column = runs[key]
-            if key in defaults:
-                column = column.astype(object).where(column.notna(), defaults[key])
+            column = _recorded(runs, key, defaults)
         elif key in defaults:
             column = pd.Series([defaults[key]] * len(runs), index=runs.index, dtype=object)
         else:
@@ -159,6 +156,16 @@ def matching_runs(
             return runs.iloc[0:0], f"{_name(key)} is {here} here, {_shown(want)} in the paper"
         runs = runs[match]
     return runs, ""
+
+
+def _recorded(runs: pd.DataFrame, key: str, defaults: Mapping[str, object]) -> pd.Series:
+    """The runs' setting ``key``, the model's default where a run does not record it (a run
+    of a sweep that did not vary it, pooled with one that did).
+    """
+    column = runs[key]
+    if key in defaults:
+        column = column.astype(object).where(column.notna(), defaults[key])
+    return column
 
 
 def _values(runs: pd.DataFrame, metric: str) -> tuple[np.ndarray, bool]:

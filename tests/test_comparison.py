@@ -335,6 +335,10 @@ def test_runs_of_a_design_count_for_the_paper_only_at_the_defaults_it_varies():
     half = runs.assign(slow_radius=np.where(np.arange(len(runs)) % 2, 1.5, 1.0))
     kept = compare_published(half, BEACON, defaults, BEACON_CENSORED, varied=["slow_radius"])
     assert kept["runs"].max() == pooled["runs"].max() // 2
+    # a plain sweep's runs pooled with the design's record no value: they are at the default
+    unrecorded = half.assign(slow_radius=np.where(np.arange(len(runs)) % 2, 1.5, np.nan))
+    kept = compare_published(unrecorded, BEACON, defaults, BEACON_CENSORED, varied=["slow_radius"])
+    assert kept["runs"].max() == pooled["runs"].max() // 2
     # a varied parameter a condition names is matched by that condition as before
     named = compare_published(runs, BEACON, defaults, BEACON_CENSORED, varied=["launch_period"])
     change = named["quantity"].str.startswith("flight time: change 24")
