@@ -177,7 +177,7 @@ class SwarmModel(mesa.Model):
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
         # the ids and states of the space's rows, and recorder.moves when they were read:
         # position samples reuse them until an agent joins, leaves or changes state
-        self._space_rows: tuple[np.ndarray, tuple, int] | None = None
+        self._space_rows: tuple[np.ndarray, list[str], int] | None = None
         self.comms = CommNetwork(
             self.env, arena, self.rng, comm_range, latency, message_loss, shadowing
         )

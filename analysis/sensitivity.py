@@ -255,10 +255,12 @@ def _analyse(design: Design, matrix: np.ndarray, y: np.ndarray, m: int) -> list[
     return [(name, index, float(v), float(h)) for name, index, v, h in out]
 
 
-def ranking(frame: pd.DataFrame, kind: str) -> pd.DataFrame:
+def ranking(frame: pd.DataFrame, kind: str, first: Sequence[str] = ()) -> pd.DataFrame:
     """Parameters (rows) x metrics (columns): the headline index on the whole sample, each
     metric's column scaled to its largest (Morris mu*; Sobol' ST and RBD-FAST S1 are shares of
-    variance already), parameters sorted by their mean over metrics, most influential first.
+    variance already), parameters sorted by their mean over metrics, most influential first;
+    the metrics of ``first`` that have indices (e.g. the model's report metrics) in the first
+    columns.
     """
     index = HEADLINE[kind]
     full = frame[frame["full"] & (frame["index"] == index)]
@@ -266,6 +268,8 @@ def ranking(frame: pd.DataFrame, kind: str) -> pd.DataFrame:
     if kind == "morris":
         table = table / table.max().replace(0, np.nan)
     table = table.clip(lower=0)
+    shown = [m for m in first if m in table.columns]
+    table = table[shown + [m for m in table.columns if m not in shown]]
     return table.loc[table.mean(axis=1).sort_values(ascending=False).index]
 
 
@@ -283,9 +287,7 @@ def save_figures(
     import matplotlib.pyplot as plt
 
     folder.mkdir(parents=True, exist_ok=True)
-    table = ranking(frame, kind)
-    shown = [m for m in first if m in table.columns]
-    table = table[shown + [m for m in table.columns if m not in shown]]  # the model's first
+    table = ranking(frame, kind, first)
     what = {
         "morris": "mu* / largest mu* of the metric",
         "sobol": "total index ST",

@@ -128,9 +128,7 @@ def _table(frame: pd.DataFrame, kind: str, first: tuple = ()) -> str:
     """Parameters by rank, each metric's headline index ``value +- half`` (Morris: and sigma),
     the metrics of ``first`` (the model's report metrics) in the first columns.
     """
-    order = ranking(frame, kind)
-    shown = [m for m in first if m in order.columns]
-    order = order[shown + [m for m in order.columns if m not in shown]]
+    order = ranking(frame, kind, first)
     full = frame[frame["full"]].set_index(["parameter", "metric", "index"])
     rows = []
     for rank, parameter in enumerate(order.index, start=1):
