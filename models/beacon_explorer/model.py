@@ -257,6 +257,8 @@ class BeaconExplorerModel(SwarmModel):
         """The paper's metrics (SI units; besides the common keys of ``summary()``)."""
         ledger = self.ledger
         counts = self.recorder.counts
+        flight = ledger.duration("flight")
+        distance = self.physics.distance
         return {
             "world": self.world.kind,
             "complexity": self.complexity,
@@ -266,9 +268,10 @@ class BeaconExplorerModel(SwarmModel):
             "seed": self.seed,
             "coverage_time": float(self.env.now),
             "complete": self.coverage.fraction >= self.params.complete_fraction,
-            "flight_time": ledger.duration("flight"),
-            "flight_distance": self.physics.distance,
-            "mean_flight_speed": _ratio(self.physics.distance, ledger.duration("flight")),
+            "flight_time": flight,
+            "flight_distance": distance,
+            # NaN when no robot left the ground
+            "mean_flight_speed": distance / flight if flight > 0 else float("nan"),
             "energy_flight": ledger.energy(mode="flight"),
             "energy_beacon": ledger.energy(mode="beacon") + ledger.energy(mode="hover"),
             "energy_ground": ledger.energy(mode="ground"),
@@ -291,11 +294,6 @@ class BeaconExplorerModel(SwarmModel):
         """Beacons' desired directions (points, vectors of length I_r) for drawings."""
         _ids, pos, vectors, _to_empty = self.beacons.signals()
         return pos, vectors
-
-
-def _ratio(numerator: float, denominator: float) -> float:
-    """``numerator / denominator``, NaN when nothing was flown (no robot left the ground)."""
-    return numerator / denominator if denominator > 0 else float("nan")
 
 
 def _map_parts(p: BeaconExplorerParams):
