@@ -85,15 +85,20 @@ def interval(values: Sequence[float], share: bool = False) -> tuple[float, float
     if n < 2:
         return mean, float("nan"), float("nan")
     if share:
-        z = sps.norm.ppf(1 - ALPHA / 2)
-        centre = (mean + z * z / (2 * n)) / (1 + z * z / n)
-        half = z * np.sqrt(mean * (1 - mean) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-        # at a share of 0 (or 1) Wilson's bound is exactly 0 (or 1); rounding left 1.7e-16
-        low = 0.0 if mean == 0.0 else float(max(0.0, centre - half))
-        high = 1.0 if mean == 1.0 else float(min(1.0, centre + half))
-        return mean, low, high
+        return (mean, *_wilson(mean, n))
     half = float(sps.t.ppf(1 - ALPHA / 2, n - 1) * x.std(ddof=1) / np.sqrt(n))
     return mean, mean - half, mean + half
+
+
+def _wilson(share: float, n: float) -> tuple[float, float]:
+    """Wilson's 95 % interval of a share observed over ``n`` trials."""
+    z = sps.norm.ppf(1 - ALPHA / 2)
+    centre = (share + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(share * (1 - share) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    # at a share of 0 (or 1) Wilson's bound is exactly 0 (or 1); rounding left 1.7e-16
+    low = 0.0 if share == 0.0 else float(max(0.0, centre - half))
+    high = 1.0 if share == 1.0 else float(min(1.0, centre + half))
+    return low, high
 
 
 def level(
@@ -118,6 +123,9 @@ def level(
     if not np.isfinite(low) or not np.isfinite(high):
         return Verdict(shown, None, "fewer than two runs: no interval", **common)
     off = f"ours differs from the published {value:g} by {mean - value:+.3g}"
+    if spread is None and low == high:
+        why = "our interval has no width (no spread in the runs): not judged; " + off
+        return Verdict(shown, None, why, **common)
     if spread is None:
         inside = bool(low <= value <= high)
         if inside and runs < MIN_AGREE:
@@ -165,9 +173,13 @@ def pooled_share(
     se = float(np.sqrt(n / (n - 1) * np.sum(residual**2)) / total)
     z = sps.norm.ppf(1 - ALPHA / 2)
     low, high = max(0.0, share - z * se), min(1.0, share + z * se)
+    how = f"{n} runs"
+    if se == 0:  # every run the same share (e.g. none): no spread between runs to cluster on
+        low, high = _wilson(share, total)
+        how = f"{n} runs, each the same share: Wilson over the {int(total)} events"
     ours = (
         f"{100 * share:.1f} % of {int(total)} (95 % interval {100 * low:.1f} to "
-        f"{100 * high:.1f} %, {n} runs)"
+        f"{100 * high:.1f} %, {how})"
     )
     return level(100 * share, 100 * low, 100 * high, n, value, spread, ours=ours)
 
@@ -189,6 +201,17 @@ def _sided(low: float, high: float, sign: int) -> bool | None:
     return None
 
 
+def _fixed(value: float, sign: int, rule: str, runs: int) -> Verdict:
+    """The direction rule when every group's runs all gave one value: no spread, so no
+    interval or p-value; the fixed difference ``value`` has ``sign``'s sign (holds), the other
+    (fails), or is 0 (undecided).
+    """
+    ours = f"{value:+.4g} (no spread: every run of each group gave one value)"
+    holds = None if value == 0 else bool(sign * value > 0)
+    why = {True: "", False: "the fixed difference has the other sign", None: "no difference"}
+    return Verdict(ours, holds, why[holds], rule, mean=value, low=value, high=value, runs=runs)
+
+
 def difference(
     before: Sequence[float], after: Sequence[float], sign: int, scale: float = 1.0
 ) -> Verdict:
@@ -207,13 +230,11 @@ def difference(
     va, vb = a.var(ddof=1) / len(a), b.var(ddof=1) / len(b)
     se = float(np.sqrt(va + vb))
     if se == 0:
-        low = high = diff
-        p = 0.0 if diff != 0 else 1.0
-    else:
-        df = (va + vb) ** 2 / (va**2 / (len(a) - 1) + vb**2 / (len(b) - 1))
-        half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
-        low, high = diff - half, diff + half
-        p = float(2 * sps.t.sf(abs(diff) / se, df))
+        return _fixed(diff, sign, rule, runs)
+    df = (va + vb) ** 2 / (va**2 / (len(a) - 1) + vb**2 / (len(b) - 1))
+    half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
+    low, high = diff - half, diff + half
+    p = float(2 * sps.t.sf(abs(diff) / se, df))
     holds = _sided(low, high, sign)
     ours = f"{diff:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
     why = _WHY[holds]
@@ -239,13 +260,11 @@ def contrast(
     parts = [w * w * x.var(ddof=1) / len(x) for w, x in zip(weights, xs, strict=True)]
     se = float(np.sqrt(sum(parts)))
     if se == 0:
-        low = high = value
-        p = 0.0 if value != 0 else 1.0
-    else:
-        df = sum(parts) ** 2 / sum(v * v / (len(x) - 1) for v, x in zip(parts, xs, strict=True))
-        half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
-        low, high = value - half, value + half
-        p = float(2 * sps.t.sf(abs(value) / se, df))
+        return _fixed(value, sign, rule, runs)
+    df = sum(parts) ** 2 / sum(v * v / (len(x) - 1) for v, x in zip(parts, xs, strict=True))
+    half = float(sps.t.ppf(1 - ALPHA / 2, df) * se)
+    low, high = value - half, value + half
+    p = float(2 * sps.t.sf(abs(value) / se, df))
     holds = _sided(low, high, sign)
     ours = f"{value:+.4g} (95 % interval {low:+.4g} to {high:+.4g}, p = {p:.2g})"
     return Verdict(ours, holds, _WHY[holds], rule, mean=value, low=low, high=high, runs=runs)
@@ -292,6 +311,11 @@ def spread(before: Sequence[float], after: Sequence[float], what: str = "") -> V
     runs = len(a) + len(b)
     if len(a) < 2 or len(b) < 2:
         return Verdict("", None, "fewer than two values on a side", rule, runs=runs)
+    if all(np.ptp(np.abs(x - np.median(x))) == 0 for x in (a, b)):
+        # Levene's statistic divides by the spread of these deviations: 0 for constant values
+        # and for any two values a side
+        why = "each side's deviations from its median are all equal: no test of spread"
+        return Verdict(f"SD {b.std(ddof=1):.3g} vs {a.std(ddof=1):.3g}", None, why, rule, runs=runs)
     p = float(sps.levene(a, b, center="median").pvalue)
     holds = None if not p < ALPHA else bool(b.std(ddof=1) > a.std(ddof=1))
     why = "" if holds is not None else f"p = {p:.2g} >= {ALPHA:g}"
@@ -310,6 +334,9 @@ def rank_order(factor: Sequence[float], values: Sequence[float], sign: int) -> V
     rule = f"ordering: Spearman rho over the runs, two-sided p < {ALPHA:g}, the value {word}"
     if len(x) < 3 or len(set(x)) < 2:
         return Verdict("", None, "fewer than three runs or one value", rule, runs=len(x))
+    if np.ptp(y) == 0:
+        why = f"the value is {y[0]:.4g} in every run: nothing to order"
+        return Verdict("", None, why, rule, runs=len(x))
     result = sps.spearmanr(x, y)
     rho, p = float(result.statistic), float(result.pvalue)
     holds = None if not p < ALPHA else bool(sign * rho > 0)
@@ -327,6 +354,9 @@ def correlation(x: Sequence[float], y: Sequence[float], sign: int, runs: int) ->
     rule = "direction: Fisher-z 95 % interval of Pearson r over the condition means excludes 0"
     if n < 4:
         return Verdict("", None, f"{n} conditions: at least 4 needed", rule, runs=runs)
+    if np.ptp(a) == 0 or np.ptp(b) == 0:
+        why = "one of the two is the same in every condition: no correlation to estimate"
+        return Verdict("", None, why, rule, runs=runs)
     result = sps.pearsonr(a, b)
     r, p = float(result.statistic), float(result.pvalue)
     z, half = np.arctanh(np.clip(r, -0.999999, 0.999999)), sps.norm.ppf(1 - ALPHA / 2)
@@ -406,6 +436,10 @@ def coefficient(
         return Verdict("", None, "the regressors are collinear: not computed", rule, runs=n)
     beta, *_ = np.linalg.lstsq(design, target, rcond=None)
     residual = target - design @ beta
+    if np.all(np.abs(residual) <= 1e-12 * max(1.0, float(np.abs(target).max()))):
+        why = "the fit leaves no residual (y is exact in the regressors): no interval"
+        return Verdict(f"b_{name} {float(beta[1 + list(regressors).index(name)]):.4g}", None,
+                       why, rule, runs=n)  # fmt: skip
     sigma2 = float(residual @ residual) / (n - k)
     index = 1 + list(regressors).index(name)
     se = float(np.sqrt(sigma2 * np.linalg.inv(design.T @ design)[index, index]))

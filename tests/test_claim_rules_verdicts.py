@@ -2,6 +2,8 @@
 (a difference of differences), a larger spread by the Brown-Forsythe test, and one verdict
 for a claim whose every part must hold."""
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -82,3 +84,46 @@ def test_no_difference_from_too_few_runs_is_undecided_not_holding():
     assert verdicts.level(0.3, -5.0, 5.0, 3, 0.0).holds is None  # inside, but 3 runs
     assert verdicts.level(0.3, -5.0, 5.0, 5, 0.0).holds is True
     assert verdicts.level(9.0, 8.0, 10.0, 3, 0.0).holds is False  # a difference still fails
+
+
+@given(samples, samples, st.sampled_from([-1, 1]))
+def test_every_rule_gives_a_reason_and_no_warning_on_any_sample_even_a_constant_one(a, b, sign):
+    pairs = min(len(a), len(b))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a nan statistic from constant data warns first
+        judged = [
+            verdicts.difference(a, b, sign),
+            verdicts.contrast([a, b], (-1, 1), sign, "b - a"),
+            verdicts.spread(a, b),
+            verdicts.rank_order(range(len(a)), a, sign),
+            verdicts.correlation(a[:pairs], b[:pairs], sign, 10),
+            verdicts.band(a, 1.0),
+        ]
+    for verdict in judged:
+        assert "nan" not in verdict.ours + verdict.why
+        assert verdict.holds is not None or verdict.why
+
+
+def test_constant_runs_give_no_interval_test_or_p_value():
+    same = [5.0] * 10
+    flat = verdicts.band(same, 4.0)
+    assert flat.holds is None and "no width" in flat.why  # a t-interval of [5, 5] judges nothing
+    assert verdicts.band(same, 4.0, spread=2.0).holds is True  # a band is judged run by run
+    assert verdicts.band(same, 8.0, spread=2.0).holds is False
+    fixed = verdicts.difference([3.0] * 5, same, +1)
+    assert fixed.holds is True and "p =" not in fixed.ours and "no spread" in fixed.ours
+    assert verdicts.difference(same, same, +1).holds is None
+    assert verdicts.spread(same, [1.0] * 5).holds is None
+    ordering = verdicts.rank_order([1, 2, 3, 4, 5], [7.0] * 5, +1)
+    assert ordering.holds is None and "every run" in ordering.why
+    assert verdicts.correlation([1, 2, 3, 4], [5.0] * 4, +1, 8).holds is None
+    x = np.repeat(np.arange(1.0, 6.0), 4)
+    exact = verdicts.coefficient(2 * x, {"x": x}, "x", 1.0)  # no residual: no interval
+    assert exact.holds is None and "no residual" in exact.why
+
+
+def test_a_pooled_share_the_same_in_every_run_falls_back_to_wilson_over_the_events():
+    none = verdicts.pooled_share([0] * 10, [30] * 10, 80.0)
+    assert none.holds is False and "Wilson over the 300 events" in none.ours
+    assert none.high == pytest.approx(100 * verdicts._wilson(0.0, 300)[1])
+    assert verdicts.pooled_share([0] * 10, [30] * 10, 0.5).holds is True
