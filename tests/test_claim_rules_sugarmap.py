@@ -100,6 +100,20 @@ def test_c07_spread_with_2_anchors_is_judged_by_a_brown_forsythe_test(
     assert verdict.holds is holds and "Brown-Forsythe" in verdict.rule
 
 
+@pytest.mark.filterwarnings("error")
+def test_c07_names_the_walks_sd_only_from_two_runs_on():
+    two = _arm({**SM, "n_anchors": 2}, 10.0, coverage_1000=60, map_error=0.5,
+               false_match_rate=0.5)  # fmt: skip
+    six = _arm({**SM, "n_anchors": 6}, 1.0, coverage_1000=80, map_error=0.2,
+               false_match_rate=0.1)  # fmt: skip
+    ten = _arm({**SM, "n_anchors": 10}, 1.0, coverage_1000=85, map_error=0.2,
+               false_match_rate=0.1)  # fmt: skip
+    walks = _arm(RW, 3.0, coverage_1000=40)
+    assert f"RW SD {3 * SPREAD.std(ddof=1):.1f}" in _judge("C07", two, six, ten, walks).ours
+    one_walk = _judge("C07", two, six, ten, walks.iloc[:1]).ours  # one run: no SD, not nan
+    assert "nan" not in one_walk and "RW SD: under two walk runs" in one_walk
+
+
 @pytest.mark.parametrize(("step", "jitter", "holds"), [(10.0, 1.0, True), (-10.0, 1.0, False),
                                                        (1.0, 30.0, None)])  # fmt: skip
 def test_c08_coverage_rising_with_explorers_is_an_ordering_with_its_p(step, jitter, holds):

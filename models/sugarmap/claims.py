@@ -55,10 +55,6 @@ def _col(runs: pd.DataFrame, column: str) -> np.ndarray:
     return runs[column].astype(float).dropna().to_numpy() if column in runs else np.zeros(0)
 
 
-def _mean_sd(values: np.ndarray) -> str:
-    return f"{values.mean():.1f} +- {values.std(ddof=1) if len(values) > 1 else 0:.1f}"
-
-
 def _walk(runs: pd.DataFrame, walk: str = "lattice") -> pd.DataFrame:
     """The random walk's runs on the reference set-up (``walk``: "lattice" or "bounce")."""
     return _select(runs, **REFERENCE, algorithm="random_walk", random_walk=walk)
@@ -207,7 +203,8 @@ def c07(runs, samples) -> Verdict | None:
     if two.empty or six.empty:
         return None
     c2, c6 = _col(two, "coverage_1000"), _col(six, "coverage_1000")
-    sd_rw = _col(rw, "coverage_1000").std(ddof=1) if not rw.empty else np.nan
+    walk = _col(rw, "coverage_1000")
+    sd_rw = f"RW SD {walk.std(ddof=1):.1f}" if len(walk) > 1 else "RW SD: under two walk runs"
     parts = [
         spread(c6, c2, "coverage at 1000 s"),
         difference(_col(six, "map_error"), _col(two, "map_error"), +1),
@@ -215,7 +212,7 @@ def c07(runs, samples) -> Verdict | None:
     ]
     return combine(
         parts,
-        f"coverage at 1000 s, 2 vs 6 anchors: {parts[0].ours}, RW SD {sd_rw:.1f}; map error "
+        f"coverage at 1000 s, 2 vs 6 anchors: {parts[0].ours}, {sd_rw}; map error "
         f"2 - 6 anchors {parts[1].ours}; false-match rate 2 - 6 anchors {parts[2].ours}",
         len(two) + len(six),
         "all three: spread, map error and false matches higher with 2 anchors",
