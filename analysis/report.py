@@ -179,6 +179,7 @@ def write_report(
         raise ABMError(f"the sweeps are of different models ({', '.join(sorted(targets))})")
     _check_units(sweeps)
     out = Path(out) if out is not None else sweeps[0].folder / "report.html"
+    out.parent.mkdir(parents=True, exist_ok=True)
     cls, problem = _model(sweeps[0].manifest)
     every = pd.concat([s.runs for s in sweeps], ignore_index=True)
     published = list(cls.PUBLISHED) if cls is not None else []

@@ -124,6 +124,8 @@ def test_report_is_self_contained_html(tmp_path):
     assert 'src="http' not in text and "<script" not in text
     assert (folder / "figures" / "metrics.png").is_file()
     assert (folder / "figures" / "stacked.png").is_file()
+    elsewhere = write_report(folder, tmp_path / "not" / "yet" / "there.html")  # made as needed
+    assert elsewhere.is_file() and (elsewhere.parent / "comparison.csv").is_file()
 
 
 def test_a_stigmergy_sweep_is_compared_with_table_1(tmp_path):
