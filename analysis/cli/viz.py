@@ -98,9 +98,12 @@ def _port_in_use(host: str, port: int) -> bool:
 
 def main(args: argparse.Namespace) -> int:
     """Start the server, print the address, serve until Ctrl+C."""
-    check_viz_installed()
+    from abm.registry import target_of
+
+    target_of(args.model)  # bad input is named before the environment is looked at
     if not 0 < args.port < 65536:
         raise ABMError(f"--port must be in [1, 65535], got {args.port}")
+    check_viz_installed()
     command, env = server_command(args.model, args.host, args.port)
     if _port_in_use(args.host, args.port):
         raise ABMError(f"port {args.port} is already in use; choose another with --port")
