@@ -15,27 +15,14 @@ the report went. The same report comes from ``abm report <out>/sugarmap_*``.
 import argparse
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from pathlib import Path
 
-from abm.pools import process_pool
+from bench_reproductions import load_average, run_together
+
 from analysis.report import write_report
-from analysis.sweep.execute import execute
 from analysis.sweep.spec import load_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _load() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
-
-
-def _timed(sweep, folder: Path, pool: ProcessPoolExecutor) -> tuple:
-    """Run one sweep on the shared pool: its runs and the seconds until it finished."""
-    t0 = time.perf_counter()
-    runs = execute(sweep, folder, executor=pool, progress=False)
-    return runs, time.perf_counter() - t0
 
 
 def main() -> None:
@@ -48,29 +35,14 @@ def main() -> None:
     files = sorted((ROOT / "experiments").glob("sugarmap_*.toml"))
     if args.only:
         files = [f for f in files if f.stem.removeprefix("sugarmap_") in args.only]
-    print(_load())
+    print(f"{load_average()} on {os.cpu_count()} cores")
     sweeps = [load_sweep(path, args.replications) for path in files]
     folders = [args.out / sweep.name for sweep in sweeps]
     start = time.perf_counter()
-    # One pool for all the sweeps, fed by all of them at once: no pool start-up per sweep and
-    # no idle cores while one sweep waits for its last run.
-    with process_pool(args.workers or os.cpu_count()) as pool:
-        with ThreadPoolExecutor(len(sweeps)) as feeders:
-            jobs = {
-                feeders.submit(_timed, sweep, folder, pool): sweep.name
-                for sweep, folder in zip(sweeps, folders, strict=True)
-            }
-            total_runs = 0
-            for job in as_completed(jobs):
-                runs, seconds = job.result()
-                ok = int((runs["status"] == "ok").sum())
-                total_runs += len(runs)
-                print(
-                    f"{jobs[job]:24s} {ok:4d}/{len(runs):<4d} runs ok, done after {seconds:6.1f} s"
-                )
+    total_runs, _ = run_together(sweeps, folders, args.workers or os.cpu_count())
     total = time.perf_counter() - start
     print(f"{'all sweeps':24s} {total_runs:9d} runs     {total:7.1f} s ({total / 60:.1f} min)")
-    print(_load())
+    print(f"{load_average()} on {os.cpu_count()} cores")
     t0 = time.perf_counter()
     report = write_report(folders, args.out / "report.html")
     print(f"report in {time.perf_counter() - t0:.1f} s")

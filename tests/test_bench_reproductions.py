@@ -1,0 +1,51 @@
+"""The reproduction benchmark times each model's figure set: the sweeps its README's
+reproduction commands run. These tests keep the two in step and check its refusal of a folder
+that already holds runs (the runner would skip them and the time would be too short)."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+from abm.registry import model_names, target_of
+from analysis.sweep.spec import load_sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _bench():
+    path = ROOT / "benchmarks" / "bench_reproductions.py"
+    spec = importlib.util.spec_from_file_location("bench_reproductions", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_model_with_paper_figures_has_a_figure_set():
+    # flocking is the public benchmark model: speed, not a paper's figures
+    assert set(_bench().FIGURE_SETS) == set(model_names()) - {"flocking"}
+
+
+@pytest.mark.parametrize("model", sorted(_bench().FIGURE_SETS))
+def test_a_figure_set_is_sweeps_of_its_model_that_its_readme_runs(model):
+    bench = _bench()
+    readme = (ROOT / "models" / model.replace("-", "_") / "README.md").read_text()
+    for group in bench.FIGURE_SETS[model]:
+        for name in group:
+            sweep = load_sweep(ROOT / "experiments" / f"{name}.toml")
+            assert sweep.target == target_of(model)
+            assert f"experiments/{name}.toml" in readme
+    if model in bench.FITS:
+        assert f"abm fit {model} --read" in readme
+
+
+def test_a_folder_that_already_holds_runs_is_refused_before_any_run(tmp_path, monkeypatch, capsys):
+    (tmp_path / "sugarmap" / "sugarmap_fig5").mkdir(parents=True)
+    argv = ["bench_reproductions.py", "--models", "sugarmap", "--out", str(tmp_path)]
+    monkeypatch.setattr(sys, "argv", argv)
+    with pytest.raises(SystemExit) as stop:
+        _bench().main()
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "already holds runs of sugarmap" in err and "fresh --out" in err
