@@ -224,3 +224,15 @@ def test_the_calibrated_threshold_grows_with_the_rtof_noise():
     at = {noise: calibrate(3, first_seed=900, rtof_noise=noise).mean() for noise in (0, 1, 2)}
     assert at[0] < at[1] < at[2]
     assert at[1] == pytest.approx(CALIBRATED_SIG_TH, abs=0.06)
+
+
+def test_the_calibration_refuses_no_deployments_and_gives_no_sd_for_one(capsys):
+    from models.sugarmap.calibrate import main
+
+    with pytest.raises(SystemExit) as stop:
+        main(["--replications", "0"])
+    assert stop.value.code == 2
+    assert "--replications must be 1 or more deployments, got 0" in capsys.readouterr().err
+    assert main(["--replications", "1", "--first-seed", "900"]) == 0
+    out = capsys.readouterr().out
+    assert "no SD over 1 deployment;" in out and "nan" not in out

@@ -82,6 +82,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--rtof-noise", type=float, default=1.0)
     parser.add_argument("--rtof-bias", type=float, default=0.0)
     args = parser.parse_args(argv)
+    if args.replications < 1:
+        parser.error(f"--replications must be 1 or more deployments, got {args.replications}")
     values = calibrate(
         args.replications,
         args.first_seed,
@@ -90,10 +92,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         rtof_noise=args.rtof_noise,
         rtof_bias=args.rtof_bias,
     )
+    spread = f"SD {values.std(ddof=1):.3f}" if len(values) > 1 else "no SD"
+    runs = f"{len(values)} deployment{'s' if len(values) > 1 else ''}"
     print(
-        f"SIG_TH = {values.mean():.3f} m-equivalents (SD {values.std(ddof=1):.3f} over "
-        f"{len(values)} deployments; arena {args.arena}, {args.n_anchors} anchors, RToF noise "
-        f"{args.rtof_noise:g} m, bias {args.rtof_bias:g} m)"
+        f"SIG_TH = {values.mean():.3f} m-equivalents ({spread} over {runs}; arena {args.arena}, "
+        f"{args.n_anchors} anchors, RToF noise {args.rtof_noise:g} m, bias {args.rtof_bias:g} m)"
     )
     print("per deployment: " + " ".join(f"{v:.3f}" for v in values))
     return 0
