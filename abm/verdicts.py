@@ -35,6 +35,14 @@ A claim is never decided from fewer than two runs per group: the verdict is then
 A rule that holds because it found no difference (a level without a spread, an agreement)
 needs at least :data:`MIN_AGREE` runs per group: fewer give intervals so wide that nothing
 could be told apart, and the verdict is undecided.
+
+Nor is a statistic computed from runs without spread. A t-interval of identical values has no
+width, so a level without a published spread is undecided there (a band is still judged:
+every run lies inside it or outside it); a difference of groups that are each constant is
+the fixed difference, with no interval or p-value; a spread, an ordering or a correlation
+over values that do not vary is undecided, saying so; a pooled share the same in every run
+takes Wilson's interval over its events; a coefficient of an exact fit (no residual) is
+undecided.
 """
 
 from collections.abc import Callable, Mapping, Sequence
