@@ -108,6 +108,8 @@ def stigmergy_case(n: int) -> tuple[dict, float]:
 
 
 CASES = {"beacon-explorer": beacon_explorer_case, "stigmergy": stigmergy_case}
+#: Wall seconds between a long run's progress lines (on stderr).
+PROGRESS_EVERY = 60.0
 #: The checkout this script belongs to.
 HERE = str(Path(__file__).resolve().parent.parent)
 
@@ -125,6 +127,7 @@ def time_run(
     model = cls(seed=seed, **params)
     # (simulated s, wall s, CPU s) after each chunk
     progress = [(0.0, time.perf_counter() - start, time.process_time() - cpu_start)]
+    shown = 0.0
     while model.running and model.env.now < duration:
         model.run(until=min(duration, model.env.now + chunk))
         progress.append(
@@ -132,6 +135,11 @@ def time_run(
         )
         if progress[-1][1] > budget:
             break
+        if progress[-1][1] - shown >= PROGRESS_EVERY:  # a long run says how far it is
+            shown = progress[-1][1]
+            sim, wall, cpu = progress[-1]
+            print(f"{name} {n}: t {sim:.0f}/{duration:.0f} s after {wall:.0f} s wall, "
+                  f"{cpu:.0f} s CPU", file=sys.stderr, flush=True)  # fmt: skip
     if profiler:
         profiler.disable()
         profiler.dump_stats(profile)
