@@ -128,6 +128,10 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="processes [2]")
     parser.add_argument("--replications", type=int, default=None, help="override the files'")
     args = parser.parse_args()
+    if args.workers < 1:
+        parser.error(f"--workers must be 1 or more processes, got {args.workers}")
+    if args.replications is not None and args.replications < 1:
+        parser.error(f"--replications must be 1 or more, got {args.replications}")
     models = args.models or list(FIGURE_SETS)
     held = [m for m in models if (args.out / m).exists() and any((args.out / m).iterdir())]
     if held:

@@ -53,3 +53,16 @@ def test_a_folder_that_already_holds_runs_is_refused_before_any_run(tmp_path, mo
     assert stop.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "already holds runs of sugarmap" in err and "fresh --out" in err
+
+
+@pytest.mark.parametrize(
+    ("flags", "says"),
+    [(["--workers", "0"], "--workers must be 1 or more processes, got 0"),
+     (["--replications", "-1"], "--replications must be 1 or more, got -1")],
+)  # fmt: skip
+def test_bad_counts_are_refused_in_one_line(flags, says, tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(sys, "argv", ["bench_reproductions.py", "--out", str(tmp_path), *flags])
+    with pytest.raises(SystemExit) as stop:
+        _bench().main()
+    assert stop.value.code == 2 and says in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())  # nothing was run
