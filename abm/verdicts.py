@@ -444,12 +444,11 @@ def coefficient(
         return Verdict("", None, "the regressors are collinear: not computed", rule, runs=n)
     beta, *_ = np.linalg.lstsq(design, target, rcond=None)
     residual = target - design @ beta
+    index = 1 + list(regressors).index(name)
     if np.all(np.abs(residual) <= 1e-12 * max(1.0, float(np.abs(target).max()))):
         why = "the fit leaves no residual (y is exact in the regressors): no interval"
-        return Verdict(f"b_{name} {float(beta[1 + list(regressors).index(name)]):.4g}", None,
-                       why, rule, runs=n)  # fmt: skip
+        return Verdict(f"b_{name} {float(beta[index]):.4g}", None, why, rule, runs=n)
     sigma2 = float(residual @ residual) / (n - k)
-    index = 1 + list(regressors).index(name)
     se = float(np.sqrt(sigma2 * np.linalg.inv(design.T @ design)[index, index]))
     half = float(sps.t.ppf(1 - ALPHA / 2, n - k) * se)
     b = float(beta[index])
