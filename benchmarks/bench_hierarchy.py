@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+from machine import load_average  # benchmarks/machine.py, beside this script
 
 from abm.pools import process_pool
 from analysis.report import write_report
@@ -29,11 +30,6 @@ ROOT = Path(__file__).resolve().parents[1]
 CONTROLS = ("hierarchy_equal_scouts", "hierarchy_no_waves")
 
 
-def _load() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("out/hierarchy_bench"))
@@ -42,7 +38,7 @@ def main() -> None:
     parser.add_argument("--with-controls", action="store_true", help="also run the controls")
     args = parser.parse_args()
     names = ["hierarchy_scaling", *(CONTROLS if args.with_controls else ())]
-    print(_load())
+    print(load_average())
     folders = []
     with process_pool(args.workers or os.cpu_count()) as pool:
         for name in names:
@@ -58,7 +54,7 @@ def main() -> None:
             if "wall_time" in ok and "N" in ok:
                 per = ok.groupby(pd.cut(ok["N"], [0, 20, 40, 70]), observed=True)["wall_time"]
                 print("  mean seconds per run by N:", per.mean().round(2).to_dict())
-    print(_load())
+    print(load_average())
     t0 = time.perf_counter()
     report = write_report(folders, args.out / "report.html")
     print(f"report in {time.perf_counter() - t0:.1f} s")

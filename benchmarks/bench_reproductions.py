@@ -17,7 +17,6 @@ finished, the reports' time, and each model's total against the 5-minute target.
 
 import argparse
 import contextlib
-import os
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -30,7 +29,7 @@ from analysis.sweep.execute import execute
 from analysis.sweep.spec import load_sweep
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import machine  # noqa: E402
+from machine import load_average, machine  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_SECONDS = 300.0
@@ -53,12 +52,6 @@ FIGURE_SETS: dict[str, list[list[str]]] = {
 }
 #: Models whose figure set ends with the macroscopic fit of one of its sweeps.
 FITS = {"stigmergy": "stigmergy_table1"}
-
-
-def load_average() -> str:
-    """The machine's load average (1, 5, 15 minutes): the cores may be shared."""
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f}"
 
 
 def _timed_sweep(sweep, folder: Path, pool) -> tuple:

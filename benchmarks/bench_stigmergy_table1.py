@@ -26,6 +26,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+from machine import load_average  # benchmarks/machine.py, beside this script
 
 from analysis.fit import analyse, fit_runs, methods, write_fit_report
 from analysis.macro import predict_from_lambdas
@@ -35,11 +36,6 @@ from models.stigmergy.published import LAMBDAS, MACRO, MAP_OF_ID, TABLE1, TABLE1
 #: Our reconstructions of the paper's Table 1 maps, in the paper's order.
 PAPER_MAPS = [MAP_OF_ID[i] for i in sorted(MAP_OF_ID)]
 ID_OF_MAP = {name: i for i, name in MAP_OF_ID.items()}
-
-
-def _load() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
 
 
 def _drop_stale(out: Path, maps: list[str]) -> int:
@@ -196,14 +192,14 @@ def main() -> None:
     stale = _drop_stale(args.out, args.maps)
     if stale:
         print(f"deleted {stale} stored runs made on other map walls; they run again")
-    print(f"before: {_load()}", flush=True)
+    print(f"before: {load_average()}", flush=True)
     start = time.perf_counter()
     grid = {"map": args.maps, "pheromone_radius": args.radii}
     summaries, counts, conditions = fit_runs(
         "stigmergy", grid, args.runs, args.out, seed=args.seed, workers=args.workers
     )
     elapsed = time.perf_counter() - start
-    print(f"after:  {_load()}")
+    print(f"after:  {load_average()}")
     print(
         f"{len(summaries)} runs on disk in {args.out}; this session took {elapsed:.0f} s wall "
         f"({elapsed / 60:.1f} min) with {args.workers or os.cpu_count()} workers; the runs "
@@ -244,7 +240,7 @@ def main() -> None:
     meta = [
         ("model", "stigmergy"),
         ("runs", f"{len(summaries)} in {args.out}"),
-        ("wall time", f"{elapsed:.0f} s this session; {_load()}"),
+        ("wall time", f"{elapsed:.0f} s this session; {load_average()}"),
     ]
     print(f"wrote {args.out / 'table1.csv'}")
     print(f"wrote {write_fit_report(result, summaries, MACRO, args.out, meta)}")

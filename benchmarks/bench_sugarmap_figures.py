@@ -17,7 +17,8 @@ import os
 import time
 from pathlib import Path
 
-from bench_reproductions import load_average, run_together
+from bench_reproductions import run_together
+from machine import load_average
 
 from analysis.report import write_report
 from analysis.sweep.spec import load_sweep
@@ -35,14 +36,14 @@ def main() -> None:
     files = sorted((ROOT / "experiments").glob("sugarmap_*.toml"))
     if args.only:
         files = [f for f in files if f.stem.removeprefix("sugarmap_") in args.only]
-    print(f"{load_average()} on {os.cpu_count()} cores")
+    print(load_average())
     sweeps = [load_sweep(path, args.replications) for path in files]
     folders = [args.out / sweep.name for sweep in sweeps]
     start = time.perf_counter()
     total_runs, _ = run_together(sweeps, folders, args.workers or os.cpu_count())
     total = time.perf_counter() - start
     print(f"{'all sweeps':24s} {total_runs:9d} runs     {total:7.1f} s ({total / 60:.1f} min)")
-    print(f"{load_average()} on {os.cpu_count()} cores")
+    print(load_average())
     t0 = time.perf_counter()
     report = write_report(folders, args.out / "report.html")
     print(f"report in {time.perf_counter() - t0:.1f} s")

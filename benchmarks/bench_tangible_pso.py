@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+from machine import load_average  # benchmarks/machine.py, beside this script
 
 from abm.pools import process_pool
 from analysis.report import write_report
@@ -30,11 +31,6 @@ from models.tangible_pso import TangiblePSOModel
 from models.tangible_pso.published import SECONDS_PER_RUN, SWAP_RESOLVED_PCT, TABLE1
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _load() -> str:
-    one, five, fifteen = os.getloadavg()
-    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
 
 
 def time_runs(repeats: int) -> None:
@@ -172,7 +168,7 @@ def main() -> None:
     parser.add_argument("--fig10", action="store_true", help="also Figs. 10-11's sweep")
     parser.add_argument("--controller", action="store_true", help="also the follower's sweep")
     args = parser.parse_args()
-    print(_load())
+    print(load_average())
     time_runs(args.repeats)
     if args.timing_only:
         return
@@ -203,7 +199,7 @@ def main() -> None:
                                                 dropna=False):  # fmt: skip
                     print(f"\nreading {point}:")
                     print_table1(rows)
-    print(_load())
+    print(load_average())
     table = [n for n in names if n in ("tangible_pso_table1", "tangible_pso_fig9")]
     report = write_report([folders[n] for n in table], args.out / "report.html")
     print(f"wrote {report}")

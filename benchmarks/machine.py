@@ -1,4 +1,4 @@
-"""The machine a benchmark ran on, named the same way in every benchmark's output."""
+"""The machine a benchmark ran on and its load, named the same way in every benchmark's output."""
 
 import os
 import platform
@@ -15,3 +15,11 @@ def machine() -> str:
     except OSError:
         pass
     return f"{name}, {os.cpu_count()} logical CPUs, Python {platform.python_version()}"
+
+
+def load_average() -> str:
+    """The load average over 1, 5 and 15 minutes, and the core count: a benchmark prints it
+    before and after, since the cores may be shared.
+    """
+    one, five, fifteen = os.getloadavg()
+    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
