@@ -1,3 +1,4 @@
+import math
 from itertools import pairwise
 
 import networkx as nx
@@ -305,31 +306,101 @@ def test_small_batteries_fail_robots_and_shrink_the_search():
     assert limited["coverage_area"] < runs[None].summary()["coverage_area"]
 
 
-def test_explorers_keep_their_beacon_and_do_not_shuttle_for_ever():
-    """A stalled run of the open-room sweep (medium density, 12 s): following the plain nearest
-    beacon, an explorer flipped between two beacons whose signals pointed to different spots
-    and never attached. With hysteresis in the choice of beacon the run ends by itself."""
-    from models.beacon_explorer.params import DEFAULTS
+def _open_room_rules(**changes):
+    """A 15 m x 15 m room and the explorers' compiled constants (``changes`` replaced)."""
+    room = [(ix, iy) for ix in range(5) for iy in range(5)]
+    model, _ = settled_network(room, (1.5, 1.5), [(13.5, 13.5)])
+    return model.arena, model.physics.controller._constants._replace(**changes)
 
-    def end(hysteresis: float) -> str:
-        return (
-            BeaconExplorerModel(
-                world="open",
-                complexity="medium",
-                launch_period=12.0,
-                seed=7118335672433552142,
-                time_limit=1000.0,
-                trace_interval=None,
-                guide_hysteresis=hysteresis,
-                stall_time=None,
-                **OLD_RULES,  # hysteresis alone (later rules end this run too)
-            )
-            .run()
-            .end_reason
+
+def _guides(points, arena, p, to_empty=(False, False)):
+    """The beacon (0 or 1) an explorer follows at each of ``points`` in turn, starting with
+    beacon 0, between beacons 0 at (6, 7.5) and 1 at (9, 7.5)."""
+    from models.beacon_explorer.explorer import _keep_guide, _rows_by_id
+
+    ids = np.array([10, 11])
+    beacons = np.array([[6.0, 7.5], [9.0, 7.5]])
+    guide, followed = 10.0, []
+    for point in points:
+        nearest = int(np.argmin(np.hypot(*(beacons - point).T)))
+        k = _keep_guide(
+            arena.padded,
+            arena.walls_sat,
+            arena.resolution,
+            np.asarray(point, dtype=float),
+            guide,
+            _rows_by_id(ids),
+            beacons,
+            np.array(to_empty),
+            nearest,
+            p,
         )
+        guide = float(ids[k])
+        followed.append(k)
+    return followed
 
-    assert end(0.0) == "time limit"  # the paper's rule, in this lattice
-    assert end(DEFAULTS.guide_hysteresis) == "complete"
+
+@settings(max_examples=25, deadline=None)
+@given(st.floats(0.02, 0.24), st.integers(2, 12))
+def test_an_explorer_keeps_its_guide_until_another_beacon_is_the_hysteresis_nearer(wobble, n):
+    """An explorer wobbling about the midpoint between two beacons (noise, drift) follows the
+    plain nearest beacon under the paper's rule and flips guide at every crossing: the two
+    beacons' signals point to different spots and it shuttles between them (the stalled
+    open-room runs). With ``guide_hysteresis`` (0.5 m) it keeps its guide while the other is
+    less than that much nearer, and changes once the other is."""
+    arena, p = _open_room_rules(guide_commit=False)
+    wobbling = [(7.5 + (wobble if k % 2 else -wobble), 7.5) for k in range(2 * n)]
+    assert _guides(wobbling, arena, p._replace(guide_hysteresis=0.0)) == [0, 1] * n
+    assert _guides(wobbling, arena, p) == [0] * (2 * n)
+    beyond = 0.5 * p.guide_hysteresis + 0.01  # beacon 1 now more than the hysteresis nearer
+    assert _guides([(7.5 + beyond, 7.5)], arena, p) == [1]
+
+
+def test_an_explorer_committed_to_an_empty_spot_keeps_its_guide_while_in_touch():
+    """With ``guide_commit`` an explorer keeps following a beacon that advertises an empty
+    spot while it is in touch (within C_r) even when another beacon is much nearer (a spot
+    2.2-2.5 m from another beacon: the circling swarms of the floor plans); out of range it
+    takes the nearest."""
+    arena, p = _open_room_rules()
+    near_1 = [(8.8, 7.5)]  # 2.8 m from beacon 0, 0.2 m from beacon 1
+    assert _guides(near_1, arena, p, to_empty=(True, False)) == [0]
+    assert _guides(near_1, arena, p._replace(guide_commit=False), to_empty=(True, False)) == [1]
+    assert _guides([(10.5, 7.5)], arena, p, to_empty=(True, False)) == [1]  # 4.5 m > C_r
+
+
+def _slides(points, goal, walls, p):
+    """What ``_slide_side`` answers for a flyer at each of ``points`` in turn (one per tick),
+    its goal L = ``goal`` and its four cardinal sensors reading ``walls`` (N, E, S, W)."""
+    from models.beacon_explorer.explorer import _slide_side
+
+    state = np.zeros(5)
+    return [
+        _slide_side(state, np.asarray(pt, float), *goal, np.asarray(walls, float), p)
+        for pt in points
+    ]
+
+
+def test_an_explorer_pressed_against_an_obstacle_slides_along_it():
+    """A flyer whose goal lies ahead but that stays put for ``slide_after`` seconds is pressed
+    against an obstacle (the cardinal sensors' C pushes straight back, never sideways): it then
+    slides across L for ``slide_after`` seconds towards the side that reads farther, and when
+    both read alike alternates sides (a door's edge: the first way may lead back). Moving, or
+    near its goal, it never slides; ``slide_after=None`` turns the rule off."""
+    _arena, p = _open_room_rules()
+    ticks = int(round(p.slide_after / p.dt))
+    still = [(5.0, 5.0)] * (4 * ticks + 4)
+    east = (3.0, 0.0)  # goal 3 m east: left of it is north
+    answers = _slides(still, east, (5.0, 1.0, 1.0, 1.0), p)  # north reads far
+    first = answers.index(1.0)
+    assert first == pytest.approx(ticks - 1, abs=1)
+    assert answers[:first] == [0.0] * first
+    assert answers[first : first + ticks] == [1.0] * ticks
+    alike = _slides(still, east, (2.0, 1.0, 2.0, 1.0), p)
+    assert [a for k, a in enumerate(alike) if a and not alike[k - 1]] == [1.0, -1.0]
+    moving = [(5.0 + 0.1 * k, 5.0) for k in range(4 * ticks)]
+    assert not any(_slides(moving, east, (5.0, 1.0, 1.0, 1.0), p))
+    assert not any(_slides(still, (0.3, 0.0), (5.0, 1.0, 1.0, 1.0), p))  # goal reached
+    assert not any(_slides(still, east, (5.0, 1.0, 1.0, 1.0), p._replace(slide_after=math.inf)))
 
 
 @settings(max_examples=40, deadline=None)
@@ -353,12 +424,19 @@ def test_two_opposing_walls_closer_than_3_m_make_a_corridor_beacon(width, x, acr
 @pytest.mark.parametrize("knob", [{"message_loss": 0.5}, {"latency": 0.3}])
 def test_message_loss_and_latency_act_and_hop_counts_still_settle(knob):
     """Both reach the comm network: the run differs, and once the floods have settled every
-    hop count is still the BFS distance (lost messages are re-sent, they only arrive later)."""
+    hop count is still the BFS distance (lost messages are re-sent, they only arrive later).
+    The hop counts are checked on launches 30 s apart: at 50 % loss a wave's soft state lives
+    about 20 s, and a swarm that attaches faster restarts the waves before they settle."""
     plain = BeaconExplorerModel(world="corridor", seed=21, trace_interval=None)
-    model = BeaconExplorerModel(world="corridor", seed=21, trace_interval=None, **knob)
-    run_until_quiescent(plain, 80.0)
+    changed = BeaconExplorerModel(world="corridor", seed=21, trace_interval=None, **knob)
+    plain.run(until=80.0)
+    changed.run(until=80.0)
+    assert not changed.events().equals(plain.events())
+    model = BeaconExplorerModel(
+        world="corridor", seed=21, launch_period=30.0, trace_interval=None, **knob
+    )
     run_until_quiescent(model, 80.0)
-    assert not model.events().equals(plain.events())
+    assert model.running  # settled before the run ended: the check below means something
     assert_hop_counts_are_bfs_distances(model)
 
 
@@ -390,6 +468,15 @@ def _floor_plan_end(world: str, n_robots: int, period: float, seed: int, **rules
     return model.end_reason.split(":")[0]
 
 
+# The seeds of the whole-run tests below are set-ups on which a pathology shows: found by
+# searching seeds for a stall with the rule off (they are not tuned to pass; with the rule on,
+# the same run ends). Re-found on 2026-11-26, when beacons stopped polling for hop-count waves
+# and every run changed: `test_explorers_commit_...` seed 0 -> 1, `..._behind_a_pillar_...`
+# 0 -> 8, `..._out_of_touch_...` 100 -> 11, `..._reopens_a_way_...` 6097586779079702662 ->
+# 230, the stall detector's 0 -> 1; in seeds 0-399 no run showed the sliding and hysteresis
+# stalls any more, so those rules are tested on their own (above).
+
+
 def _ends_only_with(rule: str, world: str, n_robots: int, period: float, seed: int) -> None:
     """The old rules stall; today's rules without ``rule`` stall; today's rules end."""
     assert _floor_plan_end(world, n_robots, period, seed, **OLD_RULES) == "stalled"
@@ -400,8 +487,9 @@ def _ends_only_with(rule: str, world: str, n_robots: int, period: float, seed: i
 def test_explorers_commit_to_an_advertised_spot_nearer_another_beacon():
     """Pillar room, 20 robots, 24 s: a beacon beside the north wall advertised a spot 2.2-2.5 m
     from the base (sensed as free, spot_taken = 2.2 m); explorers reaching it found the base
-    0.5 m nearer, followed its signal back and circled for ever."""
-    _ends_only_with("guide_commit", "pillar_room", 20, 24.0, 0)
+    0.5 m nearer, followed its signal back and circled for ever. (Found on seed 0; since the
+    beacons wait for hop-count waves instead of polling, seed 1 of the same set-up shows it.)"""
+    _ends_only_with("guide_commit", "pillar_room", 20, 24.0, 1)
 
 
 def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
@@ -410,25 +498,18 @@ def test_a_spot_found_taken_behind_a_pillar_is_no_longer_advertised():
     beside the pillar), so explorers queued at the spot, ascended, found it held and flew on,
     for ever (the old code: time limit). An explorer that finds the spot held now says so."""
     found_with = {**OLD_RULES, "guide_commit": True}
-    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **found_with) == "stalled"
+    assert _floor_plan_end("pillar_room", 40, 6.0, 8, **found_with) == "stalled"
     fixed = {**found_with, "report_taken": True}
-    assert _floor_plan_end("pillar_room", 40, 6.0, 0, **fixed) == "stuck"
-
-
-def test_an_explorer_pressed_against_a_pillar_slides_along_it():
-    """Pillar room, 20 robots, 12 s: a pillar on the straight line between two lattice
-    neighbours; an explorer flying from one to the other pressed against it (the cardinal
-    sensors' C pushes straight back) for 730 s in the old code."""
-    _ends_only_with("slide_after", "pillar_room", 20, 12.0, 5932795694147440737)
+    assert _floor_plan_end("pillar_room", 40, 6.0, 8, **fixed) == "stuck"
 
 
 def test_an_explorer_out_of_touch_flies_back_instead_of_hovering_for_ever():
     """Small office, 20 robots, 12 s: an explorer overshot a 1 m door into a room where no
     beacon is in line of sight and hovered there for ever (the old code: time limit). Flying
     back to where it was last in touch ends the run."""
-    assert _floor_plan_end("office_small", 20, 12.0, 100, **OLD_RULES) == "stalled"
+    assert _floor_plan_end("office_small", 20, 12.0, 11, **OLD_RULES) == "stalled"
     fixed = {**OLD_RULES, "lost_return": True}
-    assert _floor_plan_end("office_small", 20, 12.0, 100, **fixed) == "stuck"
+    assert _floor_plan_end("office_small", 20, 12.0, 11, **fixed) == "stuck"
 
 
 def test_a_corridor_beacon_reopens_a_way_its_neighbour_no_longer_signals_back():
@@ -438,7 +519,7 @@ def test_a_corridor_beacon_reopens_a_way_its_neighbour_no_longer_signals_back():
     beacon signalled back, its other neighbour sent explorers to it, and they shuttled between
     the two. (The old code ended this set-up "stuck": explorers did not get that far.)"""
     found_with = {**OLD_RULES, "guide_commit": True}
-    world = ("diagonal_hall", 40, 12.0, 6097586779079702662)
+    world = ("diagonal_hall", 40, 12.0, 230)
     assert _floor_plan_end(*world, **found_with) == "stalled"
     fixed = {**found_with, "searched_follows_signal": True}
     assert _floor_plan_end(*world, **fixed) == "stuck"
@@ -475,7 +556,7 @@ def test_the_stall_detector_ends_a_stalled_run_and_records_why():
         world="pillar_room",
         n_robots=20,
         launch_period=24.0,
-        seed=0,
+        seed=1,
         trace_interval=None,
         **OLD_RULES,
     ).run()
@@ -491,7 +572,7 @@ def test_the_stall_detector_ends_a_stalled_run_and_records_why():
         world="pillar_room",
         n_robots=20,
         launch_period=24.0,
-        seed=0,
+        seed=1,
         trace_interval=None,
         time_limit=1500.0,
         stall_time=None,
@@ -514,42 +595,56 @@ def test_floor_plans_are_built_in_maps_with_a_free_start():
         BeaconExplorerModel(world="office", map_resolution=0.5)
 
 
-def test_a_beacon_the_newest_wave_has_not_reached_polls_and_each_poll_senses():
-    """Pins the wake-up behaviour that the event logs hold (see docs/history.md, "Large
-    swarms"): a beacon woken while the newest hop-count wave has not reached it or its lattice
-    neighbours decides nothing and looks again one message latency plus one control period
-    later (or sooner, if a hop count it holds changes meanwhile); it decides only on settled
-    hop counts. Every look measures its neighbours with the relative-positioning sensor and so
-    draws from the model's generator: a beacon woken only once the wave arrived would skip
-    those draws and change every later draw of the run.
-    """
-    model = BeaconExplorerModel(world="open", complexity="low", seed=2, time_limit=200.0)
-    network, p = model.beacons, model.params
-    looks = []  # (time, robot, decided, drew)
+def test_a_beacon_the_newest_wave_has_not_reached_waits_for_it_without_looking_again():
+    """A beacon woken while the newest hop-count wave has not reached it or its lattice
+    neighbours decides nothing, and looks again only one control period after the wave has
+    reached the last of them, then decides (until 2026-11-26 it looked again every message
+    latency plus control period, re-sensing its neighbours each time: most of a large swarm's
+    work)."""
+    corridor = [(ix, 1) for ix in range(8)]
+    chain = [(4.5 + 3.0 * k, 4.5) for k in range(1, 7)]
+    model, robots = settled_network(corridor, (4.5, 4.5), chain)
+    network, far = model.beacons, robots[-1]
+    looks, reached = [], {}
     evaluate, publish = network._evaluate, network._publish
     decided = []
+
+    def looking(robot):
+        decided.clear()
+        evaluate(robot)
+        looks.append((model.env.now, robot, bool(decided)))
 
     def publishing(beacon, *args):
         decided.append(beacon.robot)
         return publish(beacon, *args)
 
-    def looking(robot):
-        before = model.rng.bit_generator.state["state"]["state"]
-        decided.clear()
-        nodes = [robot, *network.comms.neighbours(robot)] if robot in network.beacons else []
-        evaluate(robot)
-        drew = model.rng.bit_generator.state["state"]["state"] != before
-        looks.append((model.env.now, robot, bool(decided), drew, bool(nodes[1:])))
-
     network._evaluate, network._publish = looking, publishing
-    model.run()
-    polls = [(t, r) for t, r, d, _drew, _linked in looks if not d]
-    assert len(polls) > 50
-    assert all(drew for *_x, drew, linked in looks if linked)
-    later = {}
-    for t, r, *_rest in looks:
-        later.setdefault(r, []).append(t)
-    for t, r in polls:
-        following = [u for u in later[r] if u > t]
-        if following and r in network.beacons:
-            assert following[0] <= t + p.latency + model.physics.dt + 1e-9
+    network.forwards.on_reach(lambda node: reached.setdefault(node, model.env.now))
+    now = model.env.now
+    network.forwards.restart()  # a new wave from the base: the chain's far end hears it last
+    network.wake(far)
+    model.run(until=now + 5.0)
+    mine = [(t - now, d) for t, r, d in looks if r == far]
+    nodes = (far, *network.beacons[far].neighbour_dirs.values())
+    last_reached = max(reached[n] for n in nodes) - now
+    assert last_reached == pytest.approx(6 * model.params.latency)  # six hops from the base
+    assert mine[0] == (pytest.approx(model.physics.dt), False)  # stale: it waits
+    assert mine[1] == (pytest.approx(last_reached + model.physics.dt), True)
+    assert len(mine) == 2  # and nothing in between
+
+
+@pytest.mark.parametrize("world", ["corridor", "open"])
+def test_no_beacon_is_left_waiting_once_the_waves_have_reached_every_beacon(world):
+    """Whenever both gradients' newest waves have reached every beacon, no beacon still waits
+    for them: a beacon that found stale hop counts is always woken (or re-looks after its links
+    changed), so none sits out a decision for good."""
+    model = BeaconExplorerModel(world=world, seed=12, trace_interval=None, time_limit=600.0)
+    network = model.beacons
+    checked = 0
+    while model.running:
+        model.run(until=model.time + 0.5)
+        everyone = list(network.beacons)
+        if network.forwards.settled_all(everyone) and network.reverse.settled_all(everyone):
+            assert not network._waiting, f"beacons {sorted(network._waiting)} left waiting"
+            checked += 1
+    assert checked > 100

@@ -61,6 +61,33 @@ def test_hop_counts_equal_bfs_distances_after_quiescence(points, data, loss):
         assert reverse.value(node) == expected
 
 
+@settings(max_examples=40, deadline=None)
+@given(points_strategy, st.data(), st.floats(0.0, 0.5))
+def test_a_node_is_reported_reached_exactly_when_the_newest_wave_settles_it(points, data, loss):
+    """``on_reach`` is what a node waiting for settled hop counts is woken by: the listener
+    hears of a node exactly when :meth:`GradientFlood.settled` turns true for it (the newest
+    wave arrived, or its soft state expired), never for an older wave, and every node of the
+    network is reached once per wave, even with lost messages and nodes leaving mid-wave."""
+    env, net, forwards, _reverse = build(points, loss=loss)
+    forwards.set_sources([0])
+    settle(env, forwards)
+    heard = []
+    forwards.on_reach(lambda node: heard.append((node, forwards.epoch, forwards.settled(node))))
+    n = len(points)
+    gone = data.draw(st.sets(st.integers(1, n - 1), max_size=n // 3))
+    forwards.restart()
+    for node in gone:
+        env.run(until=env.now + 0.15)
+        net.remove(node)
+        forwards.forget(node)
+        forwards.restart()
+    settle(env, forwards)
+    assert all(settled for _node, _epoch, settled in heard)
+    newest = [node for node, epoch, _ in heard if epoch == forwards.epoch]
+    assert sorted(newest) == sorted(net.graph)  # every node once in the newest wave
+    assert all(forwards.settled(node) for node in net.graph)
+
+
 def test_links_need_range_and_line_of_sight():
     walls = np.ones((10, 10), dtype=bool)
     walls[:, 5] = False  # a wall column at x in [5, 6)

@@ -62,11 +62,19 @@ class GradientFlood:
         self.in_flight = 0
         self._lost_since_restart = False
         self._listeners: list[Callable[[Node, int, int], None]] = []
+        self._reach_listeners: list[Callable[[Node], None]] = []
         network.on_burst_end(self._after_burst)
 
     def on_change(self, listener: Callable[[Node, int, int], None]) -> None:
         """Call ``listener(node, old, new)`` whenever a node's value changes."""
         self._listeners.append(listener)
+
+    def on_reach(self, listener: Callable[[Node], None]) -> None:
+        """Call ``listener(node)`` whenever the newest wave reaches a node (or its soft state
+        expires), i.e. whenever :meth:`settled` turns true for it: who waits on settled values
+        is woken then instead of looking again and again.
+        """
+        self._reach_listeners.append(listener)
 
     @property
     def quiescent(self) -> bool:
@@ -138,6 +146,7 @@ class GradientFlood:
 
     def _take(self, node: Node, epoch: int, value: int) -> None:
         """``node`` adopts ``value`` of wave ``epoch`` and passes it on."""
+        reached = epoch == self.epoch and self._epoch_of.get(node, 0) != epoch
         self._epoch_of[node] = epoch
         values = self.values
         old = values.get(node, self.floor)
@@ -145,6 +154,9 @@ class GradientFlood:
         if old != value:  # _set inlined: a flood takes millions of values
             for listener in self._listeners:
                 listener(node, old, value)
+        if reached:
+            for listener in self._reach_listeners:
+                listener(node)
         onward = value + self.step
         if onward < self.floor:
             return
@@ -179,6 +191,9 @@ class GradientFlood:
             if self._epoch_of.get(node, 0) < epoch:
                 self._epoch_of[node] = epoch
                 self._set(node, self.floor)
+                if epoch == self.epoch:
+                    for listener in self._reach_listeners:
+                        listener(node)
 
     def _set(self, node: Node, value: int) -> None:
         old = self.values.get(node, self.floor)

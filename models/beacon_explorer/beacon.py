@@ -5,7 +5,8 @@ Each beacon, whenever something it can sense changes (a neighbour attaches or de
 count or a neighbour's desired direction changes), senses its surroundings and runs the
 flowchart of Fig. 2 (:func:`models.beacon_explorer.flowchart.decide`). Evaluations are
 messages: a beacon re-evaluates one control period after being woken, and only on hop counts
-the newest flood has reached.
+the newest flood has reached; one that finds them stale waits, and is woken when the wave has
+reached it and its lattice neighbours.
 """
 
 import math
@@ -126,6 +127,12 @@ class BeaconNetwork:
         )
         self.forwards.on_change(self._hop_changed)
         self.reverse.on_change(self._hop_changed)
+        self.forwards.on_reach(self._wave_reached)
+        self.reverse.on_reach(self._wave_reached)
+        # Beacons waiting for the newest waves: each one's nodes (itself and its lattice
+        # neighbours), and per node the beacons waiting on it (dicts: insertion order).
+        self._waiting: dict[int, tuple[int, ...]] = {}
+        self._waiting_on: dict[int, dict[int, None]] = {}
         comms.on_link_change(self._link_changed)
         self._pending: set[int] = set()
         self._wakes_in_flight = 0
@@ -166,6 +173,7 @@ class BeaconNetwork:
         ``searched=False``) says nothing about the area beyond it.
         """
         beacon = self.beacons.pop(robot)
+        self._stop_waiting(robot)
         if self._members is not None:
             self._members = self._members.left(robot)
         for other in self.beacons.values() if searched else ():
@@ -391,14 +399,20 @@ class BeaconNetwork:
 
     # ------------------------------------------------------------------ the flowchart
     def wake(self, robot: int) -> None:
-        """Ask a beacon to run its controller at the next control step."""
-        if robot in self._pending or robot not in self.beacons:
+        """Ask a beacon to run its controller at the next control step.
+
+        A beacon waiting for the newest waves is not woken: it could decide nothing before
+        they arrive (:meth:`_wave_reached` wakes it then), unless its links change
+        (:meth:`_link_changed`), which changes what it senses.
+        """
+        if robot in self._pending or robot in self._waiting or robot not in self.beacons:
             return
         self._pending.add(robot)
         self._call_later(self.control_period, self._evaluate, robot)
 
     def _evaluate(self, robot: int) -> None:
         self._pending.discard(robot)
+        self._stop_waiting(robot)
         beacon = self.beacons.get(robot)
         if beacon is None:
             return
@@ -411,8 +425,8 @@ class BeaconNetwork:
         nb = beacon.neighbour_dirs
         # Act only on settled hop counts: a value the newest wave has not reached yet is stale.
         nodes = (robot, *nb.values())
-        if not (self.forwards.settled_all(nodes) and self.reverse.settled_all(nodes)):
-            self.wake_later(robot)
+        if not self._settled(nodes):
+            self._wait_for_waves(robot, nodes)
             return
         fwd, rev = self.forwards.value, self.reverse.value
         decision = decide(
@@ -434,6 +448,40 @@ class BeaconNetwork:
         self._publish(
             beacon, decision.desired, decision.redeploying, decision.frontier, decision.may_detach
         )
+
+    def _settled(self, nodes: tuple[int, ...]) -> bool:
+        """The newest wave of both gradients has reached every one of ``nodes``."""
+        return self.forwards.settled_all(nodes) and self.reverse.settled_all(nodes)
+
+    def _wait_for_waves(self, robot: int, nodes: tuple[int, ...]) -> None:
+        """A beacon found stale hop counts: it decides nothing until the newest waves have
+        reached it and the lattice neighbours it sensed (:meth:`_wave_reached` wakes it).
+
+        It does not look again meanwhile: sensing nothing new (beacons stand still) but noise,
+        a look every message latency plus control period was most of a large swarm's work.
+        """
+        self._waiting[robot] = nodes
+        for node in nodes:
+            self._waiting_on.setdefault(node, {})[robot] = None
+
+    def _stop_waiting(self, robot: int) -> None:
+        nodes = self._waiting.pop(robot, ())
+        for node in nodes:
+            waiters = self._waiting_on[node]
+            del waiters[robot]
+            if not waiters:
+                del self._waiting_on[node]
+
+    def _wave_reached(self, node: int) -> None:
+        """The newest wave of a gradient reached ``node``: wake the beacons that waited on it
+        and now see settled hop counts everywhere they look.
+        """
+        waiters = self._waiting_on.get(node)
+        if not waiters:
+            return
+        for robot in [r for r in waiters if self._settled(self._waiting[r])]:
+            self._stop_waiting(robot)
+            self.wake(robot)
 
     def _publish(
         self, beacon: Beacon, desired: int, redeploying: bool, frontier: bool, may_detach: bool
@@ -487,6 +535,7 @@ class BeaconNetwork:
             self.forwards.settled_everywhere
             and self.reverse.settled_everywhere
             and not self._pending
+            and not self._waiting
             and self._wakes_in_flight == 0
         )
 
@@ -499,8 +548,9 @@ class BeaconNetwork:
         self._touched.update((a, b))
         self._near.pop(a, None)
         self._near.pop(b, None)
-        self.wake(a)
-        self.wake(b)
+        for robot in (a, b):
+            self._stop_waiting(robot)
+            self.wake(robot)
 
     # ------------------------------------------------------------------ what explorers read
     def signals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
