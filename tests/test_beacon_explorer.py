@@ -619,7 +619,9 @@ def test_a_beacon_the_newest_wave_has_not_reached_waits_for_it_without_looking_a
         return publish(beacon, *args)
 
     network._evaluate, network._publish = looking, publishing
-    network.forwards.on_reach(lambda node: reached.setdefault(node, model.env.now))
+    network.forwards.on_reach(
+        lambda node: reached.setdefault(node, model.env.now), only=network.beacons
+    )
     now = model.env.now
     network.forwards.restart()  # a new wave from the base: the chain's far end hears it last
     network.wake(far)

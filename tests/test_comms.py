@@ -67,12 +67,18 @@ def test_a_node_is_reported_reached_exactly_when_the_newest_wave_settles_it(poin
     """``on_reach`` is what a node waiting for settled hop counts is woken by: the listener
     hears of a node exactly when :meth:`GradientFlood.settled` turns true for it (the newest
     wave arrived, or its soft state expired), never for an older wave, and every node of the
-    network is reached once per wave, even with lost messages and nodes leaving mid-wave."""
+    network is reached once per wave, even with lost messages and nodes leaving mid-wave; a
+    listener hears only of the nodes in its ``only``."""
     env, net, forwards, _reverse = build(points, loss=loss)
     forwards.set_sources([0])
     settle(env, forwards)
     heard = []
-    forwards.on_reach(lambda node: heard.append((node, forwards.epoch, forwards.settled(node))))
+    base_heard = []
+    forwards.on_reach(
+        lambda node: heard.append((node, forwards.epoch, forwards.settled(node))),
+        only=range(len(points)),
+    )
+    forwards.on_reach(base_heard.append, only={0})  # only the nodes someone waits on
     n = len(points)
     gone = data.draw(st.sets(st.integers(1, n - 1), max_size=n // 3))
     forwards.restart()
@@ -85,6 +91,7 @@ def test_a_node_is_reported_reached_exactly_when_the_newest_wave_settles_it(poin
     assert all(settled for _node, _epoch, settled in heard)
     newest = [node for node, epoch, _ in heard if epoch == forwards.epoch]
     assert sorted(newest) == sorted(net.graph)  # every node once in the newest wave
+    assert base_heard == [node for node, _epoch, _settled in heard if node == 0]
     assert all(forwards.settled(node) for node in net.graph)
 
 

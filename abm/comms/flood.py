@@ -2,7 +2,7 @@
 breadth-first search, one flood wave per change of topology or sources).
 """
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Container, Iterable
 
 from abm.clock import scheduler
 from abm.comms.network import CommNetwork
@@ -62,19 +62,21 @@ class GradientFlood:
         self.in_flight = 0
         self._lost_since_restart = False
         self._listeners: list[Callable[[Node, int, int], None]] = []
-        self._reach_listeners: list[Callable[[Node], None]] = []
+        self._reach_listeners: list[tuple[Callable[[Node], None], Container[Node]]] = []
         network.on_burst_end(self._after_burst)
 
     def on_change(self, listener: Callable[[Node, int, int], None]) -> None:
         """Call ``listener(node, old, new)`` whenever a node's value changes."""
         self._listeners.append(listener)
 
-    def on_reach(self, listener: Callable[[Node], None]) -> None:
-        """Call ``listener(node)`` whenever the newest wave reaches a node (or its soft state
-        expires), i.e. whenever :meth:`settled` turns true for it: who waits on settled values
-        is woken then instead of looking again and again.
+    def on_reach(self, listener: Callable[[Node], None], only: Container[Node]) -> None:
+        """Call ``listener(node)`` whenever the newest wave reaches a node in ``only`` (or its
+        soft state expires), i.e. whenever :meth:`settled` turns true for it: who waits on
+        settled values is woken then instead of looking again and again. ``only`` is read at
+        each arrival (the nodes someone waits on now): a wave reaches every node, and a call
+        per node would cost a flood a call per value it takes.
         """
-        self._reach_listeners.append(listener)
+        self._reach_listeners.append((listener, only))
 
     @property
     def quiescent(self) -> bool:
@@ -155,13 +157,20 @@ class GradientFlood:
             for listener in self._listeners:
                 listener(node, old, value)
         if reached:
-            for listener in self._reach_listeners:
-                listener(node)
+            for listener, only in self._reach_listeners:
+                if node in only:
+                    listener(node)
         onward = value + self.step
         if onward < self.floor:
             return
         payload = (epoch, onward)
-        self.in_flight += self.network.broadcast(node, self.links(node), payload, self._arrive)
+        dsts = self.links(node)
+        if not isinstance(dsts, list):
+            dsts = list(dsts)
+        if self.network.broadcast_together(node, dsts, payload, self._arrive):
+            self.in_flight += len(dsts)
+        else:
+            self.in_flight += self.network.broadcast(node, dsts, payload, self._arrive)
 
     def _arrive(self, _src: Node, delivered: list[Node], dropped: int, payload: tuple) -> None:
         """Copies of one node's broadcast arrived (in sending order) or were dropped."""
@@ -192,8 +201,9 @@ class GradientFlood:
                 self._epoch_of[node] = epoch
                 self._set(node, self.floor)
                 if epoch == self.epoch:
-                    for listener in self._reach_listeners:
-                        listener(node)
+                    for listener, only in self._reach_listeners:
+                        if node in only:
+                            listener(node)
 
     def _set(self, node: Node, value: int) -> None:
         old = self.values.get(node, self.floor)

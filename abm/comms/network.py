@@ -378,6 +378,29 @@ class CommNetwork:
             self._call_later(self.latency, self._arrive_together, arrival)
         return len(dsts)
 
+    def broadcast_together(
+        self,
+        src: Node,
+        dsts: list[Node],
+        payload: object,
+        on_arrival: Callable[[Node, list[Node], int, object], None],
+    ) -> bool:
+        """:meth:`broadcast`'s bulk path alone, for senders of millions of copies (floods):
+        when no copy can be lost (no loss, no burst), no policy checks pairs and no log records
+        them, send ``payload`` to each of ``dsts`` as one event and return True; otherwise send
+        nothing and return False (then call :meth:`broadcast`). The same messages, order and
+        arrival as :meth:`broadcast`, without its per-call options and copy of ``dsts``: the
+        list must not change until the copies arrive.
+        """
+        if self.loss > 0.0 or self._burst is not None or self.policy is not None:
+            return False
+        if self.log is not None:
+            return False
+        if dsts:
+            self.messages_sent += len(dsts)
+            self._call_later(self.latency, self._arrive_together, (src, dsts, payload, on_arrival))
+        return True
+
     def _arrive_together(self, arrival: tuple) -> None:
         """The copies of one broadcast arrive: their links checked together, then handed over."""
         src, dsts, payload, on_arrival = arrival

@@ -127,12 +127,12 @@ class BeaconNetwork:
         )
         self.forwards.on_change(self._hop_changed)
         self.reverse.on_change(self._hop_changed)
-        self.forwards.on_reach(self._wave_reached)
-        self.reverse.on_reach(self._wave_reached)
         # Beacons waiting for the newest waves: each one's nodes (itself and its lattice
         # neighbours), and per node the beacons waiting on it (dicts: insertion order).
         self._waiting: dict[int, tuple[int, ...]] = {}
         self._waiting_on: dict[int, dict[int, None]] = {}
+        self.forwards.on_reach(self._wave_reached, only=self._waiting_on)
+        self.reverse.on_reach(self._wave_reached, only=self._waiting_on)
         comms.on_link_change(self._link_changed)
         self._pending: set[int] = set()
         self._wakes_in_flight = 0
@@ -476,9 +476,7 @@ class BeaconNetwork:
         """The newest wave of a gradient reached ``node``: wake the beacons that waited on it
         and now see settled hop counts everywhere they look.
         """
-        waiters = self._waiting_on.get(node)
-        if not waiters:
-            return
+        waiters = self._waiting_on[node]
         for robot in [r for r in waiters if self._settled(self._waiting[r])]:
             self._stop_waiting(robot)
             self.wake(robot)
