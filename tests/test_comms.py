@@ -114,6 +114,31 @@ def test_messages_arrive_after_the_latency_as_events():
     assert log == [(0, 1, "hello", 0.1)]
 
 
+def _broadcast_arrivals(how: str, **network) -> list:
+    """What a broadcast from node 0 of four to [2, 1, 3] delivers through ``CommNetwork.how``
+    (node 3 leaves before its copy arrives), with ``network`` attributes set first; then the
+    messages counted (``None`` in place of the arrivals if the method declined)."""
+    env, net, *_ = build([(1.0, 1.0), (3.0, 1.0), (1.0, 3.0), (3.0, 3.0)])
+    for name, value in network.items():
+        setattr(net, name, value)
+    got = []
+    sent = getattr(net, how)(0, [2, 1, 3], "hop", lambda *a: got.append((*a, env.now)))
+    net.remove(3)
+    env.run()
+    return [got if sent is not False else None, net.messages_sent]
+
+
+def test_a_broadcast_together_arrives_as_a_broadcast_does_or_is_declined():
+    """``broadcast_together`` (a flood's bulk path) delivers what ``broadcast`` delivers, when,
+    and in which order, a broken link's copy dropped alike; it declines, sending nothing,
+    where a copy could be lost or a log records it."""
+    together = _broadcast_arrivals("broadcast_together")
+    assert together == _broadcast_arrivals("broadcast")
+    assert together == [[(0, [2, 1], 1, "hop", 0.1)], 3]
+    assert _broadcast_arrivals("broadcast_together", loss=0.1) == [None, 0]
+    assert _broadcast_arrivals("broadcast_together", log=MessageLog()) == [None, 0]
+
+
 def _network(shadowing=None, seed=0, free=None):
     import simpy
 
