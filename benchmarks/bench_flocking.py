@@ -45,7 +45,7 @@ from models.flocking import LARGE, SMALL, FlockingModel
 from models.flocking.published import SLOWER_THAN_AGENTS_JL
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import machine  # noqa: E402  (benchmarks/machine.py, beside this script)
+from machine import load_average, machine  # noqa: E402  (benchmarks/machine.py, beside this script)
 
 STEPS = 100  # the declaration: exactly 100 steps
 CASES = {"small": SMALL, "large": LARGE}
@@ -169,13 +169,6 @@ def _bench(case: dict, workers: dict, mesa_runs: int, our_runs: int, bar: tqdm) 
     return summarise(rows, list(workers))
 
 
-def _load() -> str:
-    try:
-        return "load average " + " / ".join(f"{x:.1f}" for x in os.getloadavg())
-    except OSError:
-        return "load average unknown"
-
-
 def _report(results: dict, workers: dict, args: argparse.Namespace, load: tuple) -> None:
     print(
         f"\nFlocking, construction + {STEPS} steps: medians of {args.mesa_runs} runs per Mesa "
@@ -243,7 +236,7 @@ def main() -> None:
     workers = {version: MesaWorker(python) for version, python in pythons.items()}
     for mode in MODES.values():  # compile the kernel, warm the caches
         our_run(1, {"birds": 20, "extent": 30.0, "visual_distance": 5.0}, mode)
-    load_before = _load()
+    load_before = load_average()
     results = {}
     total = len(CASES) * args.mesa_runs * len(workers)
     with tqdm(total=total, desc="Mesa runs (ours interleaved)") as bar:
@@ -251,7 +244,7 @@ def main() -> None:
             results[name] = _bench(case, workers, args.mesa_runs, args.our_runs, bar)
     for worker in workers.values():
         worker.close()
-    _report(results, workers, args, (load_before, _load()))
+    _report(results, workers, args, (load_before, load_average()))
 
 
 if __name__ == "__main__":

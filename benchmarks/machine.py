@@ -21,5 +21,8 @@ def load_average() -> str:
     """The load average over 1, 5 and 15 minutes, and the core count: a benchmark prints it
     before and after, since the cores may be shared.
     """
-    one, five, fifteen = os.getloadavg()
+    try:
+        one, five, fifteen = os.getloadavg()
+    except OSError:  # a platform without it
+        return f"load average unknown, {os.cpu_count()} cores"
     return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"

@@ -156,7 +156,7 @@ class GradientFlood:
         if old != value:  # _set inlined: a flood takes millions of values
             for listener in self._listeners:
                 listener(node, old, value)
-        if reached:
+        if reached:  # _reached inlined
             for listener, only in self._reach_listeners:
                 if node in only:
                     listener(node)
@@ -201,9 +201,13 @@ class GradientFlood:
                 self._epoch_of[node] = epoch
                 self._set(node, self.floor)
                 if epoch == self.epoch:
-                    for listener, only in self._reach_listeners:
-                        if node in only:
-                            listener(node)
+                    self._reached(node)
+
+    def _reached(self, node: Node) -> None:
+        """The newest wave settled ``node``: tell the listeners watching it (:meth:`on_reach`)."""
+        for listener, only in self._reach_listeners:
+            if node in only:
+                listener(node)
 
     def _set(self, node: Node, value: int) -> None:
         old = self.values.get(node, self.floor)
