@@ -117,12 +117,24 @@ def test_messages_arrive_after_the_latency_as_events():
 def _broadcast_arrivals(how: str, **network) -> list:
     """What a broadcast from node 0 of four to [2, 1, 3] delivers through ``CommNetwork.how``
     (node 3 leaves before its copy arrives), with ``network`` attributes set first; then the
-    messages counted (``None`` in place of the arrivals if the method declined)."""
+    messages counted (``None`` in place of the arrivals if the method declined). Copies sent
+    together are sorted at arrival as their receivers sort them, by the links that hold then
+    (``CommNetwork.linked``)."""
     env, net, *_ = build([(1.0, 1.0), (3.0, 1.0), (1.0, 3.0), (3.0, 3.0)])
     for name, value in network.items():
         setattr(net, name, value)
     got = []
-    sent = getattr(net, how)(0, [2, 1, 3], "hop", lambda *a: got.append((*a, env.now)))
+
+    def arrived_together(value: tuple) -> None:
+        src, dsts, payload = value
+        delivered = [dst for dst in dsts if dst in net.linked(src)]
+        got.append((src, delivered, len(dsts) - len(delivered), payload, env.now))
+
+    dsts = [2, 1, 3]
+    if how == "broadcast":
+        sent = net.broadcast(0, dsts, "hop", lambda *a: got.append((*a, env.now)))
+    else:
+        sent = net.broadcast_together(0, dsts, arrived_together, (0, dsts, "hop"))
     net.remove(3)
     env.run()
     return [got if sent is not False else None, net.messages_sent]
@@ -137,6 +149,36 @@ def test_a_broadcast_together_arrives_as_a_broadcast_does_or_is_declined():
     assert together == [[(0, [2, 1], 1, "hop", 0.1)], 3]
     assert _broadcast_arrivals("broadcast_together", loss=0.1) == [None, 0]
     assert _broadcast_arrivals("broadcast_together", log=MessageLog()) == [None, 0]
+
+
+@settings(max_examples=40, deadline=None)
+@given(points_strategy, st.data())
+def test_a_flood_sent_together_is_the_flood_sent_copy_by_copy(points, data):
+    """A flood's bulk path (copies together, links checked by the flood at arrival) changes
+    the same values at the same times, reaches the same nodes in the same order and sends as
+    many messages as the same flood through ``broadcast`` (a message log makes the network
+    decline the bulk path), with nodes leaving mid-wave so that copies are dropped."""
+    n = len(points)
+    sources = data.draw(st.sets(st.integers(0, n - 1), min_size=1, max_size=3))
+    gone = data.draw(st.lists(st.integers(1, n - 1), unique=True, max_size=n // 3))
+    pauses = data.draw(st.lists(st.sampled_from([0.05, 0.1, 0.15, 0.3]), min_size=len(gone)))
+
+    def history(log: MessageLog | None) -> tuple[list, list, int]:
+        env, net, _forwards, reverse = build(points)
+        net.log = log
+        changes, reached = [], []
+        reverse.on_change(lambda node, old, new: changes.append((env.now, node, old, new)))
+        reverse.on_reach(lambda node: reached.append((env.now, node)), only=range(n))
+        reverse.set_sources(sources)
+        for node, pause in zip(gone, pauses, strict=False):
+            env.run(until=env.now + pause)
+            net.remove(node)
+            reverse.forget(node)
+            reverse.restart()
+        settle(env, reverse)
+        return changes, reached, net.messages_sent
+
+    assert history(None) == history(MessageLog())
 
 
 def _network(shadowing=None, seed=0, free=None):

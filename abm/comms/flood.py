@@ -31,6 +31,8 @@ class GradientFlood:
         floor: lowest value; also the value of an unreached node.
         ttl: soft-state lifetime (s); by default the time a wave needs to cross every node of
             the network once (longer with message loss).
+        links: the nodes a node passes its value to, as a list that stays as it is until the
+            copies arrive (by default its comm neighbours, ``network.neighbours``).
 
     """
 
@@ -42,7 +44,7 @@ class GradientFlood:
         step: int,
         floor: int = 0,
         ttl: float | None = None,
-        links: Callable[[Node], Iterable[Node]] | None = None,
+        links: Callable[[Node], list[Node]] | None = None,
     ) -> None:
         if step not in (1, -1):
             raise ValueError(f"step must be +1 or -1, got {step}")
@@ -144,11 +146,13 @@ class GradientFlood:
             return
         if epoch == current_epoch and not self._better(value, self.values[node]):
             return
-        self._take(node, epoch, value)
+        self._take(node, epoch, value, current_epoch)
 
-    def _take(self, node: Node, epoch: int, value: int) -> None:
-        """``node`` adopts ``value`` of wave ``epoch`` and passes it on."""
-        reached = epoch == self.epoch and self._epoch_of.get(node, 0) != epoch
+    def _take(self, node: Node, epoch: int, value: int, current_epoch: int) -> None:
+        """``node``, which holds a value of wave ``current_epoch``, adopts ``value`` of wave
+        ``epoch`` and passes it on.
+        """
+        reached = epoch == self.epoch and current_epoch != epoch
         self._epoch_of[node] = epoch
         values = self.values
         old = values.get(node, self.floor)
@@ -163,30 +167,46 @@ class GradientFlood:
         onward = value + self.step
         if onward < self.floor:
             return
-        payload = (epoch, onward)
         dsts = self.links(node)
-        if not isinstance(dsts, list):
-            dsts = list(dsts)
-        if self.network.broadcast_together(node, dsts, payload, self._arrive):
+        if self.network.broadcast_together(
+            node, dsts, self._arrive_together, (node, dsts, epoch, onward)
+        ):
             self.in_flight += len(dsts)
         else:
-            self.in_flight += self.network.broadcast(node, dsts, payload, self._arrive)
+            self.in_flight += self.network.broadcast(node, dsts, (epoch, onward), self._arrive)
 
-    def _arrive(self, _src: Node, delivered: list[Node], dropped: int, payload: tuple) -> None:
-        """Copies of one node's broadcast arrived (in sending order) or were dropped."""
-        self.in_flight -= len(delivered) + dropped
+    def _arrive(self, src: Node, delivered: list[Node], dropped: int, payload: tuple) -> None:
+        """Copies sent by :meth:`CommNetwork.broadcast` arrived (in sending order) or were
+        dropped.
+        """
+        self.in_flight -= dropped
         if dropped:
             self._lost_since_restart = True
         epoch, value = payload
+        self._arrive_together((src, delivered, epoch, value))
+
+    def _arrive_together(self, arrival: tuple[Node, list[Node], int, int]) -> None:
+        """The copies of one node's broadcast arrived (sent together: see
+        :meth:`CommNetwork.broadcast_together`): those whose link still holds, all checked
+        before any is handled, are taken in sending order.
+        """
+        src, dsts, epoch, value = arrival
+        self.in_flight -= len(dsts)
+        linked = self.network.linked(src)
+        for dst in dsts:
+            if dst not in linked:  # a link broke on the way: drop its copy
+                dsts = [dst for dst in dsts if dst in linked]
+                self._lost_since_restart = True
+                break
         epoch_of, values, step = self._epoch_of, self.values, self.step
-        for dst in delivered:
+        for dst in dsts:
             # _receive inlined: most copies of a wave arrive where a value as good is held
             current_epoch = epoch_of.get(dst, 0)
             if epoch < current_epoch:
                 continue
             if epoch == current_epoch and (value - values[dst]) * step >= 0:
                 continue
-            self._take(dst, epoch, value)
+            self._take(dst, epoch, value, current_epoch)
 
     def _after_burst(self) -> None:
         """The sources re-emit continually: what a loss burst dropped arrives with the next

@@ -15,7 +15,7 @@ burst's probability: it is dropped (``on_drop``), not delayed. A node added with
 is off the arena (a base station, a laptop): its radio reaches every node.
 """
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Container, Iterable
 from typing import TYPE_CHECKING
 
 import networkx as nx
@@ -379,18 +379,19 @@ class CommNetwork:
         return len(dsts)
 
     def broadcast_together(
-        self,
-        src: Node,
-        dsts: list[Node],
-        payload: object,
-        on_arrival: Callable[[Node, list[Node], int, object], None],
+        self, src: Node, dsts: list[Node], on_arrival: Callable[[object], None], value: object
     ) -> bool:
         """:meth:`broadcast`'s bulk path alone, for senders of millions of copies (floods):
         when no copy can be lost (no loss, no burst), no policy checks pairs and no log records
-        them, send ``payload`` to each of ``dsts`` as one event and return True; otherwise send
-        nothing and return False (then call :meth:`broadcast`). The same messages, order and
-        arrival as :meth:`broadcast`, without its per-call options and copy of ``dsts``: the
-        list must not change until the copies arrive.
+        them, send a copy to each of ``dsts`` as one event, ``on_arrival(value)`` when they
+        arrive, and return True; otherwise send nothing and return False (then call
+        :meth:`broadcast`).
+
+        The receivers then take only the copies whose link still holds, in ``dsts`` order,
+        checked together before any is handled (:meth:`linked`): the same messages, order and
+        arrival as :meth:`broadcast`, without its per-call options, its copy of ``dsts`` and a
+        call per arrival to sort the copies (``value`` carries what the receiver needs: the
+        sender, ``dsts``, the payload). ``dsts`` must not change until the copies arrive.
         """
         if self.loss > 0.0 or self._burst is not None or self.policy is not None:
             return False
@@ -398,12 +399,16 @@ class CommNetwork:
             return False
         if dsts:
             self.messages_sent += len(dsts)
-            self._call_later(self.latency, self._arrive_together, (src, dsts, payload, on_arrival))
+            self._call_later(self.latency, on_arrival, value)
         return True
+
+    def linked(self, node: Node) -> Container[Node]:
+        """The nodes ``node`` has a link to now (none once it left the network)."""
+        return self.graph._adj.get(node, ())
 
     def _arrive_together(self, arrival: tuple) -> None:
         """The copies of one broadcast arrive: their links checked together, then handed over."""
         src, dsts, payload, on_arrival = arrival
-        linked = self.graph._adj.get(src, ())  # src's links now (none if it left)
+        linked = self.linked(src)
         delivered = [dst for dst in dsts if dst in linked]
         on_arrival(src, delivered, len(dsts) - len(delivered), payload)

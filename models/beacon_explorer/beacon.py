@@ -114,16 +114,17 @@ class BeaconNetwork:
         self._turns = 0
         self._xy = np.empty((64, 2))  # beacon positions by attach turn (the sensor's kernel)
         self._touched: set[int] = set()
-        self._ordered: dict[int, list[int]] = {}  # lattice_neighbours, until its links change
+        # lattice_neighbours, computed on first use and kept until the beacon's links change
+        self._ordered = _Memo(self._lattice_order)
         # per beacon, until its links change: its comm neighbours, their rows of _xy, and
         # which of them are lattice neighbours (what the relative-positioning sensor sees)
         self._near: dict[int, tuple[list[int], np.ndarray, np.ndarray]] = {}
         self._members: _Members | None = None  # what signals() returns, kept up to date
         self.forwards = GradientFlood(
-            comms, "forwards", params.forwards_start, +1, links=self.lattice_neighbours
+            comms, "forwards", params.forwards_start, +1, links=self._ordered.__getitem__
         )
         self.reverse = GradientFlood(
-            comms, "reverse", params.reverse_start, -1, floor=0, links=self.lattice_neighbours
+            comms, "reverse", params.reverse_start, -1, floor=0, links=self._ordered.__getitem__
         )
         self.forwards.on_change(self._hop_changed)
         self.reverse.on_change(self._hop_changed)
@@ -269,17 +270,18 @@ class BeaconNetwork:
         same-time events): first the neighbours that attached earlier, in attach order, then
         the later ones in the order of this beacon's picks.
         """
-        ordered = self._ordered.get(robot)
-        if ordered is None:
-            links = self._links.get(robot)
-            if not links:
-                return []
-            turn = self._turn
-            mine = turn[robot]
-            earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
-            later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
-            ordered = self._ordered[robot] = earlier + later
-        return ordered
+        return self._ordered[robot]
+
+    def _lattice_order(self, robot: int) -> list[int]:
+        """:meth:`lattice_neighbours` worked out from the links and attach turns."""
+        links = self._links.get(robot)
+        if not links:
+            return []
+        turn = self._turn
+        mine = turn[robot]
+        earlier = sorted((o for o in links if turn[o] < mine), key=turn.__getitem__)
+        later = [o for o in self._picks[robot].values() if o in links and turn[o] > mine]
+        return earlier + later
 
     @property
     def lattice(self) -> nx.Graph:
@@ -644,6 +646,21 @@ class _Members:
             vectors=np.delete(self.vectors, row, axis=0),
             to_empty=np.delete(self.to_empty, row),
         )
+
+
+class _Memo(dict):
+    """A cache that fills a missing key with ``compute(key)`` and keeps it until popped: one
+    subscript, a C call, to read (the floods read each beacon's lattice links millions of
+    times; a Python method per read was a tenth of a large swarm's run).
+    """
+
+    def __init__(self, compute: Callable[[int], list[int]]) -> None:
+        super().__init__()
+        self._compute = compute
+
+    def __missing__(self, key: int) -> list[int]:
+        value = self[key] = self._compute(key)
+        return value
 
 
 def _to_empty(beacon: Beacon) -> bool:
