@@ -119,7 +119,7 @@ def _broadcast_arrivals(how: str, **network) -> list:
     (node 3 leaves before its copy arrives), with ``network`` attributes set first; then the
     messages counted (``None`` in place of the arrivals if the method declined). Copies sent
     together are sorted at arrival as their receivers sort them, by the links that hold then
-    (``CommNetwork.linked``)."""
+    (``CommNetwork.delivered``)."""
     env, net, *_ = build([(1.0, 1.0), (3.0, 1.0), (1.0, 3.0), (3.0, 3.0)])
     for name, value in network.items():
         setattr(net, name, value)
@@ -127,7 +127,7 @@ def _broadcast_arrivals(how: str, **network) -> list:
 
     def arrived_together(value: tuple) -> None:
         src, dsts, payload = value
-        delivered = [dst for dst in dsts if dst in net.linked(src)]
+        delivered = net.delivered(src, dsts)
         got.append((src, delivered, len(dsts) - len(delivered), payload, env.now))
 
     dsts = [2, 1, 3]

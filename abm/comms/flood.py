@@ -192,14 +192,11 @@ class GradientFlood:
         """
         src, dsts, epoch, value = arrival
         self.in_flight -= len(dsts)
-        linked = self.network.linked(src)
-        for dst in dsts:
-            if dst not in linked:  # a link broke on the way: drop its copy
-                dsts = [dst for dst in dsts if dst in linked]
-                self._lost_since_restart = True
-                break
+        delivered = self.network.delivered(src, dsts)
+        if len(delivered) != len(dsts):  # a link broke on the way: its copy is dropped
+            self._lost_since_restart = True
         epoch_of, values, step = self._epoch_of, self.values, self.step
-        for dst in dsts:
+        for dst in delivered:
             # _receive inlined: most copies of a wave arrive where a value as good is held
             current_epoch = epoch_of.get(dst, 0)
             if epoch < current_epoch:

@@ -15,7 +15,7 @@ burst's probability: it is dropped (``on_drop``), not delayed. A node added with
 is off the arena (a base station, a laptop): its radio reaches every node.
 """
 
-from collections.abc import Callable, Container, Iterable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
 import networkx as nx
@@ -388,7 +388,7 @@ class CommNetwork:
         :meth:`broadcast`).
 
         The receivers then take only the copies whose link still holds, in ``dsts`` order,
-        checked together before any is handled (:meth:`linked`): the same messages, order and
+        checked together before any is handled (:meth:`delivered`): the same messages, order and
         arrival as :meth:`broadcast`, without its per-call options, its copy of ``dsts`` and a
         call per arrival to sort the copies (``value`` carries what the receiver needs: the
         sender, ``dsts``, the payload). ``dsts`` must not change until the copies arrive.
@@ -402,13 +402,19 @@ class CommNetwork:
             self._call_later(self.latency, on_arrival, value)
         return True
 
-    def linked(self, node: Node) -> Container[Node]:
-        """The nodes ``node`` has a link to now (none once it left the network)."""
-        return self.graph._adj.get(node, ())
+    def delivered(self, src: Node, dsts: list[Node]) -> list[Node]:
+        """Which copies of a broadcast from ``src`` to ``dsts`` arriving now are delivered:
+        those whose link still holds (none once ``src`` left), in ``dsts`` order, all checked
+        before any is handled. ``dsts`` itself when every link holds (do not change it).
+        """
+        linked = self.graph._adj.get(src, ())
+        for dst in dsts:
+            if dst not in linked:
+                return [dst for dst in dsts if dst in linked]
+        return dsts
 
     def _arrive_together(self, arrival: tuple) -> None:
         """The copies of one broadcast arrive: their links checked together, then handed over."""
         src, dsts, payload, on_arrival = arrival
-        linked = self.linked(src)
-        delivered = [dst for dst in dsts if dst in linked]
+        delivered = self.delivered(src, dsts)
         on_arrival(src, delivered, len(dsts) - len(delivered), payload)
