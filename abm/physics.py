@@ -374,48 +374,70 @@ class Physics:
     def _robot_contacts(self) -> None:
         """Elastic robot-robot collisions; each new contact counts 2 (one per robot).
 
-        Touching pairs come from :meth:`_touching_pairs`; contacts are compared with the last
-        tick's as sorted integer keys.
+        The touching pairs, their impulses and which contacts are new are one compiled step,
+        :func:`_contacts_now`, on the candidates of :meth:`_contact_candidates`.
         """
-        n = len(self.ids)
-        if n < 2:
+        if len(self.ids) < 2:
             self._pairs_in_contact = self._pairs_in_contact[:0]
             return
-        i, j = self._touching_pairs()
-        if len(i) == 0:
-            self._pairs_in_contact = self._pairs_in_contact[:0]
-            return
-        _bounce(self.pos, self.vel, i, j)
-        ids_i, ids_j = self.ids[i], self.ids[j]
-        now = np.sort(np.minimum(ids_i, ids_j) << 32 | np.maximum(ids_i, ids_j))  # pairs unique
-        before = self._pairs_in_contact
-        if len(before):  # both sorted: a binary search per contact
-            at = np.minimum(np.searchsorted(before, now), len(before) - 1)
-            new = now[before[at] != now]
-        else:
-            new = now
+        now, new = _contacts_now(
+            self.pos,
+            self.vel,
+            *self._contact_candidates(),
+            2 * self.params.body_radius,
+            self.ids,
+            self._pairs_in_contact,
+        )
         self._pairs_in_contact = now
-        self.robot_collisions += 2 * len(new)
-        if self.on_collision is not None:
-            for key in new.tolist():
-                self.on_collision("robot", key >> 32, key & _LOW)
+        if len(new):
+            self.robot_collisions += 2 * len(new)
+            if self.on_collision is not None:
+                for key in new.tolist():
+                    self.on_collision("robot", key >> 32, key & _LOW)
 
-    def _touching_pairs(self) -> tuple[np.ndarray, np.ndarray]:
-        """Row pairs ``i < j`` closer than two body radii, in lexicographic order: exactly
-        :func:`abm.neighbours.pairs_within` ``(pos, 2 r)``, from a Verlet list.
+    def _contact_candidates(self) -> tuple[np.ndarray, np.ndarray]:
+        """Row pairs ``i < j`` that may touch, in lexicographic order: a Verlet list that holds
+        every pair :func:`abm.neighbours.pairs_within` ``(pos, 2 r)`` finds.
 
         The cell-list search runs with a skin (``CONTACT_SKIN_TICKS`` ticks of the largest
         move) and is reused while no flyer has moved more than half the skin since: two bodies
         touching now were then within two radii plus the skin. Each tick only measures the
         candidates, so the search (the costly part at 100,000 flyers) runs every few ticks.
         """
-        reach = 2 * self.params.body_radius
         if self._candidates is None or _moved_beyond(
             self.pos, self._searched_at, 0.5 * self._skin * (1.0 - 1e-9)
         ):
-            self._candidates = pairs_within(self.pos, reach + self._skin)
+            self._candidates = pairs_within(self.pos, 2 * self.params.body_radius + self._skin)
             self._searched_at = self.pos.copy()
-        return _closer_than(self.pos, *self._candidates, reach)
+        return self._candidates
+
+
+@njit(cache=True)
+def _contacts_now(
+    pos: np.ndarray,
+    vel: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    reach: float,
+    ids: np.ndarray,
+    before: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The contacts now among the candidate row pairs, bounced (:func:`_bounce`, in place).
+
+    Returns the contacts as sorted keys ``low_id << 32 | high_id``, and the keys not in
+    ``before`` (last tick's, sorted): the new contacts, found by a binary search each.
+    """
+    first, second = _closer_than(pos, first, second, reach)
+    _bounce(pos, vel, first, second)
+    now = np.empty(first.shape[0], dtype=np.int64)
+    for k in range(first.shape[0]):
+        a, b = ids[first[k]], ids[second[k]]
+        now[k] = (min(a, b) << 32) | max(a, b)
+    now.sort()  # the pairs are unique, so are the keys
+    if before.shape[0] == 0:
+        return now, now
+    at = np.minimum(np.searchsorted(before, now), before.shape[0] - 1)
+    return now, now[before[at] != now]
 
 
 @njit(cache=True)

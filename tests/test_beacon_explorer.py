@@ -310,7 +310,15 @@ def _open_room_rules(**changes):
     """A 15 m x 15 m room and the explorers' compiled constants (``changes`` replaced)."""
     room = [(ix, iy) for ix in range(5) for iy in range(5)]
     model, _ = settled_network(room, (1.5, 1.5), [(13.5, 13.5)])
-    return model.arena, model.physics.controller._constants._replace(**changes)
+    return model.arena, _replaced(model.physics.controller._constants[0], **changes)
+
+
+def _replaced(constants, **changes):
+    """A copy of the controller's constants record with ``changes`` made."""
+    copy = np.array([constants])
+    for name, value in changes.items():
+        copy[name] = value
+    return copy[0]
 
 
 def _guides(points, arena, p, to_empty=(False, False)):
@@ -350,9 +358,9 @@ def test_an_explorer_keeps_its_guide_until_another_beacon_is_the_hysteresis_near
     less than that much nearer, and changes once the other is."""
     arena, p = _open_room_rules(guide_commit=False)
     wobbling = [(7.5 + (wobble if k % 2 else -wobble), 7.5) for k in range(2 * n)]
-    assert _guides(wobbling, arena, p._replace(guide_hysteresis=0.0)) == [0, 1] * n
+    assert _guides(wobbling, arena, _replaced(p, guide_hysteresis=0.0)) == [0, 1] * n
     assert _guides(wobbling, arena, p) == [0] * (2 * n)
-    beyond = 0.5 * p.guide_hysteresis + 0.01  # beacon 1 now more than the hysteresis nearer
+    beyond = 0.5 * p["guide_hysteresis"] + 0.01  # beacon 1 now more than the hysteresis nearer
     assert _guides([(7.5 + beyond, 7.5)], arena, p) == [1]
 
 
@@ -364,7 +372,7 @@ def test_an_explorer_committed_to_an_empty_spot_keeps_its_guide_while_in_touch()
     arena, p = _open_room_rules()
     near_1 = [(8.8, 7.5)]  # 2.8 m from beacon 0, 0.2 m from beacon 1
     assert _guides(near_1, arena, p, to_empty=(True, False)) == [0]
-    assert _guides(near_1, arena, p._replace(guide_commit=False), to_empty=(True, False)) == [1]
+    assert _guides(near_1, arena, _replaced(p, guide_commit=False), to_empty=(True, False)) == [1]
     assert _guides([(10.5, 7.5)], arena, p, to_empty=(True, False)) == [1]  # 4.5 m > C_r
 
 
@@ -387,7 +395,7 @@ def test_an_explorer_pressed_against_an_obstacle_slides_along_it():
     both read alike alternates sides (a door's edge: the first way may lead back). Moving, or
     near its goal, it never slides; ``slide_after=None`` turns the rule off."""
     _arena, p = _open_room_rules()
-    ticks = int(round(p.slide_after / p.dt))
+    ticks = int(round(p["slide_after"] / p["dt"]))
     still = [(5.0, 5.0)] * (4 * ticks + 4)
     east = (3.0, 0.0)  # goal 3 m east: left of it is north
     answers = _slides(still, east, (5.0, 1.0, 1.0, 1.0), p)  # north reads far
@@ -400,7 +408,7 @@ def test_an_explorer_pressed_against_an_obstacle_slides_along_it():
     moving = [(5.0 + 0.1 * k, 5.0) for k in range(4 * ticks)]
     assert not any(_slides(moving, east, (5.0, 1.0, 1.0, 1.0), p))
     assert not any(_slides(still, (0.3, 0.0), (5.0, 1.0, 1.0, 1.0), p))  # goal reached
-    assert not any(_slides(still, east, (5.0, 1.0, 1.0, 1.0), p._replace(slide_after=math.inf)))
+    assert not any(_slides(still, east, (5.0, 1.0, 1.0, 1.0), _replaced(p, slide_after=math.inf)))
 
 
 @settings(max_examples=40, deadline=None)

@@ -176,24 +176,40 @@ def test_the_flight_step_split_over_threads_equals_one_pass(seed):
     assert same_runs(one_pass, threaded)
 
 
-def test_touching_pairs_are_the_pairs_closer_than_two_radii():
-    """Checked tick by tick against a direct search while flyers join, move and leave."""
+def test_contacts_are_the_pairs_closer_than_two_radii():
+    """Checked tick by tick against a direct search while flyers join, move and leave: the
+    contacts kept (as id keys) and the new ones counted and reported."""
     from abm.neighbours import pairs_within
 
     rng = np.random.default_rng(3)
     arena = Arena(np.ones((6, 6), dtype=bool), 1.0)
     env = simpy.Environment()
     physics = Physics(env, arena, rng, Crowd(rng), params=FlightParams(max_speed=2.0))
+    reported = []
+    physics.on_collision = lambda kind, a, b: reported.append((kind, a, b))
+    measure = physics._robot_contacts
+    ticks = []
+
+    def checked_contacts():
+        before = set(physics._pairs_in_contact.tolist())
+        reported.clear()
+        counted = physics.robot_collisions
+        i, j = pairs_within(physics.pos, 2 * physics.params.body_radius)
+        a, b = physics.ids[i], physics.ids[j]
+        expected = np.sort(np.minimum(a, b) << 32 | np.maximum(a, b))
+        measure()
+        assert np.array_equal(physics._pairs_in_contact, expected)
+        new = sorted(set(expected.tolist()) - before)
+        assert reported == [("robot", key >> 32, key & (2**32 - 1)) for key in new]
+        assert physics.robot_collisions - counted == 2 * len(new)
+        ticks.append((len(expected), len(new)))
+
+    physics._robot_contacts = checked_contacts
     cells = arena.free_cell_centres()
     physics.fly_many(range(40), cells[rng.integers(len(cells), size=40)])
-    touching = 0
-    for step in range(1, 200):
-        env.run(until=step * physics.dt)
-        expected = pairs_within(physics.pos, 2 * physics.params.body_radius)
-        found = physics._touching_pairs()
-        assert all(np.array_equal(f, e) for f, e in zip(found, expected, strict=True))
-        touching += len(found[0])
-    assert touching > 0
+    env.run(until=200 * physics.dt)
+    assert len(ticks) >= 150
+    assert sum(t for t, _ in ticks) > 0 and sum(n for _, n in ticks) > 0
 
 
 @settings(max_examples=300, deadline=None)
