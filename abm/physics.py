@@ -171,6 +171,21 @@ class Physics:
         self.controller = controller
         self.positions_out = positions_out
         self.dt = float(dt)
+        p = self.params
+        #: The arguments of :func:`gridkernels.flight_rows` that stay fixed (the parameters are
+        #: frozen), from the body noise scale to the body radius.
+        self._flight_constants = (
+            p.body_noise,
+            arena.padded,
+            arena.resolution,
+            p.mass,
+            p.tau,
+            p.max_force,
+            0.5 * p.rho * p.area * p.drag_coefficient,
+            p.max_speed,
+            self.dt,
+            p.body_radius,
+        )
         self.on_collision = on_collision
         self.owner = owner
         self.ids = np.empty(0, dtype=np.int64)
@@ -336,23 +351,10 @@ class Physics:
         if p.body_noise > 0:
             self.rng.standard_normal(out=noise)
         contact = np.empty(n, dtype=bool)
-        args = (
-            self.pos,
-            self.vel,
-            desired,
-            noise,
-            p.body_noise,
-            self.arena.padded,
-            self.arena.resolution,
-            p.mass,
-            p.tau,
-            p.max_force,
-            0.5 * p.rho * p.area * p.drag_coefficient,
-            p.max_speed,
-            self.dt,
-            p.body_radius,
-            contact,
-        )
+        args = (self.pos, self.vel, desired, noise, *self._flight_constants, contact)
+        if n < 2 * ROWS_PER_THREAD:  # one range (row_chunks), without its cost per tick
+            self.distance += gridkernels.flight_rows(*args, 0, n)
+            return contact
         (first, last), *others = row_chunks(n)
         pool = _thread_pool() if others else None
         elsewhere = [pool.submit(gridkernels.flight_rows, *args, *rows) for rows in others]
