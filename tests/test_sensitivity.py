@@ -111,6 +111,29 @@ def test_restart_skips_finished_points_and_reruns_a_missing_one(tmp_path, capsys
         execute(other, out, executor="serial", progress=False)
 
 
+def test_a_sobol_design_grows_keeping_its_runs_and_no_other_change_is_taken(tmp_path, capsys):
+    """Raising a Sobol' design's n runs only the new base points: the sample of n = 8 is the
+    first 40 rows of the sample of n = 16. A smaller n, another seed, or a Latin hypercube
+    drawn anew at a larger n are refused (their samples do not start with the folder's)."""
+    out, fresh = tmp_path / "out", tmp_path / "fresh"
+    execute(Sweep(ISHIGAMI, {}, design=_design("sobol", 8, 5)), out, executor="serial")
+    stamps = {p: p.stat().st_mtime_ns for p in (out / "runs").glob("*.parquet")}
+    assert len(stamps) == 40
+    capsys.readouterr()
+    grown = execute(Sweep(ISHIGAMI, {}, design=_design("sobol", 16, 5)), out, executor="serial")
+    assert "skipping 40 runs already in" in capsys.readouterr().err
+    assert all(p.stat().st_mtime_ns == t for p, t in stamps.items())
+    alone = execute(Sweep(ISHIGAMI, {}, design=_design("sobol", 16, 5)), fresh, executor="serial")
+    pd.testing.assert_frame_equal(_stable(grown), _stable(alone))
+    assert read_manifest(out)["points"] == read_manifest(fresh)["points"]
+    for other in (_design("sobol", 8, 5), _design("sobol", 32, 6)):
+        with pytest.raises(SweepError, match="another design"):
+            execute(Sweep(ISHIGAMI, {}, design=other), out, executor="serial")
+    execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 21, 5)), tmp_path / "lhs", executor="serial")
+    with pytest.raises(SweepError, match="may only grow"):
+        execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 22, 5)), tmp_path / "lhs")
+
+
 def load_sweep_like(sweep: Sweep) -> Sweep:
     """The same sweep built anew (as a restart reads its file again)."""
     return Sweep(sweep.model, {}, design=sweep.design.manifest() | {

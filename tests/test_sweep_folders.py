@@ -483,3 +483,47 @@ def test_a_plan_accepts_exactly_its_own_rows(tmp_path_factory, periods, reps, se
         rid = next((s.run_id for s in specs if s.run_id != rid), "0123456789abcdef")
     with pytest.raises(CorruptResultError):
         index.match(read, rid)
+
+
+_VALUES = st.one_of(
+    st.integers(-3, 3),
+    st.sampled_from([0.0, 1.0, -2.0, 0.5, float("nan"), True, False, None, "a", "1"]),
+    st.lists(st.sampled_from([0, 1, 1.0, True, None, "a"]), max_size=2),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    points=st.lists(st.dictionaries(st.sampled_from(["x", "y", "z"]), _VALUES, min_size=1),
+                    min_size=1, max_size=12),
+    row=st.dictionaries(st.sampled_from(["x", "y", "z", "w"]), _VALUES),
+    pick=st.integers(0, 11),
+)  # fmt: skip
+def test_points_are_found_by_key_exactly_as_compared_one_by_one(points, row, pick):
+    """The plan's points a row holds, looked up by key, are those a comparison of every point
+    by value finds (1 and 1.0 alike, True not 1, None and NaN alike), in plan order."""
+    from analysis.sweep.integrity import CorruptResultError
+    from analysis.sweep.membership import PlanIndex, _holds
+
+    index = PlanIndex({"points": points})
+    assert index._index is not None
+    for candidate in (row, {**row, **points[pick % len(points)]}):
+        expected = [p for p in index.points if _holds(candidate, p)]  # NaN != NaN: by identity
+        if expected:
+            assert list(map(id, index._points(candidate))) == list(map(id, expected))
+        else:
+            with pytest.raises(CorruptResultError):
+                index._points(candidate)
+
+
+def test_a_design_of_24000_points_matches_a_row_without_reading_them_all():
+    """A restart checks every run file against the plan: a 4,096-base-point Sobol' design has
+    24,576 points, and comparing each file with each point took minutes per thousand files."""
+    from analysis.sweep.membership import PlanIndex
+
+    points = [{"a": k * 0.25, "b": k % 7, "c": "corridor"} for k in range(24_000)]
+    index = PlanIndex({"points": points, "design": {"kind": "sobol"}})
+    started = time.perf_counter()
+    for k in range(0, 24_000, 12):
+        assert index._points({"a": k * 0.25, "b": k % 7, "c": "corridor", "x": 1}) == [points[k]]
+    assert time.perf_counter() - started < 2.0  # a scan point by point: about a minute

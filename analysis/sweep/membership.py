@@ -33,6 +33,7 @@ class PlanIndex:
         self.replications = int(manifest.get("replications", 1))
         self.seed = int(manifest.get("seed", 0))
         self.common = bool(manifest.get("design"))  # a design's runs share seeds per rep
+        self._index = _index_points(self.points)
 
     @classmethod
     def of(cls, sweep: Sweep) -> "PlanIndex":
@@ -102,12 +103,63 @@ class PlanIndex:
         return params
 
     def _points(self, row: Mapping) -> list[dict]:
+        """The plan's points whose every value ``row`` holds (by :func:`_same`), in plan order:
+        looked up by key (a design's 24,000 points against 24,000 run files on a restart), or
+        compared one by one where a value cannot be a key.
+        """
         if not self.points:
             return [{}]
-        hits = [p for p in self.points if all(_same(row.get(k, _NONE), v) for k, v in p.items())]
+        if self._index is None:
+            hits = [p for p in self.points if _holds(row, p)]
+        else:
+            found = []
+            for keys, table in self._index.items():
+                try:
+                    found += table.get(tuple(_key(row.get(k, _NONE)) for k in keys), [])
+                except TypeError:  # the row's value cannot be a key (and so is no point's)
+                    continue
+            hits = [p for _, p in sorted(found, key=lambda hit: hit[0])]
         if not hits:
             raise CorruptResultError("wrong-params", "its parameters are none of the plan's points")
         return hits
+
+
+def _holds(row: Mapping, point: Mapping) -> bool:
+    """Whether ``row`` holds every value of ``point``."""
+    return all(_same(row.get(k, _NONE), v) for k, v in point.items())
+
+
+def _index_points(points: list[dict]) -> dict | None:
+    """The points by their keys, then by :func:`_key` of their values: ``{keys: {values:
+    [(position, point), ...]}}``; None if some value cannot be a key.
+    """
+    index: dict[tuple, dict[tuple, list]] = {}
+    for position, point in enumerate(points):
+        keys = tuple(sorted(point))
+        try:
+            values = tuple(_key(point[k]) for k in keys)
+            index.setdefault(keys, {}).setdefault(values, []).append((position, point))
+        except TypeError:
+            return None
+    return index
+
+
+def _key(value: object) -> object:
+    """A dict key for ``value`` such that two values have equal keys exactly when
+    :func:`_same` calls them equal (a missing column, ``_NONE``, equals nothing, itself too:
+    no point holds it).
+    """
+    if value is _NONE:
+        return _NONE
+    value = _plain(value)
+    if isinstance(value, list):
+        return ("list", *(_key(v) for v in value))
+    if isinstance(value, bool):
+        return ("bool", value)
+    if _missing(value):
+        return ("missing",)
+    hash(value)  # TypeError for a value that cannot be a key
+    return value
 
 
 def _plain(value: object) -> object:

@@ -202,12 +202,15 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
                     f"{out} holds a sweep with {key} {old.get(key)!r}, this one has "
                     f"{manifest[key]!r}: choose another output folder"
                 )
-        if _plain_json(old.get("design")) != _plain_json(manifest.get("design")) or (
-            "design" in manifest and _plain_json(old["points"]) != _plain_json(manifest["points"])
-        ):
+        same_points = _plain_json(old.get("points")) == _plain_json(manifest["points"])
+        same_design = _plain_json(old.get("design")) == _plain_json(manifest.get("design")) and (
+            "design" not in manifest or same_points
+        )
+        if not (same_design or _design_grows(old, manifest)):
             raise SweepError(
                 f"{out} holds a sweep with another design (or a sample SALib drew otherwise): "
-                "a design's sample is its plan; choose another output folder"
+                "a design's sample is its plan, and it may only grow (a larger n whose sample "
+                "starts with the folder's, as a Sobol' sample does); choose another output folder"
             )
         if "units" in old and old["units"] != manifest.get("units"):
             changed = sorted(
@@ -228,8 +231,9 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
             k: list(dict.fromkeys(old["grid"].get(k, []) + v)) for k, v in manifest["grid"].items()
         }
         manifest["grid"] = grid
-        points = old.get("points", [])
-        manifest["points"] = points + [p for p in manifest["points"] if p not in points]
+        if "design" not in manifest:  # a design's points are its sample, checked above
+            points = old.get("points", [])
+            manifest["points"] = points + [p for p in manifest["points"] if p not in points]
         manifest["replications"] = max(old.get("replications", 1), manifest["replications"])
         manifest["created"] = old.get("created")
     manifest.setdefault("created", datetime.datetime.now().isoformat(timespec="seconds"))
@@ -240,6 +244,21 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
     for sub in RESULT_FOLDERS:
         (out / sub).mkdir(exist_ok=True)
     return moved
+
+
+def _design_grows(old: dict, new: dict) -> bool:
+    """Whether ``new``'s design is ``old``'s with a larger ``n`` whose sample begins with
+    ``old``'s sample, row for row: every finished run stays a run of the plan, and the runs of
+    the first rows are a smaller design's (a Sobol' sample's leading base points are the
+    smaller sample). Latin hypercubes and Morris trajectories drawn anew do not grow this way.
+    """
+    before, after = _plain_json(old.get("design")), _plain_json(new.get("design"))
+    if not (isinstance(before, dict) and isinstance(after, dict)):
+        return False
+    if {**before, "n": 0} != {**after, "n": 0} or not after["n"] > before["n"]:
+        return False
+    rows = _plain_json(old.get("points", []))
+    return _plain_json(new["points"][: len(rows)]) == rows
 
 
 def _check_manifest(manifest: object) -> dict:
