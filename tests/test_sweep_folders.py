@@ -506,6 +506,7 @@ def test_points_are_found_by_key_exactly_as_compared_one_by_one(points, row, pic
     from analysis.sweep.membership import PlanIndex, _holds
 
     index = PlanIndex({"points": points})
+    gridded = PlanIndex({"points": points, "grid": {"w": [0, "a"]}})
     assert index._index is not None
     for candidate in (row, {**row, **points[pick % len(points)]}):
         expected = [p for p in index.points if _holds(candidate, p)]  # NaN != NaN: by identity
@@ -514,6 +515,21 @@ def test_points_are_found_by_key_exactly_as_compared_one_by_one(points, row, pic
         else:
             with pytest.raises(CorruptResultError):
                 index._points(candidate)
+        for plan_index in (index, gridded):
+            assert plan_index.holds(candidate, 0) == _holds_by_scan(plan_index, candidate)
+
+
+def _holds_by_scan(index, params: dict) -> bool:
+    """Whether the plan has the run ``params`` (exactly these keys), every point compared."""
+    from analysis.sweep.membership import _same
+
+    for point in index.points:
+        if set(params) == set(index.grid) | set(point) and all(
+            any(_same(params[k], v) for v in vs) for k, vs in index.grid.items()
+        ):
+            if all(_same(params[k], v) for k, v in point.items()):
+                return True
+    return False
 
 
 def test_a_design_of_24000_points_matches_a_row_without_reading_them_all():
@@ -526,4 +542,5 @@ def test_a_design_of_24000_points_matches_a_row_without_reading_them_all():
     started = time.perf_counter()
     for k in range(0, 24_000, 12):
         assert index._points({"a": k * 0.25, "b": k % 7, "c": "corridor", "x": 1}) == [points[k]]
+        assert index.holds(points[k], 0)
     assert time.perf_counter() - started < 2.0  # a scan point by point: about a minute

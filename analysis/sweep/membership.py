@@ -79,15 +79,11 @@ class PlanIndex:
         """True when this plan has the run (``params``, ``rep``) (exactly these keys)."""
         if rep >= self.replications:
             return False
-        points = self.points or [{}]
         keys = set(params)
-        for point in points:
-            if keys != set(self.grid) | set(point):
-                continue
-            in_grid = all(any(_same(params[k], v) for v in vs) for k, vs in self.grid.items())
-            if in_grid and all(_same(params[k], v) for k, v in point.items()):
-                return True
-        return False
+        points = self._holding(params) if self.points else [{}]
+        return any(keys == set(self.grid) | set(point) for point in points) and all(
+            any(_same(params[k], v) for v in vs) for k, vs in self.grid.items()
+        )
 
     def _params(self, row: Mapping) -> dict:
         params = {}
@@ -103,25 +99,27 @@ class PlanIndex:
         return params
 
     def _points(self, row: Mapping) -> list[dict]:
+        if not self.points:
+            return [{}]
+        hits = self._holding(row)
+        if not hits:
+            raise CorruptResultError("wrong-params", "its parameters are none of the plan's points")
+        return hits
+
+    def _holding(self, row: Mapping) -> list[dict]:
         """The plan's points whose every value ``row`` holds (by :func:`_same`), in plan order:
         looked up by key (a design's 24,000 points against 24,000 run files on a restart), or
         compared one by one where a value cannot be a key.
         """
-        if not self.points:
-            return [{}]
         if self._index is None:
-            hits = [p for p in self.points if _holds(row, p)]
-        else:
-            found = []
-            for keys, table in self._index.items():
-                try:
-                    found += table.get(tuple(_key(row.get(k, _NONE)) for k in keys), [])
-                except TypeError:  # the row's value cannot be a key (and so is no point's)
-                    continue
-            hits = [p for _, p in sorted(found, key=lambda hit: hit[0])]
-        if not hits:
-            raise CorruptResultError("wrong-params", "its parameters are none of the plan's points")
-        return hits
+            return [p for p in self.points if _holds(row, p)]
+        found = []
+        for keys, table in self._index.items():
+            try:
+                found += table.get(tuple(_key(row.get(k, _NONE)) for k in keys), [])
+            except TypeError:  # the row's value cannot be a key (and so is no point's)
+                continue
+        return [p for _, p in sorted(found, key=lambda hit: hit[0])]
 
 
 def _holds(row: Mapping, point: Mapping) -> bool:
