@@ -202,11 +202,7 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
                     f"{out} holds a sweep with {key} {old.get(key)!r}, this one has "
                     f"{manifest[key]!r}: choose another output folder"
                 )
-        same_points = _plain_json(old.get("points")) == _plain_json(manifest["points"])
-        same_design = _plain_json(old.get("design")) == _plain_json(manifest.get("design")) and (
-            "design" not in manifest or same_points
-        )
-        if not (same_design or _design_grows(old, manifest)):
+        if not _design_kept(old, manifest):
             raise SweepError(
                 f"{out} holds a sweep with another design (or a sample SALib drew otherwise): "
                 "a design's sample is its plan, and it may only grow (a larger n whose sample "
@@ -246,16 +242,20 @@ def prepare_out(out: Path, sweep: Sweep) -> list[SetAside]:
     return moved
 
 
-def _design_grows(old: dict, new: dict) -> bool:
-    """Whether ``new``'s design is ``old``'s with a larger ``n`` whose sample begins with
-    ``old``'s sample, row for row: every finished run stays a run of the plan, and the runs of
-    the first rows are a smaller design's (a Sobol' sample's leading base points are the
-    smaller sample). Latin hypercubes and Morris trajectories drawn anew do not grow this way.
+def _design_kept(old: dict, new: dict) -> bool:
+    """Whether ``new`` keeps the folder's design: neither has one (a grid), or ``new``'s is
+    ``old``'s with the same or a larger ``n`` and a sample that begins with ``old``'s, row for
+    row. So every finished run stays a run of the plan, and a grown design's first rows are
+    the smaller design's (a Sobol' sample's leading base points are the smaller sample; at the
+    same ``n`` the samples are the same length, so they must be equal). Latin hypercubes and
+    Morris trajectories drawn anew at a larger ``n`` do not begin with the smaller sample.
     """
     before, after = _plain_json(old.get("design")), _plain_json(new.get("design"))
+    if before is None and after is None:
+        return True
     if not (isinstance(before, dict) and isinstance(after, dict)):
         return False
-    if {**before, "n": 0} != {**after, "n": 0} or not after["n"] > before["n"]:
+    if {**before, "n": 0} != {**after, "n": 0} or after["n"] < before["n"]:
         return False
     rows = _plain_json(old.get("points", []))
     return _plain_json(new["points"][: len(rows)]) == rows
