@@ -23,6 +23,7 @@ __all__ = [
     "cardinal_distances",
     "flight_rows",
     "nearest_visible",
+    "nearest_visible_on",
     "raycasts",
     "segments_cross",
     "wall_lengths",
@@ -198,12 +199,27 @@ def nearest_visible(padded, sat, res, points, targets, max_range):
     Only targets in the cells around a point are measured (:func:`abm.neighbours.cell_grid`),
     so the cost grows with points x targets nearby, not points x all targets.
     """
+    if targets.shape[0] == 0:
+        return np.full(points.shape[0], -1, dtype=np.int64)
+    lo, width, dims, _which, start, order = cell_grid(targets, max_range)
+    return nearest_visible_on(
+        padded, sat, res, points, targets, max_range, lo, width, dims, start, order
+    )
+
+
+@njit(cache=True)
+def nearest_visible_on(padded, sat, res, points, targets, max_range, lo, width, dims, start, order):
+    """:func:`nearest_visible` on a grid of the targets built beforehand.
+
+    ``lo, width, dims, start, order`` are those of ``cell_grid(targets, max_range)``: a caller
+    whose targets stay put for many calls (an explorer's beacons, tick after tick) builds the
+    grid once, which costs more than the search itself when a few robots look for their beacon.
+    """
     n = points.shape[0]
     m = targets.shape[0]
     out = np.full(n, -1, dtype=np.int64)
     if m == 0:
         return out
-    lo, width, dims, _which, start, order = cell_grid(targets, max_range)
     rows = np.empty(m, dtype=np.int64)
     dist = np.empty(m)
     for k in range(n):

@@ -241,10 +241,10 @@ class Physics:
         positions = np.asarray(positions, dtype=float).reshape(-1, 2)
         if len(ids) != len(positions):
             raise ValueError(f"{len(ids)} robot ids but {len(positions)} positions")
-        flying = ids[np.isin(ids, self.ids)]
+        flying = ids[_member_of(ids, self.ids)]
         if len(flying):
             raise ValueError(f"robot {int(flying[0])} is already flying")
-        if len(np.unique(ids)) != len(ids):
+        if _distinct(ids) != len(ids):
             raise ValueError(f"robot ids {ids.tolist()} repeat")
         arrived = [self.env.event() for _ in range(len(ids))]
         k = len(ids)
@@ -284,8 +284,8 @@ class Physics:
 
     def _rows(self, robot_ids: Iterable[int]) -> np.ndarray:
         wanted = np.asarray(list(robot_ids), dtype=np.int64)
-        rows = np.nonzero(np.isin(self.ids, wanted))[0]
-        if len(rows) != len(np.unique(wanted)):
+        rows = np.flatnonzero(_member_of(self.ids, wanted))
+        if len(rows) != _distinct(wanted):
             missing = sorted(set(wanted.tolist()) - set(self.ids.tolist()))
             raise ValueError(f"robots {missing} are not flying")
         return rows
@@ -296,7 +296,10 @@ class Physics:
         last = self.pos[rows].copy()
         gone = self.ids[rows]
         pairs = self._pairs_in_contact
-        self._pairs_in_contact = pairs[~(np.isin(pairs >> 32, gone) | np.isin(pairs & _LOW, gone))]
+        if len(pairs):
+            self._pairs_in_contact = pairs[
+                ~(_member_of(pairs >> 32, gone) | _member_of(pairs & _LOW, gone))
+            ]
         self.ids = self.ids[keep]
         self.pos = self.pos[keep]
         self.vel = self.vel[keep]
@@ -496,3 +499,32 @@ def _bounce(pos: np.ndarray, vel: np.ndarray, first: np.ndarray, second: np.ndar
     for k in range(m):
         vel[second[k], 0] += impulse[k, 0]
         vel[second[k], 1] += impulse[k, 1]
+
+
+def _distinct(ids: np.ndarray) -> int:
+    """How many distinct values ``ids`` holds (without ``np.unique``'s sort for one id)."""
+    return len(ids) if len(ids) < 2 else len(np.unique(ids))
+
+
+@njit(cache=True)
+def _member_of(values: np.ndarray, pool: np.ndarray) -> np.ndarray:
+    """``np.isin(values, pool)`` for integer arrays, compiled.
+
+    A flight's start and end ask it four times, mostly of one id against the flyers, where
+    ``np.isin`` costs about 17 us a call whatever the size. When either side is short the
+    values are compared directly (O(values x pool)); two long ones go through a sorted copy
+    of ``pool``.
+    """
+    out = np.zeros(values.shape[0], dtype=np.bool_)
+    if min(values.shape[0], pool.shape[0]) <= 16 or values.shape[0] * pool.shape[0] <= 4096:
+        for i in range(values.shape[0]):
+            for j in range(pool.shape[0]):
+                if values[i] == pool[j]:
+                    out[i] = True
+                    break
+        return out
+    ordered = np.sort(pool)
+    for i in range(values.shape[0]):
+        k = np.searchsorted(ordered, values[i])
+        out[i] = k < ordered.shape[0] and ordered[k] == values[i]
+    return out

@@ -71,6 +71,39 @@ def test_segment_crossing_matches_exact_box_tests(seed):
         assert fast[i] == exact, (a[i], b[i])
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(0, 40), st.sampled_from([1.5, 4.0, 9.0]))
+def test_nearest_visible_is_the_nearest_target_in_range_and_sight(seed, m, max_range):
+    """The cell-grid search (and the same search on a grid built beforehand, as the explorer
+    keeps it between ticks) against every target measured: the nearest within range whose
+    segment crosses no wall, -1 when none.
+    """
+    from abm.gridkernels import nearest_visible_on
+    from abm.neighbours import cell_grid
+
+    arena = random_arena(seed)
+    rng = np.random.default_rng(seed)
+    points = rng.random((30, 2)) * [arena.width, arena.height]
+    targets = rng.random((m, 2)) * [arena.width, arena.height]
+    found = arena.nearest_visible(points, targets, max_range)
+    if m:
+        lo, width, dims, _which, start, order = cell_grid(targets, max_range)
+        kept = nearest_visible_on(
+            arena.padded, arena.walls_sat, arena.resolution, points, targets, max_range,
+            lo, width, dims, start, order,
+        )  # fmt: skip
+        np.testing.assert_array_equal(kept, found)
+    for k, point in enumerate(points):
+        dist = np.hypot(*(targets - point).T)
+        seen = [
+            j
+            for j in np.argsort(dist, kind="stable")
+            if dist[j] <= max_range
+            and not arena.segment_crosses_wall(point[None], targets[j][None])[0]
+        ]
+        assert found[k] == (seen[0] if seen else -1)
+
+
 def test_points_outside_the_grid_are_walls():
     arena = random_arena(1)
     assert not arena.is_free(np.array([[-0.5, 1.0], [1.0, -3.0], [1e6, 1.0]])).any()

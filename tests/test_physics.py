@@ -246,3 +246,21 @@ def test_the_odometer_is_the_path_length_of_the_trace(seed, n):
     points = [starts] + [pos for _t, _ids, pos in physics.trace]
     path = sum(np.hypot(*(b - a).T).sum() for a, b in pairwise(points))
     assert physics.distance == pytest.approx(path, rel=1e-9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 150), st.integers(0, 150), st.integers(1, 400), st.integers(0, 2**32))
+def test_membership_of_ids_is_numpys_isin(n_values, n_pool, spread, seed):
+    """The compiled membership test the physics uses for flyer ids and contact pairs gives
+    ``np.isin``'s answer on short and long arrays alike (its direct path, and its sorted path
+    once both exceed 16 and their product 4096), with repeats (values drawn from ``spread``
+    integers) and 64-bit pair keys.
+    """
+    from abm.physics import _member_of
+
+    rng = np.random.default_rng(seed)
+    a = rng.integers(0, spread, n_values, dtype=np.int64)
+    b = rng.integers(0, spread, n_pool, dtype=np.int64)
+    np.testing.assert_array_equal(_member_of(a, b), np.isin(a, b))
+    a, b = (a << 32) | a, (b << 32) | b
+    np.testing.assert_array_equal(_member_of(a, b), np.isin(a, b))

@@ -17,7 +17,8 @@ import numpy as np
 from numba import njit
 
 from abm.arena import CARDINALS, Arena
-from abm.gridkernels import cardinal_distances, nearest_visible, segment_crosses
+from abm.gridkernels import cardinal_distances, nearest_visible_on, segment_crosses
+from abm.neighbours import cell_grid
 from abm.physics import Physics
 from abm.sensors import measured_relative, noisy_reading
 from models.beacon_explorer.beacon import BeaconNetwork
@@ -85,6 +86,7 @@ class ExplorerController:
         self._version = -1
         self._signals = None
         self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
+        self._placed: tuple | None = None  # the beacons' ids and places, and their look-ups
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
@@ -125,6 +127,19 @@ class ExplorerController:
             self._version = self.beacons.version
         return self._signals
 
+    def _beacons_placed(self, ids: np.ndarray, beacon_pos: np.ndarray) -> tuple:
+        """The beacons' positions (contiguous), the cell grid :func:`nearest_visible_on`
+        searches them with, and their rows by robot id: rebuilt only when a beacon attaches or
+        leaves (the network then hands out new ``ids`` and position arrays; the signals change
+        far more often). Building the grid each tick cost more than the search itself with a
+        few flyers.
+        """
+        if self._placed is None or self._placed[0] is not ids or self._placed[1] is not beacon_pos:
+            pos = np.ascontiguousarray(beacon_pos)
+            lo, width, dims, _which, start, order = cell_grid(pos, self._constants[0]["comm_range"])
+            self._placed = (ids, beacon_pos, pos, (lo, width, dims, start, order), _rows_by_id(ids))
+        return self._placed[2:]
+
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and which of them attach now."""
         n = physics.n_flying
@@ -132,6 +147,7 @@ class ExplorerController:
         if len(beacon_pos) == 0:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
         arena = self.arena
+        placed, grid, row_of = self._beacons_placed(ids, beacon_pos)
         desired, attach = _steer(
             arena.padded,
             arena.runs,
@@ -145,7 +161,9 @@ class ExplorerController:
             physics.flyer_state["slide"],
             physics.flyer_state["loyal"],
             ids,
-            np.ascontiguousarray(beacon_pos),
+            row_of,
+            placed,
+            *grid,
             np.ascontiguousarray(desired_vec),
             to_empty,
             self._corridor,
@@ -171,7 +189,13 @@ def _steer(
     slide,
     loyal,
     ids,
+    row_of,
     beacon_pos,
+    grid_lo,
+    grid_width,
+    grid_dims,
+    grid_start,
+    grid_order,
     desired_vec,
     to_empty,
     corridor,
@@ -182,6 +206,8 @@ def _steer(
 
     ``z`` holds six standard normal draws per flyer: two for the relative-positioning sensor,
     four for the distance sensors; ``constants`` is the one record of :data:`_CONSTANTS`.
+    ``row_of`` gives each beacon's row by robot id and ``grid_*`` is the beacons' cell grid
+    (:meth:`ExplorerController._beacons_placed`).
     ``T`` (the low-pass filtered translation vector) and ``guide`` (the beacon each flyer
     follows) and ``contact`` (where it was last in touch) are updated in place. A flyer out of
     touch with every beacon flies back to that point (``lost_return``; else it hovers).
@@ -191,9 +217,11 @@ def _steer(
     n = pos.shape[0]
     desired = np.zeros((n, 2))
     attach = np.zeros(n, dtype=np.bool_)
-    nearest = nearest_visible(padded, sat, res, pos, beacon_pos, p.comm_range)
+    nearest = nearest_visible_on(
+        padded, sat, res, pos, beacon_pos, p.comm_range,
+        grid_lo, grid_width, grid_dims, grid_start, grid_order,
+    )  # fmt: skip
     walls = cardinal_distances(padded, runs, res, pos, p.sensor_range)
-    row_of = _rows_by_id(ids)
     for i in range(n):
         lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
