@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analysis.sweep.design import MORRIS_LEVELS, Design
+from analysis.sweep.design import MIN_N, MORRIS_LEVELS, Design
 
 __all__ = [
     "BOOKKEEPING",
@@ -73,6 +73,8 @@ class DesignData:
         outputs: metric -> array of one value per sample row (mean over replications).
         notes: why a metric (or the whole design) has no indices.
         censored: metric -> share of runs whose value is only a lower bound.
+        set_by: metric -> the parameter that alone sets it (:func:`_echoed`): its indices
+            hold by construction, so it is left out of the ranking.
 
     """
 
@@ -82,6 +84,7 @@ class DesignData:
         self.outputs: dict[str, np.ndarray] = {}
         self.notes: list[str] = []
         self.censored: dict[str, float] = {}
+        self.set_by: dict[str, str] = {}
 
 
 def design_data(
@@ -121,6 +124,7 @@ def design_data(
         )
         return data
     constant = []
+    groups = _repeated_values(rows, design.names)
     for metric in _metrics(ok, manifest, parameters):
         values = pd.to_numeric(ok[metric], errors="coerce").astype(float)
         if values.isna().any():
@@ -135,14 +139,54 @@ def design_data(
             constant.append(metric)
             continue
         data.outputs[metric] = y
+        source = _echoed(y, groups)
+        if source is not None:
+            data.set_by[metric] = source
     if constant:
         data.notes.append(f"left out, the same in every run: {', '.join(constant)}")
+    if data.set_by:
+        echoes = ", ".join(f"{m} ({p})" for m, p in data.set_by.items())
+        data.notes.append(
+            "left out of the ranking, set by one parameter alone (the same value wherever "
+            f"that parameter has the same value, so their indices hold by construction): "
+            f"{echoes}; their indices are in sensitivity.csv"
+        )
     for spec in censored:
         if spec.metric in data.outputs:
             from analysis.censoring import censored_mask
 
             data.censored[spec.metric] = float(censored_mask(ok, spec).mean())
     return data
+
+
+def _repeated_values(rows: Sequence[dict], names: Sequence[str]) -> dict[str, np.ndarray]:
+    """Per parameter whose values repeat over at least half the design rows, each row's value
+    as a group code (for :func:`_echoed`). A Sobol' sample repeats each value across its
+    matrices, a Morris trajectory along its steps; where a parameter's values are all
+    distinct (a Latin hypercube of a real parameter) nothing could be told, so it is not here.
+    """
+    groups = {}
+    for name in names:
+        codes, uniques = pd.factorize(pd.Series([json.dumps(r[name]) for r in rows]))
+        if len(uniques) <= len(rows) / 2:
+            groups[name] = codes
+    return groups
+
+
+def _echoed(y: np.ndarray, groups: dict[str, np.ndarray]) -> str | None:
+    """The parameter that alone sets ``y`` (one value per design row), or None.
+
+    An output that takes one value wherever a parameter takes one value (a count of robots
+    that echoes ``n_robots``, an energy fixed per robot) has ST = 1 for that parameter and 0
+    for the others whatever the model does: counted in the ranking's mean over metrics, it
+    would pull that parameter up (on the beacon/explorer Sobol' design two such outputs put
+    n_robots first; without them body_radius is first).
+    """
+    for name, codes in groups.items():
+        by_value = pd.Series(y).groupby(codes)
+        if ((by_value.max() - by_value.min()) == 0).all():
+            return name
+    return None
 
 
 def _key(params: dict, names: Sequence[str]) -> str:
@@ -168,7 +212,7 @@ def indices(data: DesignData, convergence: bool = True) -> pd.DataFrame:
     Columns: ``metric``, ``parameter``, ``index`` (``mu_star``, ``sigma``, ``S1``, ``ST``),
     ``value``, ``half`` (half-width of the 95 % bootstrap interval; NaN for sigma), ``n``
     (base points, trajectories or rows used), ``full`` (True for the whole sample),
-    ``censored_share``.
+    ``censored_share``, ``set_by`` (the parameter that alone sets the metric, else empty).
     """
     rows = []
     design = data.design
@@ -186,9 +230,12 @@ def indices(data: DesignData, convergence: bool = True) -> pd.DataFrame:
                         "n": m,
                         "full": m == design.n,
                         "censored_share": data.censored.get(metric, 0.0),
+                        "set_by": data.set_by.get(metric, ""),
                     }
                 )
-    columns = ["metric", "parameter", "index", "value", "half", "n", "full", "censored_share"]
+    columns = [
+        "metric", "parameter", "index", "value", "half", "n", "full", "censored_share", "set_by",
+    ]  # fmt: skip
     return pd.DataFrame(rows, columns=columns)
 
 
@@ -200,7 +247,7 @@ def _subset_sizes(design: Design) -> list[int]:
     elif design.kind == "morris":
         sizes = sorted({int(round(v)) for v in np.geomspace(2, n, min(n - 1, 6))})
     else:
-        sizes = sorted({int(round(v)) for v in np.geomspace(2 * _RBD_HARMONICS + 1, n, 6)})
+        sizes = sorted({int(round(v)) for v in np.geomspace(MIN_N["lhs"], n, 6)})
     return sorted(set(sizes) | {n})
 
 
@@ -260,10 +307,14 @@ def ranking(frame: pd.DataFrame, kind: str, first: Sequence[str] = ()) -> pd.Dat
     metric's column scaled to its largest (Morris mu*; Sobol' ST and RBD-FAST S1 are shares of
     variance already), parameters sorted by their mean over metrics, most influential first;
     the metrics of ``first`` that have indices (e.g. the model's report metrics) in the first
-    columns.
+    columns. Metrics set by one parameter alone (``set_by``) are not ranked, unless no other
+    metric is left.
     """
     index = HEADLINE[kind]
     full = frame[frame["full"] & (frame["index"] == index)]
+    if "set_by" in full:
+        own = full["set_by"].fillna("") == ""
+        full = full[own] if own.any() else full
     table = full.pivot_table(index="parameter", columns="metric", values="value", sort=False)
     if kind == "morris":
         table = table / table.max().replace(0, np.nan)

@@ -153,6 +153,6 @@ def write_csv(blocks: list[dict], path: Path) -> Path | None:
     if not frames:
         return None
     columns = ["sweep", "kind", "metric", "parameter", "index", "value", "half", "n", "full",
-               "censored_share"]  # fmt: skip
+               "censored_share", "set_by"]  # fmt: skip
     pd.concat(frames, ignore_index=True)[columns].to_csv(path, index=False)
     return path

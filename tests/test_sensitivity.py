@@ -32,7 +32,7 @@ def _design(kind: str, n: int, seed: int, parameters: dict | None = None) -> dic
     scale=st.integers(0, 2),
 )
 def test_the_plan_runs_exactly_salibs_sample_rounded_as_stated(kind, seed, scale):
-    n = {"sobol": 8 * 2**scale, "morris": 2 + scale, "lhs": 21 + scale}[kind]
+    n = {"sobol": 8 * 2**scale, "morris": 2 + scale, "lhs": 44 + scale}[kind]
     parameters = {"x1": [-PI, PI], "x2": [0.0, 1.0], "x4": [2, 7]}
     sweep = Sweep(ISHIGAMI, {"time_limit": [1.0]}, design=_design(kind, n, seed, parameters))
     problem = {"num_vars": 3, "names": ["x1", "x2", "x4"],
@@ -65,12 +65,12 @@ def _k(params: dict) -> tuple:
 
 def test_design_points_share_their_seed_per_replication():
     # common random numbers: two design points differ by their parameters, not their seed
-    sweep = Sweep(ISHIGAMI, {}, replications=3, seed=9, design=_design("lhs", 25, 4))
+    sweep = Sweep(ISHIGAMI, {}, replications=3, seed=9, design=_design("lhs", 44, 4))
     runs = plan(sweep)
     by_rep = {rep: {r.seed for r in runs if r.rep == rep} for rep in range(3)}
     assert all(len(seeds) == 1 for seeds in by_rep.values())
     assert len(set.union(*by_rep.values())) == 3
-    assert len({r.run_id for r in runs}) == len(runs) == 75
+    assert len({r.run_id for r in runs}) == len(runs) == 132
 
 
 def test_every_row_maps_each_integer_value_to_an_equal_share():
@@ -129,9 +129,9 @@ def test_a_sobol_design_grows_keeping_its_runs_and_no_other_change_is_taken(tmp_
     for other in (_design("sobol", 8, 5), _design("sobol", 32, 6)):
         with pytest.raises(SweepError, match="another design"):
             execute(Sweep(ISHIGAMI, {}, design=other), out, executor="serial")
-    execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 21, 5)), tmp_path / "lhs", executor="serial")
+    execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 44, 5)), tmp_path / "lhs", executor="serial")
     with pytest.raises(SweepError, match="may only grow"):
-        execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 22, 5)), tmp_path / "lhs")
+        execute(Sweep(ISHIGAMI, {}, design=_design("lhs", 45, 5)), tmp_path / "lhs")
 
 
 def load_sweep_like(sweep: Sweep) -> Sweep:
@@ -184,6 +184,12 @@ def test_sobol_indices_of_sin_x1_through_the_report(tmp_path):
     assert abs(got.loc[("x1", "S1"), "value"] - 1.0) < 0.3
     html = (tmp_path / "s" / "report.html").read_text()
     assert "Sensitivity" in html and "sensitivity_ranking" not in html  # figures embedded
+    # set by x1 alone, its indices hold by construction: kept in the CSV, named, not ranked
+    csv = pd.read_csv(tmp_path / "s" / "sensitivity.csv", keep_default_na=False)
+    assert set(csv.loc[csv["metric"] == "x1_sine", "set_by"]) == {"x1"}
+    assert set(csv.loc[csv["metric"] == "y", "set_by"]) == {""}
+    assert list(ranking(csv, "sobol").columns) == ["y"]
+    assert "set by one parameter alone" in html and "x1_sine (x1)" in html
     assert (tmp_path / "s" / "figures" / "sensitivity_ranking.png").is_file()
     assert (tmp_path / "s" / "figures" / "sensitivity_convergence.png").is_file()
 
@@ -196,13 +202,13 @@ BAD = [
     ('kind = "sobol"\nn = 4\n[design.parameters]\nx1 = [0, 1]\n', "n must be an integer >= 8"),
     ('kind = "sobol"\nn = 24\n[design.parameters]\nx1 = [0, 1]\n', "power of two"),
     ('kind = "morris"\nn = 1\n[design.parameters]\nx1 = [0, 1]\n', "integer >= 2 for a morris"),
-    ('kind = "lhs"\nn = 20\n[design.parameters]\nx1 = [0, 1]\n', "integer >= 21 for a lhs"),
-    ('kind = "lhs"\nn = 30\n[design.parameters]\nx1 = [1, 0]\n', "low < high"),
-    ('kind = "lhs"\nn = 30\n[design.parameters]\nx1 = ["a", "b"]\n', "choices = "),
-    ('kind = "lhs"\nn = 30\nsize = 3\n[design.parameters]\nx1 = [0, 1]\n', "unknown key 'size'"),
-    ('kind = "lhs"\nn = 30\n[design.parameters]\n', "parameters must be a non-empty"),
-    ('kind = "lhs"\nn = 30\n[design.parameters]\nseed = [0, 1]\n', "'seed' is not allowed"),
-    ('kind = "lhs"\nn = 30\n[design.parameters]\nx1 = {choices = [0.0, 9.0]}\n', "choice"),
+    ('kind = "lhs"\nn = 43\n[design.parameters]\nx1 = [0, 1]\n', "integer >= 44 for a lhs"),
+    ('kind = "lhs"\nn = 44\n[design.parameters]\nx1 = [1, 0]\n', "low < high"),
+    ('kind = "lhs"\nn = 44\n[design.parameters]\nx1 = ["a", "b"]\n', "choices = "),
+    ('kind = "lhs"\nn = 44\nsize = 3\n[design.parameters]\nx1 = [0, 1]\n', "unknown key 'size'"),
+    ('kind = "lhs"\nn = 44\n[design.parameters]\n', "parameters must be a non-empty"),
+    ('kind = "lhs"\nn = 44\n[design.parameters]\nseed = [0, 1]\n', "'seed' is not allowed"),
+    ('kind = "lhs"\nn = 44\n[design.parameters]\nx1 = {choices = [0.0, 9.0]}\n', "choice"),
 ]
 
 
@@ -218,17 +224,17 @@ def test_bad_designs_are_refused_in_one_line(tmp_path, design, match):
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        ('[grid]\nworld = ["corridor"]\n[design]\nkind = "lhs"\nn = 30\n'
+        ('[grid]\nworld = ["corridor"]\n[design]\nkind = "lhs"\nn = 44\n'
          "[design.parameters]\nlaunch_period = [0.0, 10.0]\n", r"must be in \(0, inf\]"),
-        ('[grid]\nworld = ["corridor"]\n[design]\nkind = "lhs"\nn = 30\n'
+        ('[grid]\nworld = ["corridor"]\n[design]\nkind = "lhs"\nn = 44\n'
          "[design.parameters]\ncomplexity = [0, 1]\n", "'complexity' range"),
-        ('[grid]\nlaunch_period = [6.0, 24.0]\n[design]\nkind = "lhs"\nn = 30\n'
+        ('[grid]\nlaunch_period = [6.0, 24.0]\n[design]\nkind = "lhs"\nn = 44\n'
          "[design.parameters]\ninterspace = [2.0, 4.0]\n", "takes 2 values"),
-        ('[grid]\nlaunch_period = [6.0]\n[design]\nkind = "lhs"\nn = 30\n'
+        ('[grid]\nlaunch_period = [6.0]\n[design]\nkind = "lhs"\nn = 44\n'
          "[design.parameters]\nlaunch_period = [2.0, 4.0]\n", "also set in"),
-        ('[[points]]\nlaunch_period = 6.0\n[design]\nkind = "lhs"\nn = 30\n'
+        ('[[points]]\nlaunch_period = 6.0\n[design]\nkind = "lhs"\nn = 44\n'
          "[design.parameters]\ninterspace = [2.0, 4.0]\n", "takes no"),
-        ('[design]\nkind = "lhs"\nn = 30\n[design.parameters]\n'
+        ('[design]\nkind = "lhs"\nn = 44\n[design.parameters]\n'
          'complexity = {choices = ["low", "hard"]}\n', "complexity must be one of"),
     ],
 )  # fmt: skip
@@ -266,9 +272,40 @@ def test_explore_runs_reports_and_prints_the_ranking(tmp_path, capsys):
     assert "morris design over 3 parameters, n = 4: 16 sample rows" in text.err
 
 
+@pytest.mark.parametrize("kind", ["morris", "lhs"])
+def test_only_an_output_set_by_one_parameter_is_left_out_of_the_ranking(tmp_path, kind):
+    """sin x1 is set by x1 alone: on a Morris design (x1's levels repeat) it is named and not
+    ranked; on a Latin hypercube every x1 differs, nothing can be told, and it stays. The
+    Ishigami output itself, which x1 does not set alone, is ranked on both.
+    """
+    n = {"morris": 6, "lhs": 60}[kind]
+    sweep = Sweep(ISHIGAMI, {}, design=_design(kind, n, 4711))
+    runs = execute(sweep, tmp_path / kind, executor="serial", progress=False)
+    data = design_data(read_manifest(tmp_path / kind), runs)
+    expected = {"x1_sine": "x1"} if kind == "morris" else {}
+    assert data.set_by == expected
+    frame = indices(data, convergence=False)
+    ranked = set(ranking(frame, {"morris": "morris", "lhs": "lhs"}[kind]).columns)
+    assert ranked == ({"y"} if kind == "morris" else {"y", "x1_sine"})
+
+
+@pytest.mark.parametrize("n", [44, 45, 80])
+def test_a_latin_hypercube_gets_finite_intervals_from_its_smallest_n(tmp_path, n):
+    """RBD-FAST reads M = 10 periodogram frequencies, which need 2M + 2 rows, and its
+    bootstrap draws half the rows: from n = 44 on every interval, on every convergence subset,
+    is a finite positive number (at 40-41 SALib divided by zero, at 42-43 every resample gave
+    S1 = 1 and an interval of 0, below its bias correction's factor exceeded 1).
+    """
+    sweep = Sweep(ISHIGAMI, {}, design=_design("lhs", n, 9))
+    runs = execute(sweep, tmp_path / "l", executor="serial", progress=False)
+    frame = indices(design_data(read_manifest(tmp_path / "l"), runs))
+    assert frame["n"].min() == 44
+    assert np.isfinite(frame["half"]).all() and (frame["half"] > 0).all()
+
+
 def test_the_seed_of_a_design_defaults_to_the_sweeps():
-    a = Sweep(ISHIGAMI, {}, seed=5, design={"kind": "lhs", "n": 30, "parameters": X123})
-    b = Sweep(ISHIGAMI, {}, seed=5, design=_design("lhs", 30, 5))
+    a = Sweep(ISHIGAMI, {}, seed=5, design={"kind": "lhs", "n": 44, "parameters": X123})
+    b = Sweep(ISHIGAMI, {}, seed=5, design=_design("lhs", 44, 5))
     assert a.design.seed == 5 and a.points == b.points
     assert np.isfinite([p["x1"] for p in a.points]).all()
 

@@ -68,7 +68,12 @@ def _print_ranking(csv: Path, kind: str) -> None:
     frame = pd.read_csv(csv)
     table = ranking(frame, kind)
     means = table.mean(axis=1)
-    print(f"ranking by {HEADLINE[kind]} (mean over {table.shape[1]} metrics, 1 = largest):")
+    set_by = frame["set_by"].fillna("") if "set_by" in frame else pd.Series("", frame.index)
+    echoes = sorted(set(frame.loc[set_by != "", "metric"]))
+    unranked = f"; not ranked, set by one parameter alone: {', '.join(echoes)}" if echoes else ""
+    print(
+        f"ranking by {HEADLINE[kind]} (mean over {table.shape[1]} metrics, 1 = largest{unranked}):"
+    )
     for rank, (name, value) in enumerate(means.head(SHOWN).items(), start=1):
         print(f"  {rank:2d}. {name} {value:.3f}")
     if len(means) > SHOWN:
