@@ -49,9 +49,9 @@ DESIGN_KEYS = ("kind", "n", "seed", "parameters")
 #: standard deviation of elementary effects) needs two trajectories; RBD-FAST on a Latin
 #: hypercube (M = 10 harmonics) reads the first M non-zero frequencies of a periodogram, which
 #: has rows // 2 of them: with no more than M, S1 is 1 whatever the model. Its bootstrap draws
-#: half the rows, so each half needs 2M + 2: n >= 44 (with 40 or 41 rows SALib divided by zero,
-#: with 21-39 its bias correction's factor 2M / rows exceeded 1, at 42-43 every resample gave
-#: S1 = 1 and an interval of 0).
+#: half the rows, so each half needs 2M + 2: n >= 44 (below, every resample gave S1 = 1 and
+#: each interval was 0, at n = 21 the indices themselves were all 1, and at 40-41 SALib divided
+#: by zero).
 MIN_N = {"sobol": 8, "morris": 2, "lhs": 44}
 #: Grid levels of a Morris design (SALib's default, Saltelli et al. 2008's p = 4).
 MORRIS_LEVELS = 4
