@@ -324,7 +324,7 @@ def _replaced(constants, **changes):
 def _guides(points, arena, p, to_empty=(False, False)):
     """The beacon (0 or 1) an explorer follows at each of ``points`` in turn, starting with
     beacon 0, between beacons 0 at (6, 7.5) and 1 at (9, 7.5)."""
-    from models.beacon_explorer.explorer import _keep_guide, _rows_by_id
+    from models.beacon_explorer.explorer import _keep_guide
 
     ids = np.array([10, 11])
     beacons = np.array([[6.0, 7.5], [9.0, 7.5]])
@@ -337,7 +337,7 @@ def _guides(points, arena, p, to_empty=(False, False)):
             arena.resolution,
             np.asarray(point, dtype=float),
             guide,
-            _rows_by_id(ids),
+            np.array([-1] * 10 + [0, 1]),  # rows by robot id: 10 -> 0, 11 -> 1
             beacons,
             np.array(to_empty),
             nearest,

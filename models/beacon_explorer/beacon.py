@@ -562,6 +562,12 @@ class BeaconNetwork:
         """Whether each beacon is a corridor beacon, in the order of :meth:`signals`."""
         return self._current_members().corridor
 
+    def rows_by_id(self) -> np.ndarray:
+        """Each beacon's row in :meth:`signals` by robot id (-1: not a beacon), for O(1)
+        look-ups (a new array whenever a beacon attaches or leaves).
+        """
+        return self._current_members().rows
+
     def _current_members(self) -> "_Members":
         """The beacons' arrays, built on first use, then kept up to date: a row added or
         removed as a beacon attaches or detaches (:meth:`_Members.joined`,

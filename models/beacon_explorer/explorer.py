@@ -86,7 +86,8 @@ class ExplorerController:
         self._version = -1
         self._signals = None
         self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
-        self._placed: tuple | None = None  # the beacons' ids and places, and their look-ups
+        self._row_of = np.zeros(0, dtype=np.int64)  # each beacon's row by robot id
+        self._placed: tuple | None = None  # the beacons' places and their cell grid
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
@@ -124,21 +125,21 @@ class ExplorerController:
         if self._version != self.beacons.version:
             self._signals = self.beacons.signals()
             self._corridor = self.beacons.corridors()
+            self._row_of = self.beacons.rows_by_id()
             self._version = self.beacons.version
         return self._signals
 
-    def _beacons_placed(self, ids: np.ndarray, beacon_pos: np.ndarray) -> tuple:
-        """The beacons' positions (contiguous), the cell grid :func:`nearest_visible_on`
-        searches them with, and their rows by robot id: rebuilt only when a beacon attaches or
-        leaves (the network then hands out new ``ids`` and position arrays; the signals change
-        far more often). Building the grid each tick cost more than the search itself with a
-        few flyers.
+    def _beacons_placed(self, beacon_pos: np.ndarray) -> tuple:
+        """The beacons' positions (contiguous) and the cell grid :func:`nearest_visible_on`
+        searches them with: rebuilt only when a beacon attaches or leaves (the network then
+        hands out a new position array; the signals change far more often). Building the grid
+        each tick cost more than the search itself with a few flyers.
         """
-        if self._placed is None or self._placed[0] is not ids or self._placed[1] is not beacon_pos:
+        if self._placed is None or self._placed[0] is not beacon_pos:
             pos = np.ascontiguousarray(beacon_pos)
             lo, width, dims, _which, start, order = cell_grid(pos, self._constants[0]["comm_range"])
-            self._placed = (ids, beacon_pos, pos, (lo, width, dims, start, order), _rows_by_id(ids))
-        return self._placed[2:]
+            self._placed = (beacon_pos, pos, (lo, width, dims, start, order))
+        return self._placed[1:]
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and which of them attach now."""
@@ -147,7 +148,7 @@ class ExplorerController:
         if len(beacon_pos) == 0:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
         arena = self.arena
-        placed, grid, row_of = self._beacons_placed(ids, beacon_pos)
+        placed, grid = self._beacons_placed(beacon_pos)
         desired, attach = _steer(
             arena.padded,
             arena.runs,
@@ -161,7 +162,7 @@ class ExplorerController:
             physics.flyer_state["slide"],
             physics.flyer_state["loyal"],
             ids,
-            row_of,
+            self._row_of,
             placed,
             *grid,
             np.ascontiguousarray(desired_vec),
@@ -206,8 +207,8 @@ def _steer(
 
     ``z`` holds six standard normal draws per flyer: two for the relative-positioning sensor,
     four for the distance sensors; ``constants`` is the one record of :data:`_CONSTANTS`.
-    ``row_of`` gives each beacon's row by robot id and ``grid_*`` is the beacons' cell grid
-    (:meth:`ExplorerController._beacons_placed`).
+    ``row_of`` gives each beacon's row by robot id (-1: not a beacon; ``BeaconNetwork.rows_by_id``)
+    and ``grid_*`` is the beacons' cell grid (:meth:`ExplorerController._beacons_placed`).
     ``T`` (the low-pass filtered translation vector) and ``guide`` (the beacon each flyer
     follows) and ``contact`` (where it was last in touch) are updated in place. A flyer out of
     touch with every beacon flies back to that point (``lost_return``; else it hovers).
@@ -339,18 +340,6 @@ def _slide_side(slide, point, lx, ly, walls, p):
     else:  # both sides alike: the other side than last time (the first slide goes left)
         slide[4] = -1.0 if slide[4] > 0.0 else 1.0
     return slide[4]
-
-
-@njit(cache=True)
-def _rows_by_id(ids):
-    """Row of each beacon by robot id (-1: no beacon has that id), for O(1) look-ups."""
-    top = 0
-    for j in range(ids.shape[0]):
-        top = max(top, ids[j])
-    row_of = np.full(top + 1, -1, dtype=np.int64)
-    for j in range(ids.shape[0]):
-        row_of[ids[j]] = j
-    return row_of
 
 
 @njit(cache=True)
