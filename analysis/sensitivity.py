@@ -41,6 +41,7 @@ __all__ = [
     "indices",
     "ranking",
     "save_figures",
+    "unranked",
 ]
 
 #: Confidence level of every interval, and bootstrap resamples behind it.
@@ -312,9 +313,7 @@ def ranking(frame: pd.DataFrame, kind: str, first: Sequence[str] = ()) -> pd.Dat
     """
     index = HEADLINE[kind]
     full = frame[frame["full"] & (frame["index"] == index)]
-    if "set_by" in full:
-        own = full["set_by"].fillna("") == ""
-        full = full[own] if own.any() else full
+    full = full[~full["metric"].isin(unranked(frame))]
     table = full.pivot_table(index="parameter", columns="metric", values="value", sort=False)
     if kind == "morris":
         table = table / table.max().replace(0, np.nan)
@@ -322,6 +321,16 @@ def ranking(frame: pd.DataFrame, kind: str, first: Sequence[str] = ()) -> pd.Dat
     shown = [m for m in first if m in table.columns]
     table = table[shown + [m for m in table.columns if m not in shown]]
     return table.loc[table.mean(axis=1).sort_values(ascending=False).index]
+
+
+def unranked(frame: pd.DataFrame) -> list[str]:
+    """The metrics :func:`ranking` leaves out: those set by one parameter alone (``set_by``),
+    unless every metric is.
+    """
+    if "set_by" not in frame:
+        return []
+    echoes = set(frame.loc[frame["set_by"].fillna("") != "", "metric"])
+    return [] if echoes == set(frame["metric"]) else sorted(echoes)
 
 
 def save_figures(

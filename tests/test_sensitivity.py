@@ -268,6 +268,7 @@ def test_explore_runs_reports_and_prints_the_ranking(tmp_path, capsys):
     lines = text.out.splitlines()
     ranked = [line.split()[1] for line in lines if line.strip()[:2].strip(".").isdigit()]
     assert ranked[-1] == "x4"
+    assert "not ranked, set by one parameter alone: x1_sine" in text.out  # sin x1: x1 alone
     assert (out / "sensitivity.csv").is_file() and (out / "report.html").is_file()
     assert "morris design over 3 parameters, n = 4: 16 sample rows" in text.err
 

@@ -60,7 +60,7 @@ def _print_ranking(csv: Path, kind: str) -> None:
     """The ranking the report draws, as text (or why there is none)."""
     import pandas as pd
 
-    from analysis.sensitivity import HEADLINE, ranking
+    from analysis.sensitivity import HEADLINE, ranking, unranked
 
     if not csv.exists():
         print("no sensitivity indices (see the report's notes)")
@@ -68,11 +68,10 @@ def _print_ranking(csv: Path, kind: str) -> None:
     frame = pd.read_csv(csv)
     table = ranking(frame, kind)
     means = table.mean(axis=1)
-    set_by = frame["set_by"].fillna("") if "set_by" in frame else pd.Series("", frame.index)
-    echoes = sorted(set(frame.loc[set_by != "", "metric"]))
-    unranked = f"; not ranked, set by one parameter alone: {', '.join(echoes)}" if echoes else ""
+    echoes = unranked(frame)
+    left_out = f"; not ranked, set by one parameter alone: {', '.join(echoes)}" if echoes else ""
     print(
-        f"ranking by {HEADLINE[kind]} (mean over {table.shape[1]} metrics, 1 = largest{unranked}):"
+        f"ranking by {HEADLINE[kind]} (mean over {table.shape[1]} metrics, 1 = largest{left_out}):"
     )
     for rank, (name, value) in enumerate(means.head(SHOWN).items(), start=1):
         print(f"  {rank:2d}. {name} {value:.3f}")
