@@ -177,7 +177,7 @@ class SwarmModel(mesa.Model):
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
         # the ids and states of the space's rows, and recorder.moves when they were read:
         # position samples reuse them until an agent joins, leaves or changes state
-        self._space_rows: tuple[np.ndarray, list[str], int] | None = None
+        self._space_rows: tuple[np.ndarray, np.ndarray, int, np.ndarray] | None = None
         self.comms = CommNetwork(
             self.env, arena, self.rng, comm_range, latency, message_loss, shadowing
         )
@@ -493,17 +493,18 @@ class SwarmModel(mesa.Model):
                 if rows is None or rows[2] != self.recorder.moves or len(rows[0]) != len(agents):
                     rows = self._space_rows = (
                         np.fromiter(map(id_of, agents), dtype=np.int64, count=len(agents)),
-                        list(map(state_of, agents)),
+                        self.recorder.state_codes(map(state_of, agents)),
                         self.recorder.moves,
+                        np.zeros(len(agents), dtype=bool),  # no robot a comm node
                     )
                 graph = self.comms.graph
                 self.recorder.snapshot(
                     rows[0],
                     self.space.agent_positions,  # copied (the rows that changed) by the recorder
                     rows[1],
-                    list(map(graph._adj.__contains__, rows[0].tolist()))
+                    np.fromiter(map(graph._adj.__contains__, rows[0].tolist()), bool, len(agents))
                     if graph
-                    else [False] * len(agents),
+                    else rows[3],
                 )
             yield self.env.timeout(interval)
 

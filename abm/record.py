@@ -120,11 +120,22 @@ class Recorder:
         self,
         robots: np.ndarray,
         positions: np.ndarray,
-        states: Sequence[str],
+        states: Sequence[str] | np.ndarray,
         comm: Sequence[bool] | np.ndarray,
     ) -> None:
-        """Record where every robot is, what it is and whether it is a comm node at ``env.now``."""
+        """Record where every robot is, what it is and whether it is a comm node at ``env.now``.
+
+        ``states`` are the robots' state names, or their codes from :meth:`state_codes`: a
+        caller that samples the same robots again and again keeps the codes (and passes the
+        same arrays while nothing changed, which the recorder then does not compare again).
+        """
         self._trace.add(self.env.now, robots, positions, states, comm)
+
+    def state_codes(self, states: Iterable[str]) -> np.ndarray:
+        """The codes of ``states`` (names of this recorder's states) that :meth:`snapshot`
+        takes in place of the names.
+        """
+        return self._trace.codes(states)
 
     def positions(self) -> pd.DataFrame:
         """Sampled positions: one row per robot and sample (time, robot, x, y, state, comm)."""
@@ -162,31 +173,48 @@ class _Trace:
         ] = []
         self._last: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
+    def codes(self, states: Iterable[str]) -> np.ndarray:
+        """The state codes of ``states`` (names)."""
+        return np.array(list(map(self._code.__getitem__, states)), dtype=np.int8)
+
     def add(
         self,
         time: float,
         robots: np.ndarray,
         positions: np.ndarray,
-        states: Sequence[str],
+        states: Sequence[str] | np.ndarray,
         comm: Sequence[bool] | np.ndarray,
     ) -> None:
-        """Keep one sample (the rows that changed since the previous one)."""
+        """Keep one sample (the rows that changed since the previous one); ``states`` are
+        names or, as an int8 array, their codes (:meth:`codes`).
+        """
         robots = np.asarray(robots, dtype=np.int64)
         positions = np.array(positions, dtype=float).reshape(-1, 2)
-        codes = np.array(list(map(self._code.__getitem__, states)), dtype=np.int8)
+        if isinstance(states, np.ndarray) and states.dtype == np.int8:
+            codes = states
+        else:
+            codes = self.codes(states)
         comm = np.asarray(comm, dtype=bool)
         last = self._last
-        if last is not None and np.array_equal(last[0], robots):
+        if last is not None and (robots is last[0] or np.array_equal(last[0], robots)):
             robots = last[0]  # the same robots in the same rows: one array for both samples
-            changed = np.flatnonzero(
-                (positions != last[1]).any(axis=1) | (codes != last[2]) | (comm != last[3])
-            )
+            # a row moved when x or y differs, compared as one complex number per row (the
+            # same verdicts as comparing the two floats, NaN and -0.0 included)
+            moved = positions.view(np.complex128).ravel() != last[1].view(np.complex128).ravel()
+            if codes is not last[2]:  # the same array: the caller kept the codes unchanged
+                moved |= codes != last[2]
+            if comm is not last[3]:
+                moved |= comm != last[3]
+            changed = np.flatnonzero(moved)
         else:
             changed = np.arange(len(robots))
         self._last = (robots, positions, codes, comm)
-        self._samples.append(
-            (time, robots, changed, positions[changed], codes[changed], comm[changed])
-        )
+        if len(changed) == len(robots):  # every row: the arrays themselves (not views of others)
+            self._samples.append((time, robots, changed, positions, codes.copy(), comm.copy()))
+        else:
+            self._samples.append(
+                (time, robots, changed, positions[changed], codes[changed], comm[changed])
+            )
 
     def frame(self) -> pd.DataFrame:
         """One row per robot and sample (time, robot, x, y, state, comm)."""
