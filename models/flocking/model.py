@@ -76,6 +76,8 @@ class FlockingModel(SwarmModel):
             cells.cell,
             self.seen,
         )
+        self._rows = np.arange(p.birds)
+        self._order = np.empty(p.birds, dtype=np.int64)  # each step's activation order
         self.updates = 0
         self.env.process(self._flock())
 
@@ -88,16 +90,17 @@ class FlockingModel(SwarmModel):
 
     def update(self) -> None:
         """One update step: every bird in a new random order, each seeing those moved before."""
+        # rng.permutation(birds) is this: the same draws, without making the arrays anew
+        order = self._order
+        order[:] = self._rows
+        self.rng.shuffle(order)
         polarisation, mean_neighbours = flock_step(
-            self.space.agent_positions,
-            self.velocity,
-            self.rng.permutation(self.params.birds),
-            *self._kernel_args,
+            self.space.agent_positions, self.velocity, order, *self._kernel_args
         )
         self.updates += 1
         self.recorder.sample(polarisation=polarisation, mean_neighbours=mean_neighbours)
 
-    def _order(self) -> dict:
+    def _order_parameters(self) -> dict:
         polarisation, mean_neighbours = order_parameters(self.velocity, self.seen)
         return {"polarisation": polarisation, "mean_neighbours": mean_neighbours}
 
@@ -109,10 +112,13 @@ class FlockingModel(SwarmModel):
 
     def reporters(self) -> dict:
         """The state count and the flock's polarisation (the page plots it live)."""
-        return {**super().reporters(), "polarisation": lambda m: m._order()["polarisation"]}
+        return {
+            **super().reporters(),
+            "polarisation": lambda m: m._order_parameters()["polarisation"],
+        }
 
     def metrics(self) -> dict:
         """Update steps run, the flock's polarisation |mean unit velocity| (0: headings at
         random, 1: all birds aligned) and the mean neighbour count at the last step.
         """
-        return {"updates": self.updates, **self._order()}
+        return {"updates": self.updates, **self._order_parameters()}
