@@ -1,6 +1,9 @@
 """The flocking model: the declared rules step for step, sequential activation, invariants."""
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pandas as pd
@@ -18,13 +21,13 @@ from models.flocking.kernel import squared_limit
 DECLARED = {"speed": 1.0, "separation": 1.0, "cohere": 0.03, "separate": 0.015, "match": 0.05}
 
 
-def _reference(rng, birds, extent, visual, steps, sequential=True):
+def _reference(rng, birds, extent, visual, steps, sequential=True, move=DECLARED["speed"]):
     """The declaration in plain Python: yields (positions, velocities) at the start and after
     every step.
 
     Draws from ``rng`` in the model's order: positions, headings, then one activation order
-    per step. ``sequential=False`` is the variant the declaration rules out: every bird reads
-    the flock as it was at the start of the step.
+    per step; a bird moves ``move`` (m) per step. ``sequential=False`` is the variant the
+    declaration rules out: every bird reads the flock as it was at the start of the step.
     """
     pos = [list(p) for p in rng.random((birds, 2)) * extent]
     vel = [list(h / np.linalg.norm(h)) for h in rng.uniform(-1.0, 1.0, (birds, 2))]
@@ -61,7 +64,7 @@ def _reference(rng, birds, extent, visual, steps, sequential=True):
             ]
             norm = math.hypot(*new)
             vel[i] = [v / norm for v in new]
-            pos[i] = [(pos[i][a] + vel[i][a] * DECLARED["speed"]) % extent for a in (0, 1)]
+            pos[i] = [(pos[i][a] + vel[i][a] * move) % extent for a in (0, 1)]
         yield np.array(pos), np.array(vel)
 
 
@@ -86,6 +89,56 @@ def test_a_seeded_run_equals_the_declared_rules_step_for_step(birds, extent, vis
         assert _torus_gap(model.space.agent_positions, pos, extent) < 1e-9, step
         assert np.abs(model.velocity - vel).max() < 1e-9, step
     assert model.summary()["mean_neighbours"] > 1  # the birds did see each other
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    birds=st.integers(1, 40),
+    extent=st.floats(5.0, 80.0),
+    visual_share=st.floats(0.01, 0.5),
+    move_share=st.floats(0.0, 0.6),
+    seed=st.integers(0, 2**31),
+)
+def test_any_cell_list_gives_the_declared_rules(birds, extent, visual_share, move_share, seed):
+    """Whatever the cell list (one cell or many, cells just wide enough or much wider, moves
+    long or short against the visual distance, birds crossing cells within a step), every
+    bird sees exactly the neighbours the declaration gives it: the run equals the plain-Python
+    rules for a few steps."""
+    visual, move = visual_share * extent, move_share * extent
+    model = FlockingModel(
+        seed=seed,
+        birds=birds,
+        extent=extent,
+        visual_distance=visual,
+        speed=move,
+        steps=4,
+        trace_interval=None,
+    )
+    reference = _reference(np.random.default_rng(seed), birds, extent, visual, 4, move=move)
+    for step, (pos, vel) in enumerate(reference):
+        if step:
+            model.step()
+        # a neighbour gained or lost would move a bird by far more than rounding does
+        assert _torus_gap(model.space.agent_positions, pos, extent) < 1e-7, step
+        assert np.abs(model.velocity - vel).max() < 1e-7, step
+
+
+def test_the_sums_are_the_same_bit_for_bit_on_a_plain_processor(tmp_path):
+    """The kernel's sums are taken in the order the code writes them (no fast-math: the
+    compiler may not reorder or fuse them for this processor's SIMD width or FMA units), so the
+    large case compiled for a generic CPU (no AVX, no FMA; a fresh numba cache) ends where it
+    ends here, bit for bit, positions and velocities, after 100 chaotic steps."""
+    code = (
+        "import sys; from models.flocking import LARGE, FlockingModel; "
+        "m = FlockingModel(seed=3, trace_interval=None, **LARGE).run(); "
+        "sys.stdout.write(m.space.agent_positions.tobytes().hex() + m.velocity.tobytes().hex())"
+    )
+    env = {**os.environ, "NUMBA_CPU_NAME": "generic", "NUMBA_CACHE_DIR": str(tmp_path)}
+    plain = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    ).stdout
+    here = FlockingModel(seed=3, trace_interval=None, **LARGE).run()
+    assert plain == here.space.agent_positions.tobytes().hex() + here.velocity.tobytes().hex()
 
 
 @settings(max_examples=200, deadline=None)
