@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from abm.errors import ConfigError
 from abm.orphans import identity
 from analysis.cli import main
-from analysis.sweep import Sweep, load_results, load_sweep, plan
+from analysis.sweep import Sweep, load_results, load_sweep, plan, storage
 
 ROOT = Path(__file__).resolve().parents[1]
 ABM = "import sys; from analysis.cli import main; sys.exit(main())"
@@ -253,21 +253,21 @@ def test_a_damaged_or_non_utf8_sweep_json_is_one_line_in_report(tmp_path, capsys
 
 
 def _failing_writes(monkeypatch, after: int, code: int, text: str) -> None:
-    """Parquet writes succeed ``after`` times, then fail with ``code`` as pyarrow reports it
-    (the errno only in the message)."""
-    real = pd.DataFrame.to_parquet
+    """Result files (the storage's one Parquet writer) are written ``after`` times, then the
+    write fails with ``code`` as pyarrow reports it (the errno only in the message)."""
+    real = storage._write_parquet
     calls = []
 
-    def write(frame, path, *args, **kwargs):
+    def write(data, path):
         calls.append(path)
         if len(calls) > after:
             Path(path).write_bytes(b"PAR1 cut")  # what a full disk leaves: a part of a file
             raise OSError(
                 f"[Errno {code}] Error writing bytes to file. Detail: [errno {code}] {text}"
             )
-        return real(frame, path, *args, **kwargs)
+        return real(data, path)
 
-    monkeypatch.setattr(pd.DataFrame, "to_parquet", write)
+    monkeypatch.setattr(storage, "_write_parquet", write)
 
 
 @pytest.mark.parametrize(
