@@ -175,8 +175,10 @@ class SwarmModel(mesa.Model):
             [[0.0, arena.width], [0.0, arena.height]], torus=torus, random=self.random
         )
         self._row_of = np.zeros(0, dtype=np.int64)  # robot id -> row of space.agent_positions
-        # the ids and states of the space's rows, and recorder.moves when they were read:
-        # position samples reuse them until an agent joins, leaves or changes state
+        # the ids and state codes of the space's rows, recorder.moves when they were read, and
+        # an all-False comm mask of their length: position samples reuse them (the same arrays,
+        # which the recorder then does not compare again) until an agent joins, leaves or
+        # changes state
         self._space_rows: tuple[np.ndarray, np.ndarray, int, np.ndarray] | None = None
         self.comms = CommNetwork(
             self.env, arena, self.rng, comm_range, latency, message_loss, shadowing

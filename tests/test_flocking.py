@@ -73,6 +73,16 @@ def _torus_gap(a, b, extent):
     return np.minimum(d, extent - d).max()
 
 
+def _follow(model, reference, extent, tolerance):
+    """Step ``model`` beside the reference's states, checking positions and velocities."""
+    for step, (pos, vel) in enumerate(reference):
+        if step:
+            model.step()
+        assert model.time == step * model.params.dt and model.updates == step
+        assert _torus_gap(model.space.agent_positions, pos, extent) < tolerance, step
+        assert np.abs(model.velocity - vel).max() < tolerance, step
+
+
 @pytest.mark.parametrize(
     ("birds", "extent", "visual"),
     [(40, 20.0, 5.0), (25, 9.0, 4.0)],  # a cell list of 4 x 4 cells; one cell holding all
@@ -81,13 +91,7 @@ def test_a_seeded_run_equals_the_declared_rules_step_for_step(birds, extent, vis
     model = FlockingModel(
         seed=11, birds=birds, extent=extent, visual_distance=visual, trace_interval=None
     )
-    reference = _reference(np.random.default_rng(11), birds, extent, visual, steps=40)
-    for step, (pos, vel) in enumerate(reference):
-        if step:
-            model.step()
-        assert model.time == step and model.updates == step
-        assert _torus_gap(model.space.agent_positions, pos, extent) < 1e-9, step
-        assert np.abs(model.velocity - vel).max() < 1e-9, step
+    _follow(model, _reference(np.random.default_rng(11), birds, extent, visual, 40), extent, 1e-9)
     assert model.summary()["mean_neighbours"] > 1  # the birds did see each other
 
 
@@ -115,12 +119,8 @@ def test_any_cell_list_gives_the_declared_rules(birds, extent, visual_share, mov
         trace_interval=None,
     )
     reference = _reference(np.random.default_rng(seed), birds, extent, visual, 4, move=move)
-    for step, (pos, vel) in enumerate(reference):
-        if step:
-            model.step()
-        # a neighbour gained or lost would move a bird by far more than rounding does
-        assert _torus_gap(model.space.agent_positions, pos, extent) < 1e-7, step
-        assert np.abs(model.velocity - vel).max() < 1e-7, step
+    # a neighbour gained or lost would move a bird by far more than rounding does
+    _follow(model, reference, extent, 1e-7)
 
 
 def test_the_sums_are_the_same_bit_for_bit_on_a_plain_processor(tmp_path):
