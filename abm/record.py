@@ -209,7 +209,8 @@ class _Trace:
         else:
             changed = np.arange(len(robots))
         self._last = (robots, positions, codes, comm)
-        if len(changed) == len(robots):  # every row: the arrays themselves (not views of others)
+        if len(changed) == len(robots):  # every row: no fancy indexing; positions is our own
+            # copy already, codes and comm may be arrays the caller keeps, so they are copied
             self._samples.append((time, robots, changed, positions, codes.copy(), comm.copy()))
         else:
             self._samples.append(
