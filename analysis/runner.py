@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from abm.pools import settle_worker_heap
 from abm.registry import model_class
 
 __all__ = ["LIFECYCLE_EVENTS", "RunResult", "RunSpec", "lifecycle_events", "run_model", "run_one"]
@@ -145,6 +146,7 @@ def run_one(spec: RunSpec) -> dict:
         **spec.params,
     }
     series = samples = changes = None
+    settle_worker_heap()
     start = time.perf_counter()
     try:
         result = run_model(spec.target, spec.params, spec.seed, counts=spec.time_series)

@@ -2,7 +2,8 @@
 
 On a shared machine a sweep's wall time says more about the other users than about the sweep.
 The CPU time of its runs does not: run one run in ``every`` of the plan (the same specs, seeds
-and code path as ``abm sweep``'s workers), serially, and add up ``time.process_time`` per run.
+and code path as ``abm sweep``'s workers, in one worker of the same process pool), serially, and
+add up ``time.process_time`` per run.
 A quiet machine with W cores then needs about ``runs x mean CPU per run / W`` for the runs (the
 workers share no work; process start-up and the report come on top).
 
@@ -16,9 +17,25 @@ from itertools import islice
 
 from machine import machine
 
-from analysis.runner import run_one
+from abm.pools import process_pool
+from analysis.runner import RunSpec, run_one
 from analysis.sweep import load_sweep
 from analysis.sweep.seeding import iter_plan
+
+
+def time_runs(specs: list[RunSpec]) -> tuple[list[float], list[float], int]:
+    """In a pool worker: run ``specs`` one after another as the worker would; their CPU and
+    wall seconds and how many failed. The first run is run once more beforehand, outside the
+    measurement, to compile (numba) and import.
+    """
+    run_one(specs[0])
+    cpu, wall, failed = [], [], 0
+    for spec in specs:
+        c0, w0 = time.process_time(), time.perf_counter()
+        failed += run_one(spec)["row"]["status"] != "ok"
+        cpu.append(time.process_time() - c0)
+        wall.append(time.perf_counter() - w0)
+    return cpu, wall, failed
 
 
 def main() -> None:
@@ -30,13 +47,8 @@ def main() -> None:
     args = parser.parse_args()
     sweep = load_sweep(args.file)
     specs = list(islice(iter_plan(sweep), 0, None, args.every))
-    run_one(specs[0])  # compile (numba) and import outside the measurement
-    cpu, wall, failed = [], [], 0
-    for spec in specs:
-        c0, w0 = time.process_time(), time.perf_counter()
-        failed += run_one(spec)["row"]["status"] != "ok"
-        cpu.append(time.process_time() - c0)
-        wall.append(time.perf_counter() - w0)
+    with process_pool(1) as pool:
+        cpu, wall, failed = pool.submit(time_runs, specs).result()
     mean_cpu = sum(cpu) / len(cpu)
     print(f"machine: {machine()}; load average {os.getloadavg()[0]:.2f} (1 min) at the end")
     print(
