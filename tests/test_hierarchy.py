@@ -5,11 +5,13 @@ import itertools
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from abm.errors import ConfigError, LinkError
 from models.hierarchy import HierarchyModel
 from models.hierarchy.agents import Worker
-from models.hierarchy.model import QUEEN
+from models.hierarchy.model import BODY_SIDE, QUEEN, _approaches
 from models.hierarchy.protocol import MoveMsg, PointMsg, rle_bytes
 
 #: Small runs of several shapes (a few seconds together).
@@ -215,3 +217,51 @@ def test_claim_c14_is_judged_on_the_arms_runs(arms):
     assert verdict is not None and "at 4 scouts" in verdict.ours
     # one run per arm gives no interval of the difference: no verdict, and it says why
     assert verdict.holds is None and "fewer than two runs" in verdict.ours
+
+
+def _approaches_by_sets(positions, scout_rows, scout_of, flying, reach, near, parent):
+    """The proximity diagnostic's tick in plain Python sets (what the compiled step does)."""
+    moving = [scout_of[r] for r in flying if r < len(scout_of) and scout_of[r] >= 0]
+    pos = positions[scout_rows]
+    now = {
+        (min(a, b), max(a, b))
+        for a in moving
+        for b in range(len(pos))
+        if b != a and float(np.sum((pos[a] - pos[b]) ** 2)) < reach * reach
+    }
+    new = now - near
+    return now, len(new), sum(int(parent[a] == parent[b]) for a, b in new)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(2, 12).flatmap(
+        lambda n: st.tuples(
+            st.just(n),
+            st.lists(
+                st.lists(st.floats(0, 1.5), min_size=2 * n, max_size=2 * n), min_size=1, max_size=5
+            ),
+            st.lists(st.lists(st.integers(0, n + 2), max_size=n + 3), min_size=5, max_size=5),
+            st.lists(st.integers(0, 2), min_size=n, max_size=n),
+        )
+    )
+)
+def test_the_proximity_step_counts_each_approach_once_as_the_set_rule_does(case):
+    n, ticks, flying_by_tick, parent = case
+    robots = n + 2  # robot ids 0..n+1; the first two are not scouts (a worker, the queen)
+    scout_of = np.full(robots, -1, dtype=np.int64)
+    scout_of[2:] = np.arange(n)
+    scout_rows = np.arange(n)[::-1].copy()  # the scouts' rows of the space, in another order
+    parent = np.array(parent, dtype=np.int64)
+    near_keys, near_set = np.zeros(0, dtype=np.int64), set()
+    for xy, flying in zip(ticks, flying_by_tick, strict=False):
+        positions = np.array(xy).reshape(n, 2)
+        flying = np.array(sorted(set(flying)), dtype=np.int64)
+        near_keys, new, sib = _approaches(
+            positions, scout_rows, scout_of, flying, BODY_SIDE * 4, near_keys, parent
+        )
+        near_set, ref_new, ref_sib = _approaches_by_sets(
+            positions, scout_rows, scout_of, flying, BODY_SIDE * 4, near_set, parent
+        )
+        assert sorted(a * n + b for a, b in near_set) == near_keys.tolist()
+        assert (new, sib) == (ref_new, ref_sib)

@@ -105,6 +105,10 @@ class HierarchyModel(SwarmModel):
             flight=ground_robot(p.speed, BODY_SIDE / 2, p.dt),
         )
         self.world_rect = Rect(0.0, 0.0, self.arena.width, self.arena.height)
+        angles = np.deg2rad(np.arange(0.0, 360.0, p.scan_step))
+        #: Unit directions of an IR sweep's rays, one every ``scan_step`` degrees (the same
+        #: for every sweep of the run).
+        self.ray_directions = np.stack([portable.cos(angles), portable.sin(angles)], axis=1)
         self.follower = PathFollower(self.physics, p.speed)
         self.physics.controller = self
         self.tree = TreeLinks()
@@ -119,7 +123,9 @@ class HierarchyModel(SwarmModel):
         self.completion_time: float | None = None
         self._truth: np.ndarray | None = None  # free cells of the queen's grid (true world)
         self._build_tree()
-        self._near: set[tuple[int, int]] = set()
+        #: Scout pairs (``min * scouts + max``, by scout index) closer than a body at the
+        #: last tick, sorted.
+        self._near = np.zeros(0, dtype=np.int64)
         self.env.process(self._operator())
 
     # ------------------------------------------------------------------ set-up
@@ -176,8 +182,13 @@ class HierarchyModel(SwarmModel):
         self._scout_of = np.full(max(self.agents.get("unique_id")) + 1, -1, dtype=np.int64)
         self._scout_of[ids] = np.arange(len(ids))
         self._scout_rows = self.rows_of(ids)
-        # first parents (README "Choices": wave-order and proximity diagnostics)
-        self._parent_of = scouts.get("parent")
+        # first parents (README "Choices": wave-order and proximity diagnostics), as codes
+        # equal where the parents are
+        codes: dict[object, int] = {}
+        self._parent_code = np.array(
+            [codes.setdefault(parent, len(codes)) for parent in scouts.get("parent")],
+            dtype=np.int64,
+        )
         self.env.process(self.queen.life())
         # a robot's life runs as its process: a failure of the body interrupts it
         self.agents.do(lambda robot: robot.start(robot.life()))
@@ -284,8 +295,7 @@ class HierarchyModel(SwarmModel):
         that meets an obstacle within ``r`` (one per hit cell with ``dedupe_points_per_cell``).
         """
         p = self.params
-        angles = np.deg2rad(np.arange(0.0, 360.0, p.scan_step))
-        dirs = np.stack([portable.cos(angles), portable.sin(angles)], axis=1)
+        dirs = self.ray_directions
         origins = np.broadcast_to(position, dirs.shape)
         dist = self.arena.raycast(origins, dirs, r)
         hit = dist < r - 1e-9
@@ -307,21 +317,12 @@ class HierarchyModel(SwarmModel):
         (``robot_proximity_events``, README "Choices": wave-order and proximity diagnostics; a pair
         counts once per approach).
         """
-        moving = self._scout_of[physics.ids]
-        moving = moving[moving >= 0]
-        if moving.size == 0:
-            self._near = set()
-            return
-        pos = self.space.agent_positions[self._scout_rows]
-        i, j = _close_to(pos, moving, BODY_SIDE)
-        if i.size == 0:
-            self._near = set()
-            return
-        now = {(min(a, b), max(a, b)) for a, b in zip(i.tolist(), j.tolist(), strict=True)}
-        for a, b in now - self._near:
-            self.robot_proximity_events += 1
-            self.sibling_proximity_events += int(self._parent_of[a] == self._parent_of[b])
-        self._near = now
+        self._near, new, siblings = _approaches(
+            self.space.agent_positions, self._scout_rows, self._scout_of, physics.ids,
+            BODY_SIDE, self._near, self._parent_code,
+        )  # fmt: skip
+        self.robot_proximity_events += new
+        self.sibling_proximity_events += siblings
 
     def log_plan(self, director: Director, m: ProbMap, plan: Plan) -> None:
         """Record a round's bubbles and paths (the invariant tests read them)."""
@@ -451,19 +452,36 @@ class HierarchyModel(SwarmModel):
 
 
 @njit(cache=True)
-def _close_to(pos, moving, reach):
-    """Pairs (moving scout, other scout) whose centres are closer than ``reach``."""
-    first = []
-    second = []
-    for a in moving:
-        for b in range(pos.shape[0]):
+def _approaches(positions, scout_rows, scout_of, flying, reach, near, parent):
+    """One tick of the proximity diagnostic, compiled: the scout pairs closer than ``reach``
+    with at least one of them flying, as sorted keys ``min * scouts + max`` of their scout
+    indices; how many of them were not in ``near`` (the last tick's keys), and how many of
+    those are siblings (the same ``parent`` code).
+    """
+    n = scout_rows.size
+    keys = []
+    for robot in flying:
+        a = scout_of[robot] if robot < scout_of.size else -1
+        if a < 0:
+            continue  # not a scout
+        ax, ay = positions[scout_rows[a], 0], positions[scout_rows[a], 1]
+        for b in range(n):
             if b != a:
-                dx = pos[a, 0] - pos[b, 0]
-                dy = pos[a, 1] - pos[b, 1]
+                dx = ax - positions[scout_rows[b], 0]
+                dy = ay - positions[scout_rows[b], 1]
                 if dx * dx + dy * dy < reach * reach:
-                    first.append(a)
-                    second.append(b)
-    return np.array(first, dtype=np.int64), np.array(second, dtype=np.int64)
+                    keys.append(min(a, b) * n + max(a, b))
+    now = np.unique(np.array(keys, dtype=np.int64))
+    new = siblings = 0
+    j = 0
+    for key in now:
+        while j < near.size and near[j] < key:
+            j += 1
+        if j < near.size and near[j] == key:
+            continue
+        new += 1
+        siblings += parent[key // n] == parent[key % n]
+    return now, new, siblings
 
 
 def _mean(values: list[float]) -> float:
