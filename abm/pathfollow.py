@@ -83,7 +83,7 @@ class PathFollower:
         """Desired velocities toward each flyer's waypoint, and which flyers arrived."""
         state = physics.flyer_state
         target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
-        for row in np.flatnonzero(_passing(physics.pos, target, last, self.speed * physics.dt)):
+        for row in _passing(physics.pos, target, last, self.speed * physics.dt):
             rid = int(physics.ids[row])  # only the flyers at a corner this tick
             k = self._next[rid] + 1
             self._next[rid] = k
@@ -99,14 +99,14 @@ class PathFollower:
 
 @njit(cache=True)
 def _passing(pos, target, last, step):
-    """Flyers within one tick's travel of an intermediate waypoint."""
+    """Rows of the flyers within one tick's travel of an intermediate waypoint, in order."""
     n = pos.shape[0]
     out = np.zeros(n, dtype=np.bool_)
     for k in range(n):
         if last[k, 0] == 0.0:
             d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
             out[k] = d <= step
-    return out
+    return np.flatnonzero(out)
 
 
 @njit(cache=True)
