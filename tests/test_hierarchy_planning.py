@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     _drivable,
+    _frame,
     padded_cells,
     path_length,
     shortest_paths,
@@ -57,6 +58,53 @@ def test_point_stamp_noisy_or_and_mass():
     probe = np.array([(1.05, 1.05), (1.25, 1.05), (9.0, 9.0)])
     assert pmap.known_blocked_at(probe).tolist() == [True, False, False]
     assert pmap.scanned(1.25, 1.05)  # within 3 sigma: known, mostly free
+
+
+coordinate = st.floats(-1.0, 4.0) | st.sampled_from([0.0, 0.1, 0.3, 2.9, 3.0, math.nan, math.inf])
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    st.lists(st.tuples(coordinate, coordinate), max_size=30),
+    st.lists(st.tuples(st.floats(0.0, 3.0), st.floats(0.0, 3.0)), max_size=12),
+)
+def test_known_blocked_at_is_known_blocked_point_by_point(points, stamps):
+    pmap = ProbMap(Rect(0.5, 0.5, 2.5, 2.5), WORLD, cell_size=H)  # a region: cells off it
+    for x, y in stamps:
+        pmap.stamp_point(x, y, sigma=0.05)
+    # and the corners of the cells stamped: on cell boundaries, where the rounding decides
+    points = points + [(round(x / H) * H, round(y / H) * H) for x, y in stamps]
+    probe = np.array(points, dtype=float).reshape(-1, 2)
+    # the vectorised numpy rule the compiled one replaced
+    h = pmap.cell_size
+    with np.errstate(invalid="ignore"):  # NaN and inf cast to some integer off the grid
+        cols = np.floor(probe[:, 0] / h + 1e-9).astype(np.int64) - pmap._ix0
+        rows = np.floor(probe[:, 1] / h + 1e-9).astype(np.int64) - pmap._iy0
+    ny, nx = pmap._scanned.shape
+    inside = (rows >= 0) & (rows < ny) & (cols >= 0) & (cols < nx)
+    want = np.zeros(len(probe), dtype=bool)
+    r, c = rows[inside], cols[inside]
+    want[inside] = pmap._scanned[r, c] & (pmap._blocked[r, c] >= pmap.tau)
+    assert pmap.known_blocked_at(probe).tolist() == want.tolist()
+    finite = [(x, y) for x, y in points if math.isfinite(x) and math.isfinite(y)]
+    if finite:
+        got = pmap.known_blocked_at(np.array(finite)).tolist()
+        assert got == [pmap.known_blocked(x, y) for x, y in finite]
+
+
+def test_a_point_on_a_cell_boundary_is_in_the_upper_cell_for_both_rules():
+    pmap = ProbMap(WORLD, WORLD, cell_size=H)
+    pmap.stamp_point(0.35, 1.05, sigma=0.01)  # cell (3, 10) only; 0.3 / 0.1 < 3 in floats
+    assert pmap.known_blocked(0.3, 1.05) and not pmap.known_blocked(0.29, 1.05)
+    assert pmap.known_blocked_at(np.array([(0.3, 1.05), (0.29, 1.05)])).tolist() == [True, False]
+
+
+@given(st.integers(0, 6), st.integers(0, 6), st.integers(0, 3), st.randoms())
+def test_a_framed_grid_is_the_grid_padded_with_false(ny, nx, k, random):
+    grid = np.array([random.random() < 0.4 for _ in range(ny * nx)], dtype=bool).reshape(ny, nx)
+    framed = _frame(grid, k)
+    assert framed.dtype == np.bool_ and framed.flags.c_contiguous
+    assert np.array_equal(framed, np.pad(grid, k, constant_values=False))
 
 
 def test_blocked_cell_shadows_the_cells_behind_it():

@@ -23,6 +23,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 from scipy.special import ndtr
 
 from abm import portable
@@ -295,16 +296,10 @@ class ProbMap:
 
     def known_blocked_at(self, points: np.ndarray) -> np.ndarray:
         """Vectorised :meth:`known_blocked`: one bool per row of ``points`` ``(n, 2)``."""
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        h = self.cell_size
-        cols = np.floor(pts[:, 0] / h + _EPS).astype(np.int64) - self._ix0
-        rows = np.floor(pts[:, 1] / h + _EPS).astype(np.int64) - self._iy0
-        ny, nx = self._scanned.shape
-        inside = (rows >= 0) & (rows < ny) & (cols >= 0) & (cols < nx)
-        out = np.zeros(pts.shape[0], dtype=np.bool_)
-        r, c = rows[inside], cols[inside]
-        out[inside] = self._scanned[r, c] & (self._blocked[r, c] >= self.tau)
-        return out
+        pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+        return _known_blocked_at(
+            pts, self.cell_size, self._ix0, self._iy0, self._scanned, self._blocked, self.tau
+        )
 
     def cell_centre(self, x: float, y: float) -> tuple[float, float]:
         """Centre (metres) of the lattice cell holding ``(x, y)``."""
@@ -498,3 +493,20 @@ class ProbMap:
         dst_s = self._scanned[r0:r1, c0:c1]
         dst_b[...] = np.where(src_s, np.where(dst_s, np.maximum(dst_b, src_b), src_b), dst_b)
         return self._set_scanned(src_s, slice(r0, r1), slice(c0, c1))
+
+
+@njit(cache=True)
+def _known_blocked_at(pts, h, ix0, iy0, scanned, blocked, tau):
+    """:meth:`ProbMap.known_blocked_at`, compiled (it runs for every planned path): the cell
+    of each point as :func:`_cell` finds it, then scanned and at or above ``tau``; a point
+    outside the grid (or not finite) is not known blocked.
+    """
+    ny, nx = scanned.shape
+    out = np.zeros(pts.shape[0], dtype=np.bool_)
+    for i in range(pts.shape[0]):
+        col = np.floor(pts[i, 0] / h + _EPS) - ix0
+        row = np.floor(pts[i, 1] / h + _EPS) - iy0
+        if 0 <= row < ny and 0 <= col < nx:
+            r, c = int(row), int(col)
+            out[i] = scanned[r, c] and blocked[r, c] >= tau
+    return out
