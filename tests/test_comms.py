@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 from abm.arena import Arena
 from abm.comms import CommNetwork, GradientFlood, MessageLog, TreeLinks
+from abm.comms.policies import RingLinks
 from abm.errors import LinkError
 
 
@@ -268,6 +269,46 @@ def test_a_tree_policy_links_only_parents_and_children():
     _env, net, tree = tree_network()
     assert {frozenset(e) for e in net.graph.edges} == {frozenset(e) for e in tree.edges}
     assert tree.level("s2") == 2 and tree.children("w1") == ["s1", "s2"]
+
+
+class _AllowsOnly:
+    """A policy as a third party may write one: ``allows`` only, no list of partners."""
+
+    def __init__(self, policy) -> None:
+        self.allows = policy.allows
+
+
+def _random_policy(data, nodes: list[int]):
+    if data.draw(st.booleans(), label="ring"):
+        return RingLinks(data.draw(st.permutations(nodes), label="order"))
+    tree = TreeLinks({nodes[0]: None})
+    for k, node in enumerate(nodes[1:], start=1):
+        tree.attach(node, nodes[data.draw(st.integers(0, k - 1), label="parent")])
+    return tree
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 12), st.data())
+def test_a_policy_listing_partners_links_and_reports_as_asking_allows_does(n, data):
+    nodes = list(range(n))
+    policy = _random_policy(data, nodes)
+    for a in nodes:  # the list is exactly what allows says
+        assert sorted(policy.partners(a)) == [b for b in nodes if policy.allows(a, b)]
+    walls = np.ones((20, 20), dtype=bool)
+    walls[8:12, 3:17] = False
+    spot = st.tuples(st.floats(0.5, 19.5), st.floats(0.5, 19.5))
+    starts = [data.draw(spot | st.none(), label="start") for _ in nodes]  # None: off the arena
+    moves = data.draw(st.lists(st.tuples(st.sampled_from(nodes), spot), max_size=15))
+    seen = []
+    for chosen in (policy, _AllowsOnly(policy)):
+        net = CommNetwork(simpy.Environment(), Arena(walls, 1.0), np.random.default_rng(0), 6.0,
+                          0.1, policy=chosen)  # fmt: skip
+        changes = []
+        net.on_link_change(lambda kind, a, b, changes=changes: changes.append((kind, a, b)))
+        answers = [net.add(i, None if p is None else np.array(p)) for i, p in enumerate(starts)]
+        answers += [net.move(i, np.array(p)) for i, p in moves]
+        seen.append((answers, changes, sorted(map(sorted, net.graph.edges))))
+    assert seen[0] == seen[1]
 
 
 @pytest.mark.parametrize("pair", [("w1", "w2"), ("s1", "s2"), ("s1", "q"), ("q", "s2")])

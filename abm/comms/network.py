@@ -154,11 +154,26 @@ class CommNetwork:
 
     def _candidates(self, position: np.ndarray | None, node: Node) -> list[Node]:
         """The nodes ``node`` at ``position`` may link to, in the graph's node order: every
-        node, or with the index the off-arena nodes and the placed nodes in nearby cells.
+        node, or with the index the off-arena nodes and the placed nodes the policy allows in
+        nearby cells (:meth:`_reachable` keeps only those the policy allows and measures the
+        placed ones). A policy that lists a node's partners gives the placed ones among them
+        instead, wherever they are: fewer to look at, the same links once measured.
         """
         if position is None or self._index is None:
             return [o for o in self.graph.nodes if o != node]
-        near = sorted((o for o in self._index.near(position) if o != node), key=self._seq.get)
+        partners = getattr(self.policy, "partners", None)
+        if partners is not None:
+            near = [
+                o
+                for o in partners(node)
+                if o in self._seq and o not in self._unplaced and o != node
+            ]
+        else:
+            near = [o for o in self._index.near(position) if o != node]
+            if self.policy is not None:
+                allows = self.policy.allows
+                near = [o for o in near if allows(node, o)]
+        near.sort(key=self._seq.get)
         return [o for o in self._unplaced if o != node] + near
 
     def _reachable(self, position: np.ndarray | None, others: list[Node], node: Node) -> list[Node]:

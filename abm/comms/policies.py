@@ -15,7 +15,12 @@ Node = Hashable
 
 
 class LinkPolicy(Protocol):
-    """Which pairs of nodes may ever exchange messages (whatever the radio reaches)."""
+    """Which pairs of nodes may ever exchange messages (whatever the radio reaches).
+
+    A policy may also offer ``partners(node)``: every node ``b`` with ``allows(node, b)``.
+    The network then draws a moved node's links from that short list instead of asking
+    ``allows`` of every node in range (the tree and the ring offer it).
+    """
 
     def allows(self, a: Node, b: Node) -> bool:
         """True if a message may travel between ``a`` and ``b`` (in either direction)."""
@@ -76,6 +81,11 @@ class TreeLinks:
             b in self.parent and self.parent[b] == a and a is not None
         )
 
+    def partners(self, node: Node) -> list[Node]:
+        """The nodes ``node`` may talk to: its parent (unless it is the root) and children."""
+        parent = self.parent.get(node)
+        return ([] if parent is None else [parent]) + self._children.get(node, [])
+
     def children(self, node: Node) -> list[Node]:
         """``node``'s children in the order they were attached (local numbers 1..k)."""
         return list(self._children.get(node, []))
@@ -114,6 +124,14 @@ class RingLinks:
             return False
         gap = abs(self._index[a] - self._index[b])
         return gap == 1 or gap == len(self.order) - 1
+
+    def partners(self, node: Node) -> list[Node]:
+        """The nodes ``node`` may talk to: its neighbours on the ring (none off the ring)."""
+        if node not in self._index or len(self.order) < 2:
+            return []
+        i = self._index[node]
+        ahead, behind = self.order[(i + 1) % len(self.order)], self.order[i - 1]
+        return [ahead] if ahead == behind else [ahead, behind]
 
     def step(self, node: Node, direction: int) -> Node:
         """The neighbour of ``node`` clockwise (+1) or counter-clockwise (-1)."""
