@@ -21,6 +21,7 @@ from collections.abc import Callable
 from heapq import heappush
 
 import simpy
+from simpy.core import BoundClass
 from simpy.events import NORMAL
 
 __all__ = ["Clock", "call_later", "scheduler"]
@@ -60,6 +61,13 @@ class Clock(simpy.Environment):
     def __init__(self, initial_time: float = 0) -> None:
         super().__init__(initial_time)
         self._last: object = None
+        # SimPy binds its event classes (``timeout``, ``event``, ``process``, ...) to an
+        # environment once, but only those of the environment's own class (``bind_early``
+        # reads ``type(env).__dict__``), so on this subclass every ``env.timeout`` made a new
+        # bound method: bind them here as a plain Environment has them.
+        for name, attribute in vars(simpy.Environment).items():
+            if type(attribute) is BoundClass:
+                setattr(self, name, getattr(self, name))
 
     def schedule(self, event: simpy.Event, priority: int = NORMAL, delay: float = 0) -> None:
         """Schedule ``event`` as SimPy does, and remember it as the last one scheduled."""

@@ -102,3 +102,17 @@ def test_a_call_scheduled_for_now_runs_after_a_process_started_by_a_later_call(e
     call_later(env, 1.0, lambda _v: env.process(process()))
     env.run()
     assert got == ["process starts", "scheduled for now"]
+
+
+def test_a_clock_keeps_simpys_event_classes_bound_as_a_plain_environment_does():
+    """SimPy binds ``timeout``, ``event``, ``process``, ... to an environment once; a
+    subclass must too, or every ``env.timeout`` makes a new bound method."""
+    plain, clock = simpy.Environment(), Clock()
+    bound = {name for name, value in vars(plain).items() if callable(value)}
+    assert {"timeout", "event", "process"} <= bound
+    for name in bound:
+        assert name in vars(clock), name
+        assert getattr(clock, name).__self__ is clock
+    event = clock.timeout(2.0, value="v")
+    clock.run()
+    assert clock.now == 2.0 and event.value == "v"
