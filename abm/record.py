@@ -85,7 +85,7 @@ class Recorder:
             self.counts[old] -= 1
         if new is not None:
             self.counts[new] += 1
-        row = (self.env.now, *(self.counts[s] for s in self.states))
+        row = (self.env.now, *self.counts.values())  # keys: the states, in their order
         if self._series and self._series[-1][0] == self.env.now:
             self._series[-1] = row
         else:
