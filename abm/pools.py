@@ -64,7 +64,8 @@ def settle_worker_heap() -> None:
     first runs (imports, compiled functions loaded); an object frozen and later dropped is
     still freed by its reference count, only a cycle of them would stay. Outside a pool
     worker it does nothing: that process's heap is its owner's. Runs decide nothing by the
-    collector (``scripts/event_digests.py`` gives the same digests either way).
+    collector (``tests/test_pools.py`` runs digest cases in a settled worker against the
+    digests on file).
     """
     if _in_worker:
         gc.collect()
