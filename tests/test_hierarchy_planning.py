@@ -9,9 +9,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
+from models.hierarchy.coverage import _valid_grid
 from models.hierarchy.planning import (
     _drivable,
     _frame,
+    _framed_base_grid,
     padded_cells,
     path_length,
     shortest_paths,
@@ -325,3 +327,72 @@ def test_wave_order_violation_counts_a_later_path_over_an_earlier_end():
     assert wave_order_violations([[1], [2]], {1: first, 2: second}, H) == 1
     apart = np.array([(2.55, 0.55), (2.55, 1.55)])
     assert wave_order_violations([[1], [3]], {1: first, 3: apart}, H) == 0
+
+
+# ---------------------------------------------------------------- compiled grids vs numpy rules
+def _dilate_by_shifts(mask: np.ndarray, k: int) -> np.ndarray:
+    """Bool dilation of ``mask`` by a (2k+1)-square, by shifted ORs (the numpy rule)."""
+    out = mask.copy()
+    ny, nx = mask.shape
+    for dr in range(-k, k + 1):
+        for dc in range(-k, k + 1):
+            dst_r = slice(max(dr, 0), ny + min(dr, 0))
+            src_r = slice(max(-dr, 0), ny + min(-dr, 0))
+            dst_c = slice(max(dc, 0), nx + min(dc, 0))
+            src_c = slice(max(-dc, 0), nx + min(-dc, 0))
+            out[dst_r, dst_c] |= mask[src_r, src_c]
+    return out
+
+
+def _framed_base_by_numpy(scanned, blocked, tau, k, edges):
+    """The framed drivability as numpy computed it before it was compiled: the world's sides
+    as walls in a ring of ``k`` cells outside the grid, dilated with the known-blocked cells.
+    """
+    known_blocked = scanned & (blocked >= tau)
+    out = np.zeros((scanned.shape[0] + 2, scanned.shape[1] + 2), dtype=bool)
+    if k == 0:
+        out[1:-1, 1:-1] = scanned & ~known_blocked
+        return out
+    wall = np.pad(known_blocked, k, constant_values=False)
+    west, south, east, north = edges
+    if west:
+        wall[:, :k] = True
+    if south:
+        wall[:k, :] = True
+    if east:
+        wall[:, -k:] = True
+    if north:
+        wall[-k:, :] = True
+    out[1:-1, 1:-1] = scanned & ~_dilate_by_shifts(wall, k)[k:-k, k:-k]
+    return out
+
+
+grids = st.tuples(st.integers(1, 9), st.integers(1, 9)).flatmap(
+    lambda shape: st.tuples(
+        *(st.lists(st.booleans(), min_size=shape[0] * shape[1], max_size=shape[0] * shape[1])
+          for _ in range(3)),
+        st.lists(st.sampled_from([0.0, 0.3, 0.5, 0.7, 1.0]), min_size=shape[0] * shape[1],
+                 max_size=shape[0] * shape[1]),
+    ).map(lambda lists: [np.array(v).reshape(shape) for v in lists])
+)  # fmt: skip
+
+
+@settings(max_examples=150, deadline=None)
+@given(grids, st.integers(0, 4), st.tuples(*[st.booleans()] * 4))
+def test_the_compiled_drivability_is_the_numpy_rule(arrays, k, edges):
+    scanned, _, _, blocked = arrays
+    want = _framed_base_by_numpy(scanned, blocked, 0.5, k, edges)
+    assert np.array_equal(_framed_base_grid(scanned, blocked, 0.5, k, *edges), want)
+
+
+@settings(max_examples=150, deadline=None)
+@given(grids)
+def test_the_compiled_valid_cells_are_the_numpy_rule(arrays):
+    inside, scanned, exhausted, _ = arrays
+    open_ = inside & ~scanned
+    near = np.zeros_like(open_)
+    near[1:, :] |= open_[:-1, :]
+    near[:-1, :] |= open_[1:, :]
+    near[:, 1:] |= open_[:, :-1]
+    near[:, :-1] |= open_[:, 1:]
+    assert np.array_equal(_valid_grid(inside, scanned, exhausted), inside & near & ~exhausted)

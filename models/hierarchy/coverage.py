@@ -193,13 +193,24 @@ def _valid_mask(pmap: ProbMap) -> np.ndarray:
     4-neighbour (matching the 4-connected search, README "Choices": Dijkstra), minus
     EXHAUSTED.
     """
-    open_ = pmap._in & ~pmap._scanned
-    near = np.zeros_like(open_)
-    near[1:, :] |= open_[:-1, :]
-    near[:-1, :] |= open_[1:, :]
-    near[:, 1:] |= open_[:, :-1]
-    near[:, :-1] |= open_[:, 1:]
-    return pmap._in & near & ~pmap._exhausted
+    return _valid_grid(pmap._in, pmap._scanned, pmap._exhausted)
+
+
+@njit(cache=True)
+def _valid_grid(inside, scanned, exhausted):
+    """:func:`_valid_mask` on the map's grids, compiled (each coverage call needs it)."""
+    ny, nx = inside.shape
+    out = np.zeros((ny, nx), dtype=np.bool_)
+    for r in range(ny):
+        for c in range(nx):
+            if inside[r, c] and not exhausted[r, c]:
+                out[r, c] = (
+                    (r > 0 and inside[r - 1, c] and not scanned[r - 1, c])
+                    or (r + 1 < ny and inside[r + 1, c] and not scanned[r + 1, c])
+                    or (c > 0 and inside[r, c - 1] and not scanned[r, c - 1])
+                    or (c + 1 < nx and inside[r, c + 1] and not scanned[r, c + 1])
+                )
+    return out
 
 
 def valid_cells(pmap: ProbMap) -> np.ndarray:

@@ -351,24 +351,6 @@ def _overlap(a, b):
     return False
 
 
-def _dilate(mask: np.ndarray, k: int) -> np.ndarray:
-    """Bool dilation of ``mask`` by a (2k+1)-square (k = 1: the cell and its 8 neighbours)."""
-    if k <= 0:
-        return mask.copy()
-    out = mask.copy()
-    ny, nx = mask.shape
-    for dr in range(-k, k + 1):
-        for dc in range(-k, k + 1):
-            if dr == 0 and dc == 0:
-                continue
-            dst_r = slice(max(dr, 0), ny + min(dr, 0))
-            src_r = slice(max(-dr, 0), ny + min(-dr, 0))
-            dst_c = slice(max(dc, 0), nx + min(dc, 0))
-            src_c = slice(max(-dc, 0), nx + min(-dc, 0))
-            out[dst_r, dst_c] |= mask[src_r, src_c]
-    return out
-
-
 def _framed_base(pmap: ProbMap, padding: int = 1) -> np.ndarray:
     """Drivability (README "Choices": drivability) before robots are added, framed by one ring of
     False (the layout :func:`_bfs` reads): known, and no known-blocked cell (nor the world's wall)
@@ -377,23 +359,51 @@ def _framed_base(pmap: ProbMap, padding: int = 1) -> np.ndarray:
     The world's boundary is a wall for the padding (a robot body cannot stand in the outermost
     ring of world cells); the edge of a routing region inside the world is not.
     """
-    known_blocked = pmap._scanned & (pmap._blocked >= pmap.tau)
-    k = max(padding, 0)
-    out = np.zeros((known_blocked.shape[0] + 2, known_blocked.shape[1] + 2), dtype=np.bool_)
-    if k == 0:
-        out[1:-1, 1:-1] = pmap._scanned & ~known_blocked
-        return out
-    wall = _frame(known_blocked, k)
-    west, south, east, north = pmap._world_edges
-    if west:
-        wall[:, :k] = True
+    return _framed_base_grid(pmap._scanned, pmap._blocked, pmap.tau, max(padding, 0),
+                             *pmap._world_edges)  # fmt: skip
+
+
+@njit(cache=True)
+def _framed_base_grid(scanned, blocked, tau, k, west, south, east, north):
+    """:func:`_framed_base` on the map's grids, compiled (each coverage call and each route
+    needs it): a scanned cell is drivable unless a known-blocked cell lies in the square of
+    ``k`` cells around it (an OR along the rows, then along the columns), or it lies within
+    ``k`` cells of a side of the world.
+    """
+    ny, nx = scanned.shape
+    known_blocked = np.empty((ny, nx), dtype=np.bool_)
+    for r in range(ny):
+        for c in range(nx):
+            known_blocked[r, c] = scanned[r, c] & (blocked[r, c] >= tau)
+    along_row = known_blocked.copy()
+    for d in range(1, k + 1):
+        for r in range(ny):
+            for c in range(d, nx):
+                along_row[r, c] |= known_blocked[r, c - d]
+            for c in range(nx - d):
+                along_row[r, c] |= known_blocked[r, c + d]
+    near = along_row.copy()
+    for d in range(1, k + 1):
+        for r in range(d, ny):
+            for c in range(nx):
+                near[r, c] |= along_row[r - d, c]
+        for r in range(ny - d):
+            for c in range(nx):
+                near[r, c] |= along_row[r + d, c]
+    out = np.zeros((ny + 2, nx + 2), dtype=np.bool_)
+    for r in range(ny):
+        for c in range(nx):
+            out[r + 1, c + 1] = scanned[r, c] & (near[r, c] == 0)
+    band = min(k, ny)  # the world's sides: cells within k of them are not drivable
     if south:
-        wall[:k, :] = True
-    if east:
-        wall[:, -k:] = True
+        out[1 : band + 1, :] = False
     if north:
-        wall[-k:, :] = True
-    out[1:-1, 1:-1] = pmap._scanned & ~_dilate(wall, k)[k:-k, k:-k]
+        out[ny + 1 - band : ny + 1, :] = False
+    band = min(k, nx)
+    if west:
+        out[:, 1 : band + 1] = False
+    if east:
+        out[:, nx + 1 - band : nx + 1] = False
     return out
 
 
