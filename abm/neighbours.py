@@ -9,6 +9,8 @@ uniform grid of cells at least ``r`` wide needs only the 3 x 3 cells around a po
 - :func:`pairs_within`: all pairs closer than ``r`` among ``n`` points (compiled; walled or
   periodic), in lexicographic order, so results never depend on how the search is organised.
 - :func:`within`: for each query point the indices of the points within ``r`` (compiled; CSR).
+- :func:`new_pairs`: the pairs close now that were not close before, as sorted pair keys
+  (compiled; what counts a contact or an approach once, not every tick it lasts).
 - :class:`NeighbourIndex`: a dynamic index of keyed points that come, move and go one at a
   time (event-driven users such as the comm graph), answering ``near(point, r)`` with the
   keys in the 3 x 3 cells around the point (a superset: the caller measures the distance).
@@ -22,7 +24,26 @@ from numba import njit
 
 from abm.errors import ConfigError
 
-__all__ = ["NeighbourIndex", "cell_grid", "cell_of", "nearest_distance", "pairs_within", "within"]
+__all__ = [
+    "NeighbourIndex",
+    "cell_grid",
+    "cell_of",
+    "nearest_distance",
+    "new_pairs",
+    "pairs_within",
+    "within",
+]
+
+
+@njit(cache=True)
+def new_pairs(now: np.ndarray, before: np.ndarray) -> np.ndarray:
+    """The keys of ``now`` not in ``before``, both sorted arrays of unique int64 pair keys (the
+    pairs close now, and at the last look): a binary search each.
+    """
+    if before.shape[0] == 0:
+        return now
+    at = np.minimum(np.searchsorted(before, now), before.shape[0] - 1)
+    return now[before[at] != now]
 
 
 def _check_radius(radius: float) -> float:

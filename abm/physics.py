@@ -36,7 +36,7 @@ from abm import gridkernels
 from abm.arena import Arena
 from abm.checks import check_control, check_controller
 from abm.errors import ConfigError, check_range
-from abm.neighbours import pairs_within
+from abm.neighbours import new_pairs, pairs_within
 
 if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
     from mesa.experimental.continuous_space import ContinuousSpaceAgent
@@ -439,10 +439,7 @@ def _contacts_now(
         a, b = ids[first[k]], ids[second[k]]
         now[k] = (min(a, b) << 32) | max(a, b)
     now.sort()  # the pairs are unique, so are the keys
-    if before.shape[0] == 0:
-        return now, now
-    at = np.minimum(np.searchsorted(before, now), before.shape[0] - 1)
-    return now, now[before[at] != now]
+    return now, new_pairs(now, before)
 
 
 @njit(cache=True)

@@ -28,6 +28,7 @@ from abm import portable
 from abm.clock import call_later
 from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
 from abm.model import SwarmModel
+from abm.neighbours import new_pairs
 from abm.pathfollow import PathFollower, ground_robot
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
@@ -472,16 +473,11 @@ def _approaches(positions, scout_rows, scout_of, flying, reach, near, parent):
                 if dx * dx + dy * dy < reach * reach:
                     keys.append(min(a, b) * n + max(a, b))
     now = np.unique(np.array(keys, dtype=np.int64))
-    new = siblings = 0
-    j = 0
-    for key in now:
-        while j < near.size and near[j] < key:
-            j += 1
-        if j < near.size and near[j] == key:
-            continue
-        new += 1
+    new = new_pairs(now, near)
+    siblings = 0
+    for key in new:
         siblings += parent[key // n] == parent[key % n]
-    return now, new, siblings
+    return now, new.size, siblings
 
 
 def _mean(values: list[float]) -> float:
