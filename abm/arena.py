@@ -182,19 +182,29 @@ class Arena:
         """Distance from each origin along its direction to the first wall, capped at max_range.
 
         Exact for grid walls: every ray is walked cell boundary by cell boundary (compiled, see
-        :mod:`abm.gridkernels`). An origin inside a wall returns 0.
+        :mod:`abm.gridkernels`), except a ray with no wall within ``max_range`` of its origin
+        (a summed-area-table lookup), which reads ``max_range`` at once, as its walk would.
+        An origin inside a wall returns 0.
 
         Args:
-            origins: ``(n, 2)`` start points (m).
+            origins: ``(n, 2)`` start points (m), or one point ``(2,)`` for every ray (a
+                sensor's sweep, without broadcasting it).
             directions: ``(n, 2)`` directions (need not be normalised).
             max_range: the sensor's range (m).
 
         """
-        origins, directions = _point_pairs(origins, directions)
         from abm import gridkernels
 
+        origins = np.asarray(origins, dtype=float)
+        if origins.shape == (2,):
+            x, y = origins.tolist()
+            return gridkernels.sweep(
+                self.padded, self.walls_sat, self.resolution, x, y, _points(directions),
+                float(max_range),
+            )  # fmt: skip
+        origins, directions = _point_pairs(origins, directions)
         return gridkernels.raycasts(
-            self.padded, self.resolution, origins, directions, float(max_range)
+            self.padded, self.walls_sat, self.resolution, origins, directions, float(max_range)
         )
 
     def cardinal_distances(self, points: np.ndarray, max_range: float) -> np.ndarray:
@@ -277,8 +287,13 @@ def _points(a: np.ndarray) -> np.ndarray:
 
 
 def _point_pairs(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two ``(n, 2)`` float arrays, broadcast against each other and contiguous for the kernels."""
-    a, b = np.broadcast_arrays(_points(a), _points(b))
+    """Two ``(n, 2)`` float arrays, broadcast against each other and contiguous for the kernels
+    (arrays of one shape as they are: ``np.broadcast_arrays`` costs several microseconds).
+    """
+    a, b = _points(a), _points(b)
+    if a.shape == b.shape:
+        return a, b
+    a, b = np.broadcast_arrays(a, b)
     return np.ascontiguousarray(a), np.ascontiguousarray(b)
 
 

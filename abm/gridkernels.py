@@ -26,6 +26,7 @@ __all__ = [
     "nearest_visible_on",
     "raycasts",
     "segments_cross",
+    "sweep",
     "wall_lengths",
 ]
 
@@ -84,14 +85,64 @@ def _raycast(padded, res, ox, oy, dx, dy, max_range):
 
 
 @njit(cache=True)
-def raycasts(padded, res, origins, directions, max_range):
-    """Wall distance along each ray ``(n,)``; an origin inside a wall reads 0."""
+def _no_wall_within(sat, res, ox, oy, reach):
+    """Tell whether no wall cell lies within ``reach`` of (ox, oy): the square of cells around
+    the disk (one cell wider on every side, against rounding) is inside the grid and holds no
+    wall (a summed-area-table lookup). False for a point or reach that is not finite.
+    """
+    if not (math.isfinite(ox) and math.isfinite(oy) and math.isfinite(reach)) or reach < 0.0:
+        return False
+    rows = sat.shape[0] - 1
+    cols = sat.shape[1] - 1
+    lo_x = int(math.floor((ox - reach) / res)) - 1
+    hi_x = int(math.floor((ox + reach) / res)) + 1
+    lo_y = int(math.floor((oy - reach) / res)) - 1
+    hi_y = int(math.floor((oy + reach) / res)) + 1
+    if lo_x < 0 or lo_y < 0 or hi_x >= cols or hi_y >= rows:
+        return False
+    walls = sat[hi_y + 1, hi_x + 1] - sat[lo_y, hi_x + 1] - sat[hi_y + 1, lo_x] + sat[lo_y, lo_x]
+    return walls == 0
+
+
+@njit(cache=True)
+def raycasts(padded, sat, res, origins, directions, max_range):
+    """Wall distance along each ray ``(n,)``; an origin inside a wall reads 0.
+
+    A ray from an origin with no wall within ``max_range`` (:func:`_no_wall_within`) reads
+    ``max_range`` without being walked: the value the walk returns for a miss. A sensor sweep's
+    rays share their origin, so its test is made once per run of equal origins.
+    """
     n = origins.shape[0]
     out = np.empty(n)
+    last_x = math.nan
+    last_y = math.nan
+    clear = False
     for k in range(n):
-        out[k] = _raycast(
-            padded, res, origins[k, 0], origins[k, 1], directions[k, 0], directions[k, 1], max_range
-        )
+        ox = origins[k, 0]
+        oy = origins[k, 1]
+        if ox != last_x or oy != last_y:
+            clear = _no_wall_within(sat, res, ox, oy, max_range)
+            last_x = ox
+            last_y = oy
+        if clear:
+            out[k] = max_range
+        else:
+            out[k] = _raycast(padded, res, ox, oy, directions[k, 0], directions[k, 1], max_range)
+    return out
+
+
+@njit(cache=True)
+def sweep(padded, sat, res, ox, oy, directions, max_range):
+    """Wall distance along each ray ``(n,)`` from the one origin (ox, oy): a sensor's sweep.
+    The same values as :func:`raycasts` with that origin on every row.
+    """
+    n = directions.shape[0]
+    out = np.empty(n)
+    if _no_wall_within(sat, res, ox, oy, max_range):
+        out[:] = max_range
+        return out
+    for k in range(n):
+        out[k] = _raycast(padded, res, ox, oy, directions[k, 0], directions[k, 1], max_range)
     return out
 
 

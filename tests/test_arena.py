@@ -173,3 +173,47 @@ def test_wall_lengths_across_one_wall():
     assert got[0, 1] == 0.0  # same side
     diagonal = arena.wall_lengths(np.array([[1.5, 0.5]]), np.array([[7.5, 3.5]]))
     assert diagonal[0, 0] == pytest.approx(np.hypot(6, 3) / 6)  # 1 m of x at slope 1/2
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 10_000),
+    st.sampled_from([0.0, 0.02, 0.1]),
+    st.sampled_from([0.2, 1.0]),
+    st.floats(0.0, 6.0),
+)
+def test_raycasts_skip_only_rays_with_no_wall_in_range(seed, density, resolution, reach):
+    """The sweep shortcut (no wall within range: read the range) gives every ray exactly what
+    walking it gives: sparse walls, origins shared by sweeps of rays, near the border too; and
+    a sweep from one origin ``(2,)`` gives what the same origin on every row gives.
+    """
+    from abm import gridkernels
+
+    arena = random_arena(seed, shape=(30, 40), resolution=resolution, density=density)
+    rng = np.random.default_rng(seed)
+    centres = rng.random((12, 2)) * [arena.width, arena.height]
+    angles = np.linspace(0.0, 2 * np.pi, 37)
+    dirs = np.tile(np.column_stack((np.cos(angles), np.sin(angles))), (len(centres), 1))
+    origins = np.repeat(centres, len(angles), axis=0)
+    walked = np.array(
+        [
+            gridkernels._raycast(arena.padded, resolution, *o, *d, reach)
+            for o, d in zip(origins, dirs, strict=True)
+        ]
+    )
+    assert np.array_equal(arena.raycast(origins, dirs, reach), walked)
+    sweeps = [arena.raycast(centre, dirs[: len(angles)], reach) for centre in centres]
+    assert np.array_equal(np.concatenate(sweeps), walked)
+
+
+def test_raycast_shortcut_answers_for_an_open_room_and_not_near_walls():
+    """In a room with one wall cell, a sweep far from it reads the range on every ray, one
+    beside it hits the wall, one near the outer border hits the border.
+    """
+    free = np.ones((50, 50), dtype=bool)
+    free[10, 10] = False
+    arena = Arena(free, 0.2)
+    dirs = np.column_stack((np.cos(np.arange(8) * np.pi / 4), np.sin(np.arange(8) * np.pi / 4)))
+    assert (arena.raycast(np.broadcast_to([6.0, 6.0], dirs.shape), dirs, 1.0) == 1.0).all()
+    assert arena.raycast([[2.1, 1.5]], [[0.0, 1.0]], 1.0)[0] == pytest.approx(0.5)
+    assert arena.raycast([[9.9, 5.0]], [[1.0, 0.0]], 1.0)[0] == pytest.approx(0.1)

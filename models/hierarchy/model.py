@@ -297,10 +297,11 @@ class HierarchyModel(SwarmModel):
         """
         p = self.params
         dirs = self.ray_directions
-        origins = np.broadcast_to(position, dirs.shape)
-        dist = self.arena.raycast(origins, dirs, r)
+        dist = self.arena.raycast(position, dirs, r)
         hit = dist < r - 1e-9
-        points = origins[hit] + dirs[hit] * (dist[hit] + HIT_NUDGE)[:, None]
+        if not hit.any():
+            return np.empty((0, 2))
+        points = position + dirs[hit] * (dist[hit] + HIT_NUDGE)[:, None]
         if p.dedupe_points_per_cell and len(points):
             cells = np.floor(points / p.cell_size).astype(np.int64)
             _, first = np.unique(cells, axis=0, return_index=True)
