@@ -7,10 +7,13 @@
 - :mod:`~abm.comms.policies`: :class:`LinkPolicy` and two of them, :class:`TreeLinks` (a rooted
   tree's parent/child edges) and :class:`RingLinks`, which say which links may carry messages;
 - :mod:`~abm.comms.messages`: :class:`MessageLog`, every transmission, one row per hop;
-- :mod:`~abm.comms.flood`: :class:`GradientFlood`, hop-count gradients kept by message floods.
+- :mod:`~abm.comms.flood`: :class:`GradientFlood`, hop-count gradients kept by message floods;
+- :mod:`~abm.comms.inbox`: :class:`Inbox`, the messages a process takes one at a time
+  (``simpy.Store``'s events, exactly, at less cost).
 """
 
 from abm.comms.flood import GradientFlood
+from abm.comms.inbox import Inbox
 from abm.comms.messages import MessageLog
 from abm.comms.network import CommNetwork
 from abm.comms.policies import LinkPolicy, RingLinks, TreeLinks
@@ -19,6 +22,7 @@ from abm.comms.radio import Shadowing
 __all__ = [
     "CommNetwork",
     "GradientFlood",
+    "Inbox",
     "LinkPolicy",
     "MessageLog",
     "RingLinks",

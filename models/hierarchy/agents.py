@@ -36,8 +36,8 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-import simpy
 
+from abm.comms.inbox import Inbox
 from abm.robot import Robot
 from models.hierarchy.coverage import Child, Plan, Status, coverage
 from models.hierarchy.planning import path_length, wave_order_violations, waves
@@ -115,7 +115,7 @@ class Member:
         super().__init__(*args, **kwargs)  # a robot's body first (the queen: none)
         self.links: dict[int, object] = {}
         self._local_of: dict[object, int] = {}
-        self.inbox = simpy.Store(self.model.env)
+        self.inbox = Inbox(self.model.env)
         self.scan_area = 0.0
         self.drive_distance = 0.0
 
