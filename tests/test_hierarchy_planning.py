@@ -11,9 +11,15 @@ from hypothesis import strategies as st
 from abm.errors import ConfigError
 from models.hierarchy.coverage import _valid_grid
 from models.hierarchy.planning import (
+    DistanceField,
+    _child_search,
     _drivable,
     _frame,
+    _framed_base,
     _framed_base_grid,
+    _local_cells,
+    _smooth_on,
+    _without,
     padded_cells,
     path_length,
     shortest_paths,
@@ -396,3 +402,59 @@ def test_the_compiled_valid_cells_are_the_numpy_rule(arrays):
     near[:, 1:] |= open_[:, :-1]
     near[:, :-1] |= open_[:, 1:]
     assert np.array_equal(_valid_grid(inside, scanned, exhausted), inside & near & ~exhausted)
+
+
+SMALL = Rect(0.0, 0.0, 1.2, 1.2)
+"""A 12 x 12-cell world for the per-child kernels."""
+cells_12 = st.lists(st.booleans(), min_size=144, max_size=144).map(
+    lambda v: np.array(v).reshape(12, 12)
+)
+points_12 = st.tuples(st.floats(0.0, 1.1999), st.floats(0.0, 1.1999))
+
+
+def random_map(scanned: np.ndarray, blocked: np.ndarray) -> ProbMap:
+    """A map of the small world whose known and known-blocked cells are the given grids."""
+    pmap = ProbMap(SMALL, SMALL, cell_size=H)
+    pmap._scanned[:] = scanned
+    pmap._blocked[:] = np.where(blocked, 1.0, 0.0)
+    return pmap
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, cells_12, st.lists(points_12, min_size=1, max_size=5),
+       st.integers(0, 4), st.integers(0, 2))  # fmt: skip
+def test_the_compiled_child_search_is_the_numpy_rule(scanned, blocked, goal, robots, j, k):
+    pmap = random_map(scanned, blocked)
+    j = min(j, len(robots) - 1)
+    base = _framed_base(pmap, k)
+    others = robots[:j] + robots[j + 1 :]
+    want = DistanceField(pmap, robots[j], _without(base, pmap, others, k)[1:-1, 1:-1], goal)
+    rows, cols = np.nonzero(goal)
+    flat = (rows + 1) * 14 + cols + 1
+    occ_r, occ_c = _local_cells(pmap, robots)
+    sr, sc = pmap._local(*robots[j])
+    free, dist, pred, complete, ids, steps = _child_search(
+        base, _frame(goal), flat, occ_r, occ_c, j, k, sr, sc
+    )
+    assert np.array_equal(free, want._free)
+    assert np.array_equal(dist, want._dist_f) and np.array_equal(pred, want._pred_f)
+    assert complete == want._complete
+    d = want._dist_f.ravel()[flat]
+    assert np.array_equal(ids, np.flatnonzero(d >= 0)) and np.array_equal(steps, d[d >= 0])
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, points_12, st.booleans(), st.integers(0, 143))
+def test_the_compiled_smoothed_route_is_path_to_then_smoothing(scanned, blocked, source,
+                                                               centred, target):  # fmt: skip
+    pmap = random_map(scanned, blocked)
+    if centred:  # the source on its cell centre: the path leaves the duplicate centre out
+        source = pmap._centre_of(*pmap._local(*source))
+    field = shortest_paths(pmap, source)
+    x, y = pmap._centre_of(target // 12, target % 12)
+    if not field.reachable(x, y):
+        with pytest.raises(ValueError):
+            field._smoothed_path_to(x, y)
+        return
+    want = _smooth_on(pmap, field.path_to(x, y), field._drivable)
+    assert np.array_equal(field._smoothed_path_to(x, y), want)

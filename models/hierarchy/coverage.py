@@ -34,10 +34,10 @@ from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
+    _child_search,
     _frame,
     _framed_base,
-    _smooth_on,
-    _without,
+    _local_cells,
     padded_cells,
     shortest_paths,
     waves,
@@ -401,24 +401,28 @@ def coverage(
     base = _framed_base(pmap, padding)
     goal = _frame(valid)
     framed_flat = (rows + 1) * (valid.shape[1] + 2) + cols + 1
+    occ_r, occ_c = _local_cells(pmap, [c.position for c in children] + list(occupied))
+    index = {id(c): i for i, c in enumerate(children)}
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
-        """Steps 8-11: the child's Dijkstra, once per call; its reachable VALID cells (none for
-        a child outside the map's routing region: it has no route and stays idle).
+        """Steps 8-11: the child's Dijkstra, once per call, the other robots blocking it; its
+        reachable VALID cells (none for a child outside the map's routing region: it has no
+        route and stays idle).
         """
         if child.key not in reach:
-            if not pmap.in_routing(*child.position):
+            cell = pmap._local(*child.position)
+            if cell is None:
                 reach[child.key] = (np.zeros(0, dtype=np.int64), np.zeros(0))
                 return reach[child.key]
-            others = [c.position for c in children if c is not child]
-            drivable = _without(base, pmap, others + list(occupied), padding)
-            f = DistanceField._from_framed(pmap, child.position, drivable, goal)
-            fields[child.key] = f
-            d = f._dist_f.ravel()[framed_flat]
-            ok = np.flatnonzero(d >= 0)
-            reach[child.key] = (ok, d[ok].astype(np.float64))
+            free, dist, pred, complete, ok, steps = _child_search(
+                base, goal, framed_flat, occ_r, occ_c, index[id(child)], max(padding, 0), *cell
+            )
+            fields[child.key] = DistanceField._from_search(
+                pmap, child.position, cell, free, dist, pred, complete
+            )
+            reach[child.key] = (ok, steps)
         return reach[child.key]
 
     def pair_span(a: Child, b: Child) -> float:
@@ -491,8 +495,7 @@ def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupi
     paths = {}
     for child in active:
         f = fields[child.key]
-        raw = f.path_to(*centres[child.key])
-        paths[child.key] = _smooth_on(pmap, raw, f._drivable)
+        paths[child.key] = f._smoothed_path_to(*centres[child.key])
     idle_children = [c for c in children if c.key in set(idle)]
     idle_moves, stranded = move_idle_robots(
         pmap,
@@ -598,7 +601,7 @@ def move_idle_robots(
         angle = np.mod(portable.arctan2(dc, dr), 2 * np.pi)
         best = np.lexsort((angle, ring))[0]
         target = pmap._centre_of(int(free[best, 0]), int(free[best, 1]))
-        path = _smooth_on(pmap, f.path_to(*target), f._drivable)
+        path = f._smoothed_path_to(*target)
         moves[child.key] = path
         conflict[free[best, 0], free[best, 1]] = True
         add_path(path)

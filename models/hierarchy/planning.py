@@ -425,6 +425,91 @@ def _without(
     return grid
 
 
+@njit(cache=True)
+def _child_search(base, goal, goal_flat, occ_r, occ_c, skip, k, sr, sc):
+    """One child's step of a coverage call (Fig. 24 steps 8-11) in one compiled call.
+
+    The child's drivable grid is ``base`` (framed) with every cell within ``k`` of an occupied
+    local cell ``(occ_r[i], occ_c[i])``, ``i != skip``, made undrivable (as :func:`_without`);
+    its search from (sr, sc) stops once every drivable cell of ``goal`` is reached (as a
+    :class:`DistanceField` with a target). ``goal_flat`` holds the framed flat indices of the
+    goal cells. Returns the framed drivable grid, the :func:`_bfs` results, and the positions
+    in ``goal_flat`` of the goal cells reached with their steps (float).
+    """
+    fy, w = base.shape
+    ny = fy - 2
+    nx = w - 2
+    free = base.copy()
+    for i in range(occ_r.shape[0]):
+        r = occ_r[i]
+        c = occ_c[i]
+        if i != skip and 0 <= r < ny and 0 <= c < nx:
+            free[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+    flat_free = free.ravel()
+    n_target = 0
+    for i in range(goal_flat.shape[0]):
+        if flat_free[goal_flat[i]]:
+            n_target += 1
+    start = (sr + 1) * w + sc + 1
+    if goal.ravel()[start] and not flat_free[start]:
+        n_target += 1
+    dist, pred, complete = _bfs(free, goal, sr, sc, n_target)
+    flat_dist = dist.ravel()
+    n = 0
+    for i in range(goal_flat.shape[0]):
+        if flat_dist[goal_flat[i]] >= 0:
+            n += 1
+    ids = np.empty(n, dtype=np.int64)
+    steps = np.empty(n, dtype=np.float64)
+    n = 0
+    for i in range(goal_flat.shape[0]):
+        d = flat_dist[goal_flat[i]]
+        if d >= 0:
+            ids[n] = i
+            steps[n] = d
+            n += 1
+    return free, dist, pred, complete, ids, steps
+
+
+@njit(cache=True)
+def _smoothed_route(pred, drivable, sr, sc, tr, tc, ix0, iy0, h, sx, sy):
+    """:meth:`DistanceField.path_to` then :func:`_smooth_on` (Fig. 32) in one compiled call:
+    the source point ``(sx, sy)`` (metres) in local cell (sr, sc), the centres of the cells
+    along ``pred`` to (tr, tc) (the source cell's own centre dropped when the source stands on
+    it), then the smoothing's keep-mask on the points in local cell units.
+    """
+    cells = _walk(pred, sr, sc, tr, tc)
+    m = cells.shape[0]
+    x0 = (ix0 + cells[0, 1] + 0.5) * h
+    y0 = (iy0 + cells[0, 0] + 0.5) * h
+    first = 1 if math.hypot(x0 - sx, y0 - sy) <= 1e-9 * h else 0
+    n = m + 1 - first
+    path = np.empty((n, 2), dtype=np.float64)
+    path[0, 0] = sx
+    path[0, 1] = sy
+    for k in range(first, m):
+        path[k + 1 - first, 0] = (ix0 + cells[k, 1] + 0.5) * h
+        path[k + 1 - first, 1] = (iy0 + cells[k, 0] + 0.5) * h
+    if n <= 2:
+        return path
+    local = np.empty((n, 2), dtype=np.float64)
+    for k in range(n):
+        local[k, 0] = path[k, 0] / h - ix0
+        local[k, 1] = path[k, 1] / h - iy0
+    keep = _smooth_keep(drivable, local, sr, sc)
+    return path[keep]
+
+
+def _local_cells(pmap: ProbMap, points: Sequence[Sequence[float]]) -> tuple[np.ndarray, np.ndarray]:
+    """Local rows and columns (int64; outside the grid for points outside it) of the cells
+    holding ``points`` (metres), as :func:`_without` finds them.
+    """
+    h = pmap.cell_size
+    rows = [math.floor(y / h + _EPS) - pmap._iy0 for _, y in points]
+    cols = [math.floor(x / h + _EPS) - pmap._ix0 for x, _ in points]
+    return np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64)
+
+
 def _frame(grid: np.ndarray) -> np.ndarray:
     """Bool ``grid`` inside one ring of False (``np.pad`` with False, without its 15 us of
     set-up a call: this runs several times per coverage call).
@@ -469,10 +554,16 @@ class DistanceField:
         self._start(pmap, source, _frame(drivable), None if target is None else _frame(target))
 
     @classmethod
-    def _from_framed(cls, pmap, source, free, goal) -> DistanceField:
-        """Build from framed grids (see :func:`_bfs`) without copying them."""
+    def _from_search(cls, pmap, source, cell, free, dist, pred, complete) -> DistanceField:
+        """Wrap the framed results of a search already run (see :func:`_child_search`) from
+        ``source`` in local cell ``cell``.
+        """
         field = cls.__new__(cls)
-        field._start(pmap, source, free, goal)
+        field._map = pmap
+        field.source = (float(source[0]), float(source[1]))
+        field._cell = cell
+        field._free = free
+        field._dist_f, field._pred_f, field._complete = dist, pred, complete
         return field
 
     def _start(self, pmap, source, free, goal) -> None:
@@ -551,6 +642,22 @@ class DistanceField:
         if np.hypot(*(centres[0] - self.source)) <= 1e-9 * h:
             return np.vstack((np.asarray([self.source]), centres[1:]))
         return np.vstack((np.asarray([self.source]), centres))
+
+    def _smoothed_path_to(self, x: float, y: float) -> np.ndarray:
+        """:meth:`path_to` smoothed on the field's own drivability (Fig. 32), compiled.
+
+        Raises:
+            ValueError: the target is unreachable.
+
+        """
+        if not self.reachable(x, y):
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
+        tr, tc = self._map._local(x, y)
+        m = self._map
+        return _smoothed_route(
+            self._pred, self._drivable, self._cell[0], self._cell[1], tr, tc, m._ix0, m._iy0,
+            m.cell_size, self.source[0], self.source[1],
+        )  # fmt: skip
 
 
 def shortest_paths(
