@@ -12,7 +12,7 @@ from abm.errors import ConfigError
 from models.hierarchy.coverage import _valid_grid
 from models.hierarchy.planning import (
     DistanceField,
-    _child_search,
+    _children_search,
     _drivable,
     _frame,
     _framed_base,
@@ -422,25 +422,32 @@ def random_map(scanned: np.ndarray, blocked: np.ndarray) -> ProbMap:
 
 @settings(max_examples=150, deadline=None)
 @given(cells_12, cells_12, cells_12, st.lists(points_12, min_size=1, max_size=5),
-       st.integers(0, 4), st.integers(0, 2))  # fmt: skip
-def test_the_compiled_child_search_is_the_numpy_rule(scanned, blocked, goal, robots, j, k):
+       st.integers(1, 5), st.integers(0, 2))  # fmt: skip
+def test_the_compiled_children_search_is_the_numpy_rule(scanned, blocked, goal, robots, n, k):
     pmap = random_map(scanned, blocked)
-    j = min(j, len(robots) - 1)
+    robots = [*robots, (-0.05, 0.5)]  # a child outside the grid: no search, no cell
+    n = min(n, len(robots))
     base = _framed_base(pmap, k)
-    others = robots[:j] + robots[j + 1 :]
-    want = DistanceField(pmap, robots[j], _without(base, pmap, others, k)[1:-1, 1:-1], goal)
     rows, cols = np.nonzero(goal)
     flat = (rows + 1) * 14 + cols + 1
     occ_r, occ_c = _local_cells(pmap, robots)
-    sr, sc = pmap._local(*robots[j])
-    free, dist, pred, complete, ids, steps = _child_search(
-        base, _frame(goal), flat, occ_r, occ_c, j, k, sr, sc
+    free, dist, pred, complete, ids, steps, offsets = _children_search(
+        base, _frame(goal), flat, occ_r, occ_c, n, k
     )
-    assert np.array_equal(free, want._free)
-    assert np.array_equal(dist, want._dist_f) and np.array_equal(pred, want._pred_f)
-    assert complete == want._complete
-    d = want._dist_f.ravel()[flat]
-    assert np.array_equal(ids, np.flatnonzero(d >= 0)) and np.array_equal(steps, d[d >= 0])
+    assert offsets.shape == (n + 1,) and ids.shape == steps.shape == (offsets[-1],)
+    for j in range(n):
+        got_ids, got_steps = ids[offsets[j] : offsets[j + 1]], steps[offsets[j] : offsets[j + 1]]
+        if pmap._local(*robots[j]) is None:
+            assert got_ids.size == 0
+            continue
+        others = robots[:j] + robots[j + 1 :]
+        want = DistanceField(pmap, robots[j], _without(base, pmap, others, k)[1:-1, 1:-1], goal)
+        assert np.array_equal(free[j], want._free)
+        assert np.array_equal(dist[j], want._dist_f) and np.array_equal(pred[j], want._pred_f)
+        assert complete[j] == want._complete
+        d = want._dist_f.ravel()[flat]
+        assert np.array_equal(got_ids, np.flatnonzero(d >= 0))
+        assert np.array_equal(got_steps, d[d >= 0])
 
 
 @settings(max_examples=150, deadline=None)

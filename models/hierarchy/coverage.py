@@ -34,7 +34,7 @@ from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
-    _child_search,
+    _children_search,
     _frame,
     _framed_base,
     _local_cells,
@@ -243,13 +243,13 @@ def _disc_count(prefix, r0, c0, radius):
     return total
 
 
-_PLACED, _NEED_FIELD, _AT_FLOOR, _NEED_RANDOM = 0, 1, 2, 3
+_PLACED, _AT_FLOOR, _NEED_RANDOM = 0, 1, 2
 """Outcomes of one :func:`_search` call."""
 
 
 @njit(cache=True)
 def _search(
-    r, floor, decay, span, n_active, n_ready, ids, dist, offsets, vx, vy, alpha, beta,
+    r, floor, decay, span, n_active, ids, dist, offsets, vx, vy, alpha, beta,
     prefix, rows, cols, inv_h, gain, stamp, gen, gen_r, uniforms, cursor,
 ):  # fmt: skip
     """The loop of Fig. 24 from radius ``r`` down: place the active children in
@@ -258,20 +258,20 @@ def _search(
     ``floor``) and start again.
 
     Child j's reachable VALID cells are ``ids[offsets[j]:offsets[j+1]]`` (indices into the VALID
-    arrays) with Dijkstra steps ``dist``; only the first ``n_ready`` children have them yet. C is
-    computed lazily and cached per radius (``gain`` is valid where ``stamp == gen``, for radius
-    ``gen_r``). Ties take ``uniforms[cursor]``. Radii with ``2r > span`` (an upper bound on how
-    far apart the first two children's cells are) cannot succeed and are skipped.
+    arrays) with Dijkstra steps ``dist``. C is computed lazily and cached per radius (``gain``
+    is valid where ``stamp == gen``, for radius ``gen_r``). Ties take ``uniforms[cursor]``.
+    Radii with ``2r > span`` (an upper bound on how far apart the first two children's cells
+    are) cannot succeed and are skipped.
 
-    Returns ``(outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r)``: PLACED (every
-    child placed at r), NEED_FIELD (child j has no distance field yet), AT_FLOOR (failed at the
-    floor) or NEED_RANDOM; on NEED_* the attempt is rewound, so calling again with what was
-    missing gives the same result as an uninterrupted search.
+    Returns ``(outcome, r, steps, cursor, placed, steps_to, gen, gen_r)``: PLACED (every
+    child placed at r), AT_FLOOR (failed at the floor) or NEED_RANDOM (more uniforms needed);
+    on NEED_RANDOM the attempt is rewound, so calling again with more uniforms gives the same
+    result as an uninterrupted search.
     """
     placed = np.empty(n_active, dtype=np.int64)
     steps_to = np.empty(n_active, dtype=np.int64)
     longest = 0
-    for j in range(n_ready):
+    for j in range(n_active):
         longest = max(longest, offsets[j + 1] - offsets[j])
     ties = np.empty(max(longest, 1), dtype=np.int64)
     steps = 0
@@ -290,8 +290,6 @@ def _search(
         failed = False
         hopeless = False
         for j in range(n_active):
-            if j >= n_ready:
-                return _NEED_FIELD, r, steps, start, j, placed, steps_to, gen, gen_r
             s0 = offsets[j]
             s1 = offsets[j + 1]
             if s1 == s0:
@@ -326,15 +324,15 @@ def _search(
             pick = ties[0]
             if count > 1:
                 if cursor >= uniforms.shape[0]:
-                    return _NEED_RANDOM, r, steps, start, j, placed, steps_to, gen, gen_r
+                    return _NEED_RANDOM, r, steps, start, placed, steps_to, gen, gen_r
                 pick = ties[int(uniforms[cursor] * count)]
                 cursor += 1
             placed[j] = ids[pick]
             steps_to[j] = int(dist[pick])
         if not failed:
-            return _PLACED, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+            return _PLACED, r, steps, cursor, placed, steps_to, gen, gen_r
         if at_floor:
-            return _AT_FLOOR, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+            return _AT_FLOOR, r, steps, cursor, placed, steps_to, gen, gen_r
         if hopeless:
             while not at_floor:
                 r = max(r * decay, floor)
@@ -402,35 +400,29 @@ def coverage(
     goal = _frame(valid)
     framed_flat = (rows + 1) * (valid.shape[1] + 2) + cols + 1
     occ_r, occ_c = _local_cells(pmap, [c.position for c in children] + list(occupied))
-    index = {id(c): i for i, c in enumerate(children)}
+    # Steps 8-11: every child's Dijkstra, once per call, the other robots blocking it, and its
+    # reachable VALID cells (none for a child outside the map's routing region: it has no
+    # route and stays idle).
+    free, dist_f, pred_f, complete, all_ids, all_steps, all_offsets = _children_search(
+        base, goal, framed_flat, occ_r, occ_c, len(children), max(padding, 0)
+    )
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-
-    def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
-        """Steps 8-11: the child's Dijkstra, once per call, the other robots blocking it; its
-        reachable VALID cells (none for a child outside the map's routing region: it has no
-        route and stays idle).
-        """
-        if child.key not in reach:
-            cell = pmap._local(*child.position)
-            if cell is None:
-                reach[child.key] = (np.zeros(0, dtype=np.int64), np.zeros(0))
-                return reach[child.key]
-            free, dist, pred, complete, ok, steps = _child_search(
-                base, goal, framed_flat, occ_r, occ_c, index[id(child)], max(padding, 0), *cell
-            )
+    for i, child in enumerate(children):
+        a, b = all_offsets[i], all_offsets[i + 1]
+        reach[child.key] = (all_ids[a:b], all_steps[a:b])
+        if pmap.in_routing(*child.position):
             fields[child.key] = DistanceField._from_search(
-                pmap, child.position, cell, free, dist, pred, complete
-            )
-            reach[child.key] = (ok, steps)
-        return reach[child.key]
+                pmap, child.position, (int(occ_r[i]), int(occ_c[i])), free[i], dist_f[i],
+                pred_f[i], bool(complete[i]),
+            )  # fmt: skip
 
     def pair_span(a: Child, b: Child) -> float:
         """Upper bound on the distance between any reachable VALID cells of ``a`` and ``b``
         (their bounding boxes' farthest corners): if 2r exceeds it, ``b`` cannot be placed
         once ``a`` is, so that radius fails whatever the ties.
         """
-        ia, ib = candidates(a)[0], candidates(b)[0]
+        ia, ib = reach[a.key][0], reach[b.key][0]
         if ia.size == 0 or ib.size == 0:
             return math.inf  # handled as hopeless by the search
         ax, ay, bx, by = vx[ia], vy[ia], vx[ib], vy[ib]
@@ -448,23 +440,15 @@ def coverage(
     r = min(c.r_max for c in active)
     floor = max(c.r_min for c in active)
     tried = 1
-    n_ready = 1
+    ids, dist, offsets = all_ids, all_steps, all_offsets
+    span = pair_span(active[0], active[1]) if len(active) > 1 else math.inf
     while True:
-        ready = [candidates(c) for c in active[:n_ready]]
-        ids = np.concatenate([c[0] for c in ready])
-        dist = np.concatenate([c[1] for c in ready])
-        offsets = np.zeros(n_ready + 1, dtype=np.int64)
-        offsets[1:] = np.cumsum([c[0].size for c in ready])
-        span = pair_span(active[0], active[1]) if n_ready > 1 else math.inf
-        outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r = _search(
-            r, floor, decay, span, len(active), n_ready, ids, dist, offsets, vx, vy,
-            float(alpha), float(beta), prefix, rows, cols, 1.0 / h, gain, stamp, gen, gen_r,
-            uniforms, cursor,
+        outcome, r, steps, cursor, placed, steps_to, gen, gen_r = _search(
+            r, floor, decay, span, len(active), ids, dist, offsets, vx, vy, float(alpha),
+            float(beta), prefix, rows, cols, 1.0 / h, gain, stamp, gen, gen_r, uniforms, cursor,
         )  # fmt: skip
         tried += steps
-        if outcome == _NEED_FIELD:
-            n_ready = j + 1
-        elif outcome == _NEED_RANDOM:
+        if outcome == _NEED_RANDOM:
             uniforms = np.concatenate((uniforms, rng.random(uniforms.size)))
         elif outcome == _PLACED:
             keys = [c.key for c in active]
@@ -474,15 +458,17 @@ def coverage(
                 padding, tried,
             )  # fmt: skip
         else:  # failed at the floor: remove a child (Fig. 26)
-            stuck = [c.key for c in active if drop_unreachable_first and not candidates(c)[0].size]
+            stuck = [c.key for c in active if drop_unreachable_first and not reach[c.key][0].size]
             victim = stuck[0] if stuck else closest_robot(active)
             active = [c for c in active if c.key != victim]
             idle.append(victim)
-            n_ready = 1
-            while n_ready < len(active) and active[n_ready].key in reach:
-                n_ready += 1
             if not active:
                 return Plan(Status.CANNOT_COMPLETE, idle=tuple(sorted(idle)), radii_tried=tried)
+            ids = np.concatenate([reach[c.key][0] for c in active])
+            dist = np.concatenate([reach[c.key][1] for c in active])
+            offsets = np.zeros(len(active) + 1, dtype=np.int64)
+            offsets[1:] = np.cumsum([reach[c.key][0].size for c in active])
+            span = pair_span(active[0], active[1]) if len(active) > 1 else math.inf
             if reset_radius_after_removal:
                 r = min(c.r_max for c in active)
                 floor = max(c.r_min for c in active)

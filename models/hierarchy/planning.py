@@ -426,49 +426,63 @@ def _without(
 
 
 @njit(cache=True)
-def _child_search(base, goal, goal_flat, occ_r, occ_c, skip, k, sr, sc):
-    """One child's step of a coverage call (Fig. 24 steps 8-11) in one compiled call.
+def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
+    """Every child's step of a coverage call (Fig. 24 steps 8-11) in one compiled call.
 
-    The child's drivable grid is ``base`` (framed) with every cell within ``k`` of an occupied
-    local cell ``(occ_r[i], occ_c[i])``, ``i != skip``, made undrivable (as :func:`_without`);
-    its search from (sr, sc) stops once every drivable cell of ``goal`` is reached (as a
-    :class:`DistanceField` with a target). ``goal_flat`` holds the framed flat indices of the
-    goal cells. Returns the framed drivable grid, the :func:`_bfs` results, and the positions
-    in ``goal_flat`` of the goal cells reached with their steps (float).
+    Children are the first ``n`` robots at local cells ``(occ_r[i], occ_c[i])``; the others only
+    block. Child i's drivable grid is ``base`` (framed) with every cell within ``k`` of another
+    robot's cell made undrivable (as :func:`_without`); its search stops once every drivable
+    cell of ``goal`` is reached (as a :class:`DistanceField` with a target). ``goal_flat`` holds
+    the framed flat indices of the goal cells. Returns, stacked per child, the framed drivable
+    grids and the :func:`_bfs` results, and the positions in ``goal_flat`` of the goal cells
+    each child reaches with their steps (float), child i's at ``offsets[i]:offsets[i + 1]``. A
+    child outside the grid searches nothing and reaches no cell.
     """
     fy, w = base.shape
     ny = fy - 2
     nx = w - 2
-    free = base.copy()
-    for i in range(occ_r.shape[0]):
-        r = occ_r[i]
-        c = occ_c[i]
-        if i != skip and 0 <= r < ny and 0 <= c < nx:
-            free[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
-    flat_free = free.ravel()
-    n_target = 0
-    for i in range(goal_flat.shape[0]):
-        if flat_free[goal_flat[i]]:
+    m = goal_flat.shape[0]
+    free = np.zeros((n, fy, w), dtype=np.bool_)
+    dist = np.full((n, fy, w), -1, dtype=np.int32)
+    pred = np.full((n, fy, w), -1, dtype=np.int8)
+    complete = np.zeros(n, dtype=np.bool_)
+    ids = np.empty(n * m, dtype=np.int64)
+    steps = np.empty(n * m, dtype=np.float64)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    flat_goal = goal.ravel()
+    for i in range(n):
+        offsets[i + 1] = offsets[i]
+        sr = occ_r[i]
+        sc = occ_c[i]
+        if not (0 <= sr < ny and 0 <= sc < nx):
+            continue
+        grid = free[i]
+        grid[:, :] = base
+        for j in range(occ_r.shape[0]):
+            r = occ_r[j]
+            c = occ_c[j]
+            if j != i and 0 <= r < ny and 0 <= c < nx:
+                grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+        flat_free = grid.ravel()
+        n_target = 0
+        for q in range(m):
+            if flat_free[goal_flat[q]]:
+                n_target += 1
+        start = (sr + 1) * w + sc + 1
+        if flat_goal[start] and not flat_free[start]:
             n_target += 1
-    start = (sr + 1) * w + sc + 1
-    if goal.ravel()[start] and not flat_free[start]:
-        n_target += 1
-    dist, pred, complete = _bfs(free, goal, sr, sc, n_target)
-    flat_dist = dist.ravel()
-    n = 0
-    for i in range(goal_flat.shape[0]):
-        if flat_dist[goal_flat[i]] >= 0:
-            n += 1
-    ids = np.empty(n, dtype=np.int64)
-    steps = np.empty(n, dtype=np.float64)
-    n = 0
-    for i in range(goal_flat.shape[0]):
-        d = flat_dist[goal_flat[i]]
-        if d >= 0:
-            ids[n] = i
-            steps[n] = d
-            n += 1
-    return free, dist, pred, complete, ids, steps
+        d, pr, complete[i] = _bfs(grid, goal, sr, sc, n_target)
+        dist[i] = d
+        pred[i] = pr
+        flat_dist = d.ravel()
+        t = offsets[i]
+        for q in range(m):
+            if flat_dist[goal_flat[q]] >= 0:
+                ids[t] = q
+                steps[t] = flat_dist[goal_flat[q]]
+                t += 1
+        offsets[i + 1] = t
+    return free, dist, pred, complete, ids[: offsets[n]], steps[: offsets[n]], offsets
 
 
 @njit(cache=True)
@@ -555,7 +569,7 @@ class DistanceField:
 
     @classmethod
     def _from_search(cls, pmap, source, cell, free, dist, pred, complete) -> DistanceField:
-        """Wrap the framed results of a search already run (see :func:`_child_search`) from
+        """Wrap the framed results of a search already run (see :func:`_children_search`) from
         ``source`` in local cell ``cell``.
         """
         field = cls.__new__(cls)
