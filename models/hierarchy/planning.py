@@ -123,11 +123,23 @@ def _bfs(free, goal, sr, sc, n_target):
     exhaustion.
     """
     fy, w = free.shape
+    dist = np.full((fy, w), -1, dtype=np.int32)
+    pred = np.full((fy, w), -1, dtype=np.int8)
+    queue = np.empty(fy * w, dtype=np.int32)
+    complete = _bfs_into(free, goal, sr, sc, n_target, dist, pred, queue)
+    return dist, pred, complete
+
+
+@njit(cache=True)
+def _bfs_into(free, goal, sr, sc, n_target, dist_grid, pred_grid, queue):
+    """:func:`_bfs` into given framed ``dist_grid`` and ``pred_grid`` (filled with -1) with a
+    work ``queue`` of one entry per cell; returns whether the search ran to exhaustion.
+    """
+    w = free.shape[1]
     flat_free = free.ravel()
     flat_goal = goal.ravel()
-    dist = np.full(fy * w, -1, dtype=np.int32)
-    pred = np.full(fy * w, -1, dtype=np.int8)
-    queue = np.empty(fy * w, dtype=np.int32)
+    dist = dist_grid.ravel()
+    pred = pred_grid.ravel()
     start = (sr + 1) * w + sc + 1
     dist[start] = 0
     queue[0] = start
@@ -170,7 +182,7 @@ def _bfs(free, goal, sr, sc, n_target):
             tail += 1
             if flat_goal[j]:
                 found += 1
-    return dist.reshape(fy, w), pred.reshape(fy, w), head >= tail
+    return head >= tail
 
 
 @njit(cache=True)
@@ -449,6 +461,7 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
     ids = np.empty(n * m, dtype=np.int64)
     steps = np.empty(n * m, dtype=np.float64)
     offsets = np.zeros(n + 1, dtype=np.int64)
+    queue = np.empty(fy * w, dtype=np.int32)
     flat_goal = goal.ravel()
     for i in range(n):
         offsets[i + 1] = offsets[i]
@@ -471,10 +484,8 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
         start = (sr + 1) * w + sc + 1
         if flat_goal[start] and not flat_free[start]:
             n_target += 1
-        d, pr, complete[i] = _bfs(grid, goal, sr, sc, n_target)
-        dist[i] = d
-        pred[i] = pr
-        flat_dist = d.ravel()
+        complete[i] = _bfs_into(grid, goal, sr, sc, n_target, dist[i], pred[i], queue)
+        flat_dist = dist[i].ravel()
         t = offsets[i]
         for q in range(m):
             if flat_dist[goal_flat[q]] >= 0:
