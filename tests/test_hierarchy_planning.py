@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
-from models.hierarchy.coverage import _valid_grid
+from models.hierarchy.coverage import _valid_grid, _valid_setup
 from models.hierarchy.planning import (
     DistanceField,
     _children_search,
@@ -402,6 +402,22 @@ def test_the_compiled_valid_cells_are_the_numpy_rule(arrays):
     near[:, 1:] |= open_[:, :-1]
     near[:, :-1] |= open_[:, 1:]
     assert np.array_equal(_valid_grid(inside, scanned, exhausted), inside & near & ~exhausted)
+
+
+@settings(max_examples=150, deadline=None)
+@given(grids, st.integers(-50, 50), st.integers(-50, 50), st.sampled_from([0.1, 0.05, 0.3]))
+def test_the_compiled_valid_setup_is_the_numpy_rule(arrays, ix0, iy0, h):
+    inside, scanned, exhausted, _ = arrays
+    valid = _valid_grid(inside, scanned, exhausted)
+    rows, cols = np.nonzero(valid)
+    open_ = (inside & ~scanned).astype(np.int64)
+    prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
+    np.cumsum(open_, axis=1, out=prefix[:, 1:])
+    want = (rows, cols, (ix0 + cols + 0.5) * h, (iy0 + rows + 0.5) * h, prefix, _frame(valid),
+            (rows + 1) * (valid.shape[1] + 2) + cols + 1)  # fmt: skip
+    got = _valid_setup(inside, scanned, exhausted, ix0, iy0, h)
+    for a, b in zip(got, want, strict=True):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
 
 
 SMALL = Rect(0.0, 0.0, 1.2, 1.2)

@@ -35,7 +35,6 @@ from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
     _children_search,
-    _frame,
     _framed_base,
     _local_cells,
     padded_cells,
@@ -213,6 +212,40 @@ def _valid_grid(inside, scanned, exhausted):
     return out
 
 
+@njit(cache=True)
+def _valid_setup(inside, scanned, exhausted, ix0, iy0, h):
+    """What a coverage call needs of the VALID cells (Fig. 24, H4), in one compiled pass:
+    their local ``rows`` and ``cols`` (row-major, as ``np.nonzero``), centres ``vx``, ``vy``
+    (metres), the row prefix sums of in-bounds-and-unscanned cells for C (``prefix[r, c]``:
+    cells before column c), the framed VALID grid (the search's goal) and its framed flat
+    indices.
+    """
+    valid = _valid_grid(inside, scanned, exhausted)
+    ny, nx = valid.shape
+    n = 0
+    for r in range(ny):
+        for c in range(nx):
+            if valid[r, c]:
+                n += 1
+    rows = np.empty(n, dtype=np.int64)
+    cols = np.empty(n, dtype=np.int64)
+    goal = np.zeros((ny + 2, nx + 2), dtype=np.bool_)
+    prefix = np.zeros((ny, nx + 1), dtype=np.int64)
+    n = 0
+    for r in range(ny):
+        for c in range(nx):
+            prefix[r, c + 1] = prefix[r, c] + (1 if inside[r, c] and not scanned[r, c] else 0)
+            if valid[r, c]:
+                rows[n] = r
+                cols[n] = c
+                goal[r + 1, c + 1] = True
+                n += 1
+    vx = (ix0 + cols + 0.5) * h
+    vy = (iy0 + rows + 0.5) * h
+    framed_flat = (rows + 1) * (nx + 2) + cols + 1
+    return rows, cols, vx, vy, prefix, goal, framed_flat
+
+
 def valid_cells(pmap: ProbMap) -> np.ndarray:
     """Centres ``(n, 2)`` (metres) of the VALID cells: in bounds, bordering in-bounds unknown
     space (Fig. 24, H4), not EXHAUSTED.
@@ -386,19 +419,13 @@ def coverage(
         raise ConfigError("coverage needs at least one child, got none")
     if not (0 < decay < 1):
         raise ConfigError(f"decay must be in (0, 1), got {decay!r}")
-    valid = _valid_mask(pmap)
-    rows, cols = np.nonzero(valid)
+    h = pmap.cell_size
+    rows, cols, vx, vy, prefix, goal, framed_flat = _valid_setup(
+        pmap._in, pmap._scanned, pmap._exhausted, pmap._ix0, pmap._iy0, h
+    )
     if rows.size == 0:
         return Plan(Status.COMPLETE)
-    h = pmap.cell_size
-    vx = (pmap._ix0 + cols + 0.5) * h
-    vy = (pmap._iy0 + rows + 0.5) * h
-    open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
-    prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
-    np.cumsum(open_, axis=1, out=prefix[:, 1:])
     base = _framed_base(pmap, padding)
-    goal = _frame(valid)
-    framed_flat = (rows + 1) * (valid.shape[1] + 2) + cols + 1
     occ_r, occ_c = _local_cells(pmap, [c.position for c in children] + list(occupied))
     # Steps 8-11: every child's Dijkstra, once per call, the other robots blocking it, and its
     # reachable VALID cells (none for a child outside the map's routing region: it has no
