@@ -37,7 +37,7 @@ from models.hierarchy.planning import (
     _children_search,
     _framed_base,
     _local_cells,
-    padded_cells,
+    _supercover_cells,
     shortest_paths,
     waves,
 )
@@ -537,6 +537,50 @@ def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupi
     )
 
 
+@njit(cache=True)
+def _disc_grid(ny, nx, ix0, iy0, h, xy, r):
+    """The bubbles' part of CONFLICT (Fig. 27) on a map of ``ny`` x ``nx`` cells with origin
+    cell (ix0, iy0): cells whose centre lies within ``r`` of a centre ``xy[i]`` (metres),
+    compiled; each disc is tested over the cells of its bounding window only.
+    """
+    out = np.zeros((ny, nx), dtype=np.bool_)
+    limit = r * r + _TOL * h * h
+    for i in range(xy.shape[0]):
+        cx = xy[i, 0]
+        cy = xy[i, 1]
+        c0 = min(max(math.floor((cx - r) / h + 1e-9) - ix0, 0), nx)
+        c1 = min(max(math.floor((cx + r) / h + 1e-9) - ix0 + 1, c0), nx)
+        r0 = min(max(math.floor((cy - r) / h + 1e-9) - iy0, 0), ny)
+        r1 = min(max(math.floor((cy + r) / h + 1e-9) - iy0 + 1, r0), ny)
+        for row in range(r0, r1):
+            dy = (iy0 + row + 0.5) * h - cy
+            for col in range(c0, c1):
+                dx = (ix0 + col + 0.5) * h - cx
+                if dx * dx + dy * dy <= limit:
+                    out[row, col] = True
+    return out
+
+
+@njit(cache=True)
+def _mark_path(grid, pts, padding, ix0, iy0):
+    """Mark in ``grid`` (local cells, origin cell (ix0, iy0)) the cells a robot following the
+    polyline ``pts`` (cell units) sweeps: :func:`~models.hierarchy.planning.padded_cells`
+    (the supercover of every segment dilated by ``padding``; a one-point path gives its cell),
+    compiled, without the sorted keys.
+    """
+    ny, nx = grid.shape
+    n = pts.shape[0]
+    for k in range(max(n - 1, 1)):
+        b = min(k + 1, n - 1)
+        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+        for j in range(cells.shape[0]):
+            c = cells[j, 0] - ix0
+            r = cells[j, 1] - iy0
+            for row in range(max(r - padding, 0), min(r + padding + 1, ny)):
+                for col in range(max(c - padding, 0), min(c + padding + 1, nx)):
+                    grid[row, col] = True
+
+
 def move_idle_robots(
     pmap: ProbMap,
     idle: Sequence[Child],
@@ -576,20 +620,12 @@ def move_idle_robots(
         return {}, ()
     ny, nx = pmap._scanned.shape
     h = pmap.cell_size
-    conflict = np.zeros((ny, nx), dtype=np.bool_)
-    for cx, cy in centres.values():
-        rs, cs = pmap._disc_window(cx, cy, r)
-        xs = (pmap._ix0 + np.arange(cs.start, cs.stop) + 0.5) * h
-        ys = (pmap._iy0 + np.arange(rs.start, rs.stop) + 0.5) * h
-        disc = (xs[None, :] - cx) ** 2 + (ys[:, None] - cy) ** 2 <= r * r + _TOL * h * h
-        conflict[rs, cs] |= disc
+    xy = np.array(list(centres.values()), dtype=np.float64).reshape(-1, 2)
+    conflict = _disc_grid(ny, nx, pmap._ix0, pmap._iy0, h, xy, float(r))
 
     def add_path(path: np.ndarray) -> None:
-        cells = padded_cells(path, h, padding)
-        cc = cells[:, 0] - pmap._ix0
-        rr = cells[:, 1] - pmap._iy0
-        ok = (cc >= 0) & (cc < nx) & (rr >= 0) & (rr < ny)
-        conflict[rr[ok], cc[ok]] = True
+        pts = np.asarray(path, dtype=np.float64) / h
+        _mark_path(conflict, pts, int(padding), pmap._ix0, pmap._iy0)
 
     for path in paths.values():
         add_path(path)
