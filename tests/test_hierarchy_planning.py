@@ -12,6 +12,7 @@ from abm.errors import ConfigError
 from models.hierarchy.coverage import _valid_grid, _valid_setup
 from models.hierarchy.planning import (
     DistanceField,
+    _blocked_on_path,
     _children_search,
     _drivable,
     _frame,
@@ -481,3 +482,14 @@ def test_the_compiled_smoothed_route_is_path_to_then_smoothing(scanned, blocked,
         return
     want = _smooth_on(pmap, field.path_to(x, y), field._drivable)
     assert np.array_equal(field._smoothed_path_to(x, y), want)
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, st.lists(st.tuples(st.floats(-0.3, 1.5), st.floats(-0.3, 1.5)),
+                                    min_size=1, max_size=6))  # fmt: skip
+def test_the_compiled_blocked_path_count_is_the_numpy_rule(scanned, blocked, path):
+    pmap = random_map(scanned, blocked)
+    path = np.array(path)
+    want = int(pmap.known_blocked_at((padded_cells(path, H, padding=0) + 0.5) * H).sum())
+    got = _blocked_on_path(path / H, pmap._ix0, pmap._iy0, pmap._scanned, pmap._blocked, pmap.tau)
+    assert got == want

@@ -675,13 +675,15 @@ class DistanceField:
             ValueError: the target is unreachable.
 
         """
-        if not self.reachable(x, y):
-            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
-        tr, tc = self._map._local(x, y)
         m = self._map
+        cell = m._local(x, y)
+        if cell is not None and self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
+            self._finish()
+        if cell is None or self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
         return _smoothed_route(
-            self._pred, self._drivable, self._cell[0], self._cell[1], tr, tc, m._ix0, m._iy0,
-            m.cell_size, self.source[0], self.source[1],
+            self._pred, self._drivable, self._cell[0], self._cell[1], cell[0], cell[1], m._ix0,
+            m._iy0, m.cell_size, self.source[0], self.source[1],
         )  # fmt: skip
 
 
@@ -744,6 +746,29 @@ def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.n
     """
     h = float(cell_size)
     return _supercover_cells(a[0] / h, a[1] / h, b[0] / h, b[1] / h).copy()
+
+
+@njit(cache=True)
+def _blocked_on_path(pts, ix0, iy0, scanned, blocked, tau):
+    """How many distinct cells of the polyline ``pts`` (cell units; its supercover, no padding:
+    :func:`padded_cells` with ``padding=0``) are known blocked on the map grids (scanned and at
+    or above ``tau``; cells outside the grid are not), for the model's path diagnostics.
+    """
+    ny, nx = scanned.shape
+    seen = np.zeros((ny, nx), dtype=np.bool_)
+    count = 0
+    n = pts.shape[0]
+    for k in range(max(n - 1, 1)):
+        b = min(k + 1, n - 1)
+        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+        for j in range(cells.shape[0]):
+            c = cells[j, 0] - ix0
+            r = cells[j, 1] - iy0
+            if 0 <= r < ny and 0 <= c < nx and not seen[r, c]:
+                seen[r, c] = True
+                if scanned[r, c] and blocked[r, c] >= tau:
+                    count += 1
+    return count
 
 
 def _path_keys(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
