@@ -493,3 +493,42 @@ def test_the_compiled_blocked_path_count_is_the_numpy_rule(scanned, blocked, pat
     want = int(pmap.known_blocked_at((padded_cells(path, H, padding=0) + 0.5) * H).sum())
     got = _blocked_on_path(path / H, pmap._ix0, pmap._iy0, pmap._scanned, pmap._blocked, pmap.tau)
     assert got == want
+
+
+def _waves_by_sets(paths, h, padding=1):
+    """Fig. 33 as it was written with Python sets of padded cells (the reference rule)."""
+    keys = sorted(paths)
+    cells = {k: {tuple(c) for c in padded_cells(paths[k], h, padding)} for k in keys}
+    conflict = {k: {j for j in keys if j != k and cells[k] & cells[j]} for k in keys}
+    result = []
+    for k in sorted(keys, key=lambda k: (-len(conflict[k]), k)):
+        for wave in result:
+            if not conflict[k] & set(wave):
+                wave.append(k)
+                break
+        else:
+            result.append([k])
+    return [sorted(w) for w in result]
+
+
+def _violations_by_sets(wave_list, paths, h, padding=1):
+    """The wave-order diagnostic as it was written with Python sets (the reference rule)."""
+    cell = lambda p: (math.floor(p[0] / h + 1e-9), math.floor(p[1] / h + 1e-9))  # noqa: E731
+    cells = {k: {tuple(c) for c in padded_cells(paths[k], h, padding)} for k in paths}
+    return sum(
+        cell(paths[a][-1]) in cells[b] or cell(paths[b][0]) in cells[a]
+        for i, early in enumerate(wave_list) for late in wave_list[i + 1 :]
+        for a in early for b in late
+    )  # fmt: skip
+
+
+@settings(max_examples=150, deadline=None)
+@given(paths_strategy, st.integers(0, 2), st.randoms(use_true_random=False))
+def test_the_compiled_waves_and_violations_are_the_set_rules(paths, padding, random):
+    assert waves(paths, H, padding) == _waves_by_sets(paths, H, padding)
+    keys = sorted(paths)
+    random.shuffle(keys)
+    cuts = sorted(random.sample(range(1, len(keys)), random.randint(0, len(keys) - 1)))
+    wave_list = [keys[a:b] for a, b in zip([0, *cuts], [*cuts, len(keys)], strict=True)]
+    want = _violations_by_sets(wave_list, paths, H, padding)
+    assert wave_order_violations(wave_list, paths, H, padding) == want

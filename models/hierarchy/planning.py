@@ -801,6 +801,28 @@ def path_length(path: np.ndarray) -> float:
     return float(np.hypot(*np.diff(path, axis=0).T).sum())
 
 
+@njit(cache=True)
+def _order_violations(wave, keys, offsets, first, last):
+    """Pairs (a, b) of moves with ``wave[a] < wave[b]`` where b's padded path holds a's end
+    cell key ``last[a]``, or a's holds b's start cell key ``first[b]`` (move i's sorted padded
+    cell keys are ``keys[offsets[i]:offsets[i + 1]]``).
+    """
+    n = wave.shape[0]
+    count = 0
+    for a in range(n):
+        keys_a = keys[offsets[a] : offsets[a + 1]]
+        for b in range(n):
+            if wave[a] < wave[b]:
+                keys_b = keys[offsets[b] : offsets[b + 1]]
+                i = np.searchsorted(keys_b, last[a])
+                j = np.searchsorted(keys_a, first[b])
+                if (i < keys_b.shape[0] and keys_b[i] == last[a]) or (
+                    j < keys_a.shape[0] and keys_a[j] == first[b]
+                ):
+                    count += 1
+    return count
+
+
 def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
     """Group moves into waves so that no two moves of a wave share a padded path cell (Fig. 33).
 
@@ -847,22 +869,22 @@ def wave_order_violations(
     and proximity diagnostics): a later wave's padded path crossing an earlier wave's end cell, or
     an earlier wave's padded path crossing a later wave's start cell.
     """
+    moves = [(i, k) for i, wave in enumerate(wave_list) for k in wave]
+    if len(wave_list) < 2 or not moves:
+        return 0
     h = float(cell_size)
+    half = _KEY // 2
 
     def cell_key(point: np.ndarray) -> int:
-        half = _KEY // 2
         ix = math.floor(point[0] / h + _EPS)
         iy = math.floor(point[1] / h + _EPS)
         return (ix + half) * _KEY + (iy + half)
 
-    cells = {k: set(_path_keys(paths[k], cell_size, padding).tolist()) for k in paths}
-    count = 0
-    for i, early in enumerate(wave_list):
-        for late in wave_list[i + 1 :]:
-            for a in early:
-                for b in late:
-                    end_a = cell_key(np.asarray(paths[a])[-1])
-                    start_b = cell_key(np.asarray(paths[b])[0])
-                    if end_a in cells[b] or start_b in cells[a]:
-                        count += 1
-    return count
+    chosen = [np.asarray(paths[k]) for _, k in moves]
+    parts = [_path_keys(p, cell_size, padding) for p in chosen]
+    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([k.size for k in parts])
+    wave = np.array([i for i, _ in moves], dtype=np.int64)
+    first = np.array([cell_key(p[0]) for p in chosen], dtype=np.int64)
+    last = np.array([cell_key(p[-1]) for p in chosen], dtype=np.int64)
+    return int(_order_violations(wave, np.concatenate(parts), offsets, first, last))
