@@ -448,12 +448,18 @@ def test_the_compiled_children_search_is_the_numpy_rule(scanned, blocked, goal, 
     rows, cols = np.nonzero(goal)
     flat = (rows + 1) * 14 + cols + 1
     occ_r, occ_c = _local_cells(pmap, robots)
-    free, dist, pred, complete, ids, steps, offsets = _children_search(
-        base, _frame(goal), flat, occ_r, occ_c, n, k
+    vx, vy = (cols + 0.5) * H, (rows + 0.5) * H
+    free, dist, pred, complete, ids, steps, offsets, boxes = _children_search(
+        base, _frame(goal), flat, occ_r, occ_c, n, k, vx, vy
     )
     assert offsets.shape == (n + 1,) and ids.shape == steps.shape == (offsets[-1],)
     for j in range(n):
         got_ids, got_steps = ids[offsets[j] : offsets[j + 1]], steps[offsets[j] : offsets[j + 1]]
+        if got_ids.size:
+            want_box = [vx[got_ids].min(), vx[got_ids].max(), vy[got_ids].min(), vy[got_ids].max()]
+            assert boxes[j].tolist() == want_box
+        else:
+            assert np.isnan(boxes[j]).all()
         if pmap._local(*robots[j]) is None:
             assert got_ids.size == 0
             continue

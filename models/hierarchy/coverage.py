@@ -430,32 +430,34 @@ def coverage(
     # Steps 8-11: every child's Dijkstra, once per call, the other robots blocking it, and its
     # reachable VALID cells (none for a child outside the map's routing region: it has no
     # route and stays idle).
-    free, dist_f, pred_f, complete, all_ids, all_steps, all_offsets = _children_search(
-        base, goal, framed_flat, occ_r, occ_c, len(children), max(padding, 0)
+    free, dist_f, pred_f, complete, all_ids, all_steps, all_offsets, boxes = _children_search(
+        base, goal, framed_flat, occ_r, occ_c, len(children), max(padding, 0), vx, vy
     )
+    ny, nx = pmap._scanned.shape
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-    for i, child in enumerate(children):
+    box: dict[int, list[float]] = {}
+    cells = list(zip(occ_r.tolist(), occ_c.tolist(), strict=True))
+    for i, (child, span_box) in enumerate(zip(children, boxes.tolist(), strict=True)):
         a, b = all_offsets[i], all_offsets[i + 1]
         reach[child.key] = (all_ids[a:b], all_steps[a:b])
-        if pmap.in_routing(*child.position):
+        box[child.key] = span_box
+        cell = cells[i]
+        if 0 <= cell[0] < ny and 0 <= cell[1] < nx:  # in the map's routing region
             fields[child.key] = DistanceField._from_search(
-                pmap, child.position, (int(occ_r[i]), int(occ_c[i])), free[i], dist_f[i],
-                pred_f[i], bool(complete[i]),
-            )  # fmt: skip
+                pmap, child.position, cell, free[i], dist_f[i], pred_f[i], bool(complete[i])
+            )
 
     def pair_span(a: Child, b: Child) -> float:
         """Upper bound on the distance between any reachable VALID cells of ``a`` and ``b``
         (their bounding boxes' farthest corners): if 2r exceeds it, ``b`` cannot be placed
         once ``a`` is, so that radius fails whatever the ties.
         """
-        ia, ib = reach[a.key][0], reach[b.key][0]
-        if ia.size == 0 or ib.size == 0:
+        if reach[a.key][0].size == 0 or reach[b.key][0].size == 0:
             return math.inf  # handled as hopeless by the search
-        ax, ay, bx, by = vx[ia], vy[ia], vx[ib], vy[ib]
-        dx = max(ax.max() - bx.min(), bx.max() - ax.min())
-        dy = max(ay.max() - by.min(), by.max() - ay.min())
-        return math.hypot(dx, dy)
+        ax0, ax1, ay0, ay1 = box[a.key]
+        bx0, bx1, by0, by1 = box[b.key]
+        return math.hypot(max(ax1 - bx0, bx1 - ax0), max(ay1 - by0, by1 - ay0))
 
     gain = np.zeros(rows.size, dtype=np.int64)
     stamp = np.zeros(rows.size, dtype=np.int64)

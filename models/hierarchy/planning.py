@@ -438,17 +438,19 @@ def _without(
 
 
 @njit(cache=True)
-def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
+def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k, vx, vy):
     """Every child's step of a coverage call (Fig. 24 steps 8-11) in one compiled call.
 
     Children are the first ``n`` robots at local cells ``(occ_r[i], occ_c[i])``; the others only
     block. Child i's drivable grid is ``base`` (framed) with every cell within ``k`` of another
     robot's cell made undrivable (as :func:`_without`); its search stops once every drivable
     cell of ``goal`` is reached (as a :class:`DistanceField` with a target). ``goal_flat`` holds
-    the framed flat indices of the goal cells. Returns, stacked per child, the framed drivable
-    grids and the :func:`_bfs` results, and the positions in ``goal_flat`` of the goal cells
-    each child reaches with their steps (float), child i's at ``offsets[i]:offsets[i + 1]``. A
-    child outside the grid searches nothing and reaches no cell.
+    the framed flat indices of the goal cells, ``vx`` and ``vy`` their centres. Returns,
+    stacked per child, the framed drivable grids and the :func:`_bfs` results; the positions
+    in ``goal_flat`` of the goal cells each child reaches with their steps (float), child i's
+    at ``offsets[i]:offsets[i + 1]``; and per child the box ``(x_min, x_max, y_min, y_max)``
+    of the centres it reaches (for the coverage call's radius bound; NaN if none). A child
+    outside the grid searches nothing and reaches no cell.
     """
     fy, w = base.shape
     ny = fy - 2
@@ -461,6 +463,7 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
     ids = np.empty(n * m, dtype=np.int64)
     steps = np.empty(n * m, dtype=np.float64)
     offsets = np.zeros(n + 1, dtype=np.int64)
+    boxes = np.full((n, 4), np.nan)
     queue = np.empty(fy * w, dtype=np.int32)
     flat_goal = goal.ravel()
     for i in range(n):
@@ -491,9 +494,17 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k):
             if flat_dist[goal_flat[q]] >= 0:
                 ids[t] = q
                 steps[t] = flat_dist[goal_flat[q]]
+                if t == offsets[i]:
+                    boxes[i, 0] = boxes[i, 1] = vx[q]
+                    boxes[i, 2] = boxes[i, 3] = vy[q]
+                boxes[i, 0] = min(boxes[i, 0], vx[q])
+                boxes[i, 1] = max(boxes[i, 1], vx[q])
+                boxes[i, 2] = min(boxes[i, 2], vy[q])
+                boxes[i, 3] = max(boxes[i, 3], vy[q])
                 t += 1
         offsets[i + 1] = t
-    return free, dist, pred, complete, ids[: offsets[n]], steps[: offsets[n]], offsets
+    m = offsets[n]
+    return free, dist, pred, complete, ids[:m], steps[:m], offsets, boxes
 
 
 @njit(cache=True)
