@@ -12,6 +12,8 @@ from abm.errors import ConfigError
 from models.hierarchy.coverage import (
     Child,
     Status,
+    _disc_grid,
+    _mark_path,
     closest_robot,
     coverage,
     move_idle_robots,
@@ -268,3 +270,33 @@ def test_a_single_child_gets_a_cell_of_maximum_value(scene):
     chosen = min(values, key=lambda p: math.hypot(p[0] - cx, p[1] - cy))
     assert math.hypot(chosen[0] - cx, chosen[1] - cy) < 1e-9
     assert values[chosen] == best
+
+
+# ------------------------------------------------------------ compiled CONFLICT vs numpy rules
+coords = st.floats(-0.5, 4.5, allow_nan=False).map(lambda v: round(v, 2))
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.tuples(coords, coords), max_size=4), st.sampled_from([0.1, 0.25, 0.33, 0.8]),
+       st.lists(st.lists(st.tuples(coords, coords), min_size=1, max_size=5), max_size=3),
+       st.integers(0, 2), st.tuples(st.integers(0, 9), st.integers(0, 9)))  # fmt: skip
+def test_the_compiled_conflict_grid_is_the_numpy_rule(centres, r, paths, padding, origin):
+    pmap = ProbMap(
+        Rect(*(v * H for v in origin), *(v * H + 3.0 for v in origin)), WORLD, cell_size=H
+    )
+    ny, nx = pmap._scanned.shape
+    want = np.zeros((ny, nx), dtype=bool)
+    for cx, cy in centres:  # Fig. 27 as numpy computed it: the discs, then the padded paths
+        rs, cs = pmap._disc_window(cx, cy, r)
+        xs = (pmap._ix0 + np.arange(cs.start, cs.stop) + 0.5) * H
+        ys = (pmap._iy0 + np.arange(rs.start, rs.stop) + 0.5) * H
+        want[rs, cs] |= (xs[None, :] - cx) ** 2 + (ys[:, None] - cy) ** 2 <= r * r + 1e-9 * H * H
+    got = _disc_grid(ny, nx, pmap._ix0, pmap._iy0, H, np.array(centres).reshape(-1, 2), r)
+    assert np.array_equal(got, want)
+    for path in paths:
+        cells = padded_cells(np.array(path), H, padding)
+        cc, rr = cells[:, 0] - pmap._ix0, cells[:, 1] - pmap._iy0
+        ok = (cc >= 0) & (cc < nx) & (rr >= 0) & (rr < ny)
+        want[rr[ok], cc[ok]] = True
+        _mark_path(got, np.array(path) / H, padding, pmap._ix0, pmap._iy0)
+    assert np.array_equal(got, want)

@@ -9,11 +9,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
-from models.hierarchy.coverage import _valid_grid
+from models.hierarchy.coverage import _valid_grid, _valid_setup
 from models.hierarchy.planning import (
+    DistanceField,
+    _blocked_on_path,
+    _children_search,
     _drivable,
     _frame,
+    _framed_base,
     _framed_base_grid,
+    _local_cells,
+    _smooth_on,
+    _without,
     padded_cells,
     path_length,
     shortest_paths,
@@ -396,3 +403,138 @@ def test_the_compiled_valid_cells_are_the_numpy_rule(arrays):
     near[:, 1:] |= open_[:, :-1]
     near[:, :-1] |= open_[:, 1:]
     assert np.array_equal(_valid_grid(inside, scanned, exhausted), inside & near & ~exhausted)
+
+
+@settings(max_examples=150, deadline=None)
+@given(grids, st.integers(-50, 50), st.integers(-50, 50), st.sampled_from([0.1, 0.05, 0.3]))
+def test_the_compiled_valid_setup_is_the_numpy_rule(arrays, ix0, iy0, h):
+    inside, scanned, exhausted, _ = arrays
+    valid = _valid_grid(inside, scanned, exhausted)
+    rows, cols = np.nonzero(valid)
+    open_ = (inside & ~scanned).astype(np.int64)
+    prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
+    np.cumsum(open_, axis=1, out=prefix[:, 1:])
+    want = (rows, cols, (ix0 + cols + 0.5) * h, (iy0 + rows + 0.5) * h, prefix, _frame(valid),
+            (rows + 1) * (valid.shape[1] + 2) + cols + 1)  # fmt: skip
+    got = _valid_setup(inside, scanned, exhausted, ix0, iy0, h)
+    for a, b in zip(got, want, strict=True):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+
+
+SMALL = Rect(0.0, 0.0, 1.2, 1.2)
+"""A 12 x 12-cell world for the per-child kernels."""
+cells_12 = st.lists(st.booleans(), min_size=144, max_size=144).map(
+    lambda v: np.array(v).reshape(12, 12)
+)
+points_12 = st.tuples(st.floats(0.0, 1.1999), st.floats(0.0, 1.1999))
+
+
+def random_map(scanned: np.ndarray, blocked: np.ndarray) -> ProbMap:
+    """A map of the small world whose known and known-blocked cells are the given grids."""
+    pmap = ProbMap(SMALL, SMALL, cell_size=H)
+    pmap._scanned[:] = scanned
+    pmap._blocked[:] = np.where(blocked, 1.0, 0.0)
+    return pmap
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, cells_12, st.lists(points_12, min_size=1, max_size=5),
+       st.integers(1, 5), st.integers(0, 2))  # fmt: skip
+def test_the_compiled_children_search_is_the_numpy_rule(scanned, blocked, goal, robots, n, k):
+    pmap = random_map(scanned, blocked)
+    robots = [*robots, (-0.05, 0.5)]  # a child outside the grid: no search, no cell
+    n = min(n, len(robots))
+    base = _framed_base(pmap, k)
+    rows, cols = np.nonzero(goal)
+    flat = (rows + 1) * 14 + cols + 1
+    occ_r, occ_c = _local_cells(pmap, robots)
+    vx, vy = (cols + 0.5) * H, (rows + 0.5) * H
+    free, dist, pred, complete, ids, steps, offsets, boxes = _children_search(
+        base, _frame(goal), flat, occ_r, occ_c, n, k, vx, vy
+    )
+    assert offsets.shape == (n + 1,) and ids.shape == steps.shape == (offsets[-1],)
+    for j in range(n):
+        got_ids, got_steps = ids[offsets[j] : offsets[j + 1]], steps[offsets[j] : offsets[j + 1]]
+        if got_ids.size:
+            want_box = [vx[got_ids].min(), vx[got_ids].max(), vy[got_ids].min(), vy[got_ids].max()]
+            assert boxes[j].tolist() == want_box
+        else:
+            assert np.isnan(boxes[j]).all()
+        if pmap._local(*robots[j]) is None:
+            assert got_ids.size == 0
+            continue
+        others = robots[:j] + robots[j + 1 :]
+        want = DistanceField(pmap, robots[j], _without(base, pmap, others, k)[1:-1, 1:-1], goal)
+        assert np.array_equal(free[j], want._free)
+        assert np.array_equal(dist[j], want._dist_f) and np.array_equal(pred[j], want._pred_f)
+        assert complete[j] == want._complete
+        d = want._dist_f.ravel()[flat]
+        assert np.array_equal(got_ids, np.flatnonzero(d >= 0))
+        assert np.array_equal(got_steps, d[d >= 0])
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, points_12, st.booleans(), st.integers(0, 143))
+def test_the_compiled_smoothed_route_is_path_to_then_smoothing(scanned, blocked, source,
+                                                               centred, target):  # fmt: skip
+    pmap = random_map(scanned, blocked)
+    if centred:  # the source on its cell centre: the path leaves the duplicate centre out
+        source = pmap._centre_of(*pmap._local(*source))
+    field = shortest_paths(pmap, source)
+    x, y = pmap._centre_of(target // 12, target % 12)
+    if not field.reachable(x, y):
+        with pytest.raises(ValueError):
+            field._smoothed_path_to(x, y)
+        return
+    want = _smooth_on(pmap, field.path_to(x, y), field._drivable)
+    assert np.array_equal(field._smoothed_path_to(x, y), want)
+
+
+@settings(max_examples=150, deadline=None)
+@given(cells_12, cells_12, st.lists(st.tuples(st.floats(-0.3, 1.5), st.floats(-0.3, 1.5)),
+                                    min_size=1, max_size=6))  # fmt: skip
+def test_the_compiled_blocked_path_count_is_the_numpy_rule(scanned, blocked, path):
+    pmap = random_map(scanned, blocked)
+    path = np.array(path)
+    want = int(pmap.known_blocked_at((padded_cells(path, H, padding=0) + 0.5) * H).sum())
+    got = _blocked_on_path(path / H, pmap._ix0, pmap._iy0, pmap._scanned, pmap._blocked, pmap.tau)
+    assert got == want
+
+
+def _waves_by_sets(paths, h, padding=1):
+    """Fig. 33 as it was written with Python sets of padded cells (the reference rule)."""
+    keys = sorted(paths)
+    cells = {k: {tuple(c) for c in padded_cells(paths[k], h, padding)} for k in keys}
+    conflict = {k: {j for j in keys if j != k and cells[k] & cells[j]} for k in keys}
+    result = []
+    for k in sorted(keys, key=lambda k: (-len(conflict[k]), k)):
+        for wave in result:
+            if not conflict[k] & set(wave):
+                wave.append(k)
+                break
+        else:
+            result.append([k])
+    return [sorted(w) for w in result]
+
+
+def _violations_by_sets(wave_list, paths, h, padding=1):
+    """The wave-order diagnostic as it was written with Python sets (the reference rule)."""
+    cell = lambda p: (math.floor(p[0] / h + 1e-9), math.floor(p[1] / h + 1e-9))  # noqa: E731
+    cells = {k: {tuple(c) for c in padded_cells(paths[k], h, padding)} for k in paths}
+    return sum(
+        cell(paths[a][-1]) in cells[b] or cell(paths[b][0]) in cells[a]
+        for i, early in enumerate(wave_list) for late in wave_list[i + 1 :]
+        for a in early for b in late
+    )  # fmt: skip
+
+
+@settings(max_examples=150, deadline=None)
+@given(paths_strategy, st.integers(0, 2), st.randoms(use_true_random=False))
+def test_the_compiled_waves_and_violations_are_the_set_rules(paths, padding, random):
+    assert waves(paths, H, padding) == _waves_by_sets(paths, H, padding)
+    keys = sorted(paths)
+    random.shuffle(keys)
+    cuts = sorted(random.sample(range(1, len(keys)), random.randint(0, len(keys) - 1)))
+    wave_list = [keys[a:b] for a, b in zip([0, *cuts], [*cuts, len(keys)], strict=True)]
+    want = _violations_by_sets(wave_list, paths, H, padding)
+    assert wave_order_violations(wave_list, paths, H, padding) == want

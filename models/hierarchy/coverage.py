@@ -34,11 +34,10 @@ from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import (
     DistanceField,
-    _frame,
+    _children_search,
     _framed_base,
-    _smooth_on,
-    _without,
-    padded_cells,
+    _local_cells,
+    _supercover_cells,
     shortest_paths,
     waves,
 )
@@ -213,6 +212,40 @@ def _valid_grid(inside, scanned, exhausted):
     return out
 
 
+@njit(cache=True)
+def _valid_setup(inside, scanned, exhausted, ix0, iy0, h):
+    """What a coverage call needs of the VALID cells (Fig. 24, H4), in one compiled pass:
+    their local ``rows`` and ``cols`` (row-major, as ``np.nonzero``), centres ``vx``, ``vy``
+    (metres), the row prefix sums of in-bounds-and-unscanned cells for C (``prefix[r, c]``:
+    cells before column c), the framed VALID grid (the search's goal) and its framed flat
+    indices.
+    """
+    valid = _valid_grid(inside, scanned, exhausted)
+    ny, nx = valid.shape
+    n = 0
+    for r in range(ny):
+        for c in range(nx):
+            if valid[r, c]:
+                n += 1
+    rows = np.empty(n, dtype=np.int64)
+    cols = np.empty(n, dtype=np.int64)
+    goal = np.zeros((ny + 2, nx + 2), dtype=np.bool_)
+    prefix = np.zeros((ny, nx + 1), dtype=np.int64)
+    n = 0
+    for r in range(ny):
+        for c in range(nx):
+            prefix[r, c + 1] = prefix[r, c] + (1 if inside[r, c] and not scanned[r, c] else 0)
+            if valid[r, c]:
+                rows[n] = r
+                cols[n] = c
+                goal[r + 1, c + 1] = True
+                n += 1
+    vx = (ix0 + cols + 0.5) * h
+    vy = (iy0 + rows + 0.5) * h
+    framed_flat = (rows + 1) * (nx + 2) + cols + 1
+    return rows, cols, vx, vy, prefix, goal, framed_flat
+
+
 def valid_cells(pmap: ProbMap) -> np.ndarray:
     """Centres ``(n, 2)`` (metres) of the VALID cells: in bounds, bordering in-bounds unknown
     space (Fig. 24, H4), not EXHAUSTED.
@@ -243,13 +276,13 @@ def _disc_count(prefix, r0, c0, radius):
     return total
 
 
-_PLACED, _NEED_FIELD, _AT_FLOOR, _NEED_RANDOM = 0, 1, 2, 3
+_PLACED, _AT_FLOOR, _NEED_RANDOM = 0, 1, 2
 """Outcomes of one :func:`_search` call."""
 
 
 @njit(cache=True)
 def _search(
-    r, floor, decay, span, n_active, n_ready, ids, dist, offsets, vx, vy, alpha, beta,
+    r, floor, decay, span, n_active, ids, dist, offsets, vx, vy, alpha, beta,
     prefix, rows, cols, inv_h, gain, stamp, gen, gen_r, uniforms, cursor,
 ):  # fmt: skip
     """The loop of Fig. 24 from radius ``r`` down: place the active children in
@@ -258,20 +291,20 @@ def _search(
     ``floor``) and start again.
 
     Child j's reachable VALID cells are ``ids[offsets[j]:offsets[j+1]]`` (indices into the VALID
-    arrays) with Dijkstra steps ``dist``; only the first ``n_ready`` children have them yet. C is
-    computed lazily and cached per radius (``gain`` is valid where ``stamp == gen``, for radius
-    ``gen_r``). Ties take ``uniforms[cursor]``. Radii with ``2r > span`` (an upper bound on how
-    far apart the first two children's cells are) cannot succeed and are skipped.
+    arrays) with Dijkstra steps ``dist``. C is computed lazily and cached per radius (``gain``
+    is valid where ``stamp == gen``, for radius ``gen_r``). Ties take ``uniforms[cursor]``.
+    Radii with ``2r > span`` (an upper bound on how far apart the first two children's cells
+    are) cannot succeed and are skipped.
 
-    Returns ``(outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r)``: PLACED (every
-    child placed at r), NEED_FIELD (child j has no distance field yet), AT_FLOOR (failed at the
-    floor) or NEED_RANDOM; on NEED_* the attempt is rewound, so calling again with what was
-    missing gives the same result as an uninterrupted search.
+    Returns ``(outcome, r, steps, cursor, placed, steps_to, gen, gen_r)``: PLACED (every
+    child placed at r), AT_FLOOR (failed at the floor) or NEED_RANDOM (more uniforms needed);
+    on NEED_RANDOM the attempt is rewound, so calling again with more uniforms gives the same
+    result as an uninterrupted search.
     """
     placed = np.empty(n_active, dtype=np.int64)
     steps_to = np.empty(n_active, dtype=np.int64)
     longest = 0
-    for j in range(n_ready):
+    for j in range(n_active):
         longest = max(longest, offsets[j + 1] - offsets[j])
     ties = np.empty(max(longest, 1), dtype=np.int64)
     steps = 0
@@ -290,8 +323,6 @@ def _search(
         failed = False
         hopeless = False
         for j in range(n_active):
-            if j >= n_ready:
-                return _NEED_FIELD, r, steps, start, j, placed, steps_to, gen, gen_r
             s0 = offsets[j]
             s1 = offsets[j + 1]
             if s1 == s0:
@@ -326,15 +357,15 @@ def _search(
             pick = ties[0]
             if count > 1:
                 if cursor >= uniforms.shape[0]:
-                    return _NEED_RANDOM, r, steps, start, j, placed, steps_to, gen, gen_r
+                    return _NEED_RANDOM, r, steps, start, placed, steps_to, gen, gen_r
                 pick = ties[int(uniforms[cursor] * count)]
                 cursor += 1
             placed[j] = ids[pick]
             steps_to[j] = int(dist[pick])
         if not failed:
-            return _PLACED, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+            return _PLACED, r, steps, cursor, placed, steps_to, gen, gen_r
         if at_floor:
-            return _AT_FLOOR, r, steps, cursor, n_active, placed, steps_to, gen, gen_r
+            return _AT_FLOOR, r, steps, cursor, placed, steps_to, gen, gen_r
         if hopeless:
             while not at_floor:
                 r = max(r * decay, floor)
@@ -388,51 +419,45 @@ def coverage(
         raise ConfigError("coverage needs at least one child, got none")
     if not (0 < decay < 1):
         raise ConfigError(f"decay must be in (0, 1), got {decay!r}")
-    valid = _valid_mask(pmap)
-    rows, cols = np.nonzero(valid)
+    h = pmap.cell_size
+    rows, cols, vx, vy, prefix, goal, framed_flat = _valid_setup(
+        pmap._in, pmap._scanned, pmap._exhausted, pmap._ix0, pmap._iy0, h
+    )
     if rows.size == 0:
         return Plan(Status.COMPLETE)
-    h = pmap.cell_size
-    vx = (pmap._ix0 + cols + 0.5) * h
-    vy = (pmap._iy0 + rows + 0.5) * h
-    open_ = (pmap._in & ~pmap._scanned).astype(np.int64)
-    prefix = np.zeros((open_.shape[0], open_.shape[1] + 1), dtype=np.int64)
-    np.cumsum(open_, axis=1, out=prefix[:, 1:])
     base = _framed_base(pmap, padding)
-    goal = _frame(valid)
-    framed_flat = (rows + 1) * (valid.shape[1] + 2) + cols + 1
+    occ_r, occ_c = _local_cells(pmap, [c.position for c in children] + list(occupied))
+    # Steps 8-11: every child's Dijkstra, once per call, the other robots blocking it, and its
+    # reachable VALID cells (none for a child outside the map's routing region: it has no
+    # route and stays idle).
+    free, dist_f, pred_f, complete, all_ids, all_steps, all_offsets, boxes = _children_search(
+        base, goal, framed_flat, occ_r, occ_c, len(children), max(padding, 0), vx, vy
+    )
+    ny, nx = pmap._scanned.shape
     fields: dict[int, DistanceField] = {}
     reach: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-
-    def candidates(child: Child) -> tuple[np.ndarray, np.ndarray]:
-        """Steps 8-11: the child's Dijkstra, once per call; its reachable VALID cells (none for
-        a child outside the map's routing region: it has no route and stays idle).
-        """
-        if child.key not in reach:
-            if not pmap.in_routing(*child.position):
-                reach[child.key] = (np.zeros(0, dtype=np.int64), np.zeros(0))
-                return reach[child.key]
-            others = [c.position for c in children if c is not child]
-            drivable = _without(base, pmap, others + list(occupied), padding)
-            f = DistanceField._from_framed(pmap, child.position, drivable, goal)
-            fields[child.key] = f
-            d = f._dist_f.ravel()[framed_flat]
-            ok = np.flatnonzero(d >= 0)
-            reach[child.key] = (ok, d[ok].astype(np.float64))
-        return reach[child.key]
+    box: dict[int, list[float]] = {}
+    cells = list(zip(occ_r.tolist(), occ_c.tolist(), strict=True))
+    for i, (child, span_box) in enumerate(zip(children, boxes.tolist(), strict=True)):
+        a, b = all_offsets[i], all_offsets[i + 1]
+        reach[child.key] = (all_ids[a:b], all_steps[a:b])
+        box[child.key] = span_box
+        cell = cells[i]
+        if 0 <= cell[0] < ny and 0 <= cell[1] < nx:  # in the map's routing region
+            fields[child.key] = DistanceField._from_search(
+                pmap, child.position, cell, free[i], dist_f[i], pred_f[i], bool(complete[i])
+            )
 
     def pair_span(a: Child, b: Child) -> float:
         """Upper bound on the distance between any reachable VALID cells of ``a`` and ``b``
         (their bounding boxes' farthest corners): if 2r exceeds it, ``b`` cannot be placed
         once ``a`` is, so that radius fails whatever the ties.
         """
-        ia, ib = candidates(a)[0], candidates(b)[0]
-        if ia.size == 0 or ib.size == 0:
+        if reach[a.key][0].size == 0 or reach[b.key][0].size == 0:
             return math.inf  # handled as hopeless by the search
-        ax, ay, bx, by = vx[ia], vy[ia], vx[ib], vy[ib]
-        dx = max(ax.max() - bx.min(), bx.max() - ax.min())
-        dy = max(ay.max() - by.min(), by.max() - ay.min())
-        return math.hypot(dx, dy)
+        ax0, ax1, ay0, ay1 = box[a.key]
+        bx0, bx1, by0, by1 = box[b.key]
+        return math.hypot(max(ax1 - bx0, bx1 - ax0), max(ay1 - by0, by1 - ay0))
 
     gain = np.zeros(rows.size, dtype=np.int64)
     stamp = np.zeros(rows.size, dtype=np.int64)
@@ -444,23 +469,15 @@ def coverage(
     r = min(c.r_max for c in active)
     floor = max(c.r_min for c in active)
     tried = 1
-    n_ready = 1
+    ids, dist, offsets = all_ids, all_steps, all_offsets
+    span = pair_span(active[0], active[1]) if len(active) > 1 else math.inf
     while True:
-        ready = [candidates(c) for c in active[:n_ready]]
-        ids = np.concatenate([c[0] for c in ready])
-        dist = np.concatenate([c[1] for c in ready])
-        offsets = np.zeros(n_ready + 1, dtype=np.int64)
-        offsets[1:] = np.cumsum([c[0].size for c in ready])
-        span = pair_span(active[0], active[1]) if n_ready > 1 else math.inf
-        outcome, r, steps, cursor, j, placed, steps_to, gen, gen_r = _search(
-            r, floor, decay, span, len(active), n_ready, ids, dist, offsets, vx, vy,
-            float(alpha), float(beta), prefix, rows, cols, 1.0 / h, gain, stamp, gen, gen_r,
-            uniforms, cursor,
+        outcome, r, steps, cursor, placed, steps_to, gen, gen_r = _search(
+            r, floor, decay, span, len(active), ids, dist, offsets, vx, vy, float(alpha),
+            float(beta), prefix, rows, cols, 1.0 / h, gain, stamp, gen, gen_r, uniforms, cursor,
         )  # fmt: skip
         tried += steps
-        if outcome == _NEED_FIELD:
-            n_ready = j + 1
-        elif outcome == _NEED_RANDOM:
+        if outcome == _NEED_RANDOM:
             uniforms = np.concatenate((uniforms, rng.random(uniforms.size)))
         elif outcome == _PLACED:
             keys = [c.key for c in active]
@@ -470,15 +487,17 @@ def coverage(
                 padding, tried,
             )  # fmt: skip
         else:  # failed at the floor: remove a child (Fig. 26)
-            stuck = [c.key for c in active if drop_unreachable_first and not candidates(c)[0].size]
+            stuck = [c.key for c in active if drop_unreachable_first and not reach[c.key][0].size]
             victim = stuck[0] if stuck else closest_robot(active)
             active = [c for c in active if c.key != victim]
             idle.append(victim)
-            n_ready = 1
-            while n_ready < len(active) and active[n_ready].key in reach:
-                n_ready += 1
             if not active:
                 return Plan(Status.CANNOT_COMPLETE, idle=tuple(sorted(idle)), radii_tried=tried)
+            ids = np.concatenate([reach[c.key][0] for c in active])
+            dist = np.concatenate([reach[c.key][1] for c in active])
+            offsets = np.zeros(len(active) + 1, dtype=np.int64)
+            offsets[1:] = np.cumsum([reach[c.key][0].size for c in active])
+            span = pair_span(active[0], active[1]) if len(active) > 1 else math.inf
             if reset_radius_after_removal:
                 r = min(c.r_max for c in active)
                 floor = max(c.r_min for c in active)
@@ -491,8 +510,7 @@ def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupi
     paths = {}
     for child in active:
         f = fields[child.key]
-        raw = f.path_to(*centres[child.key])
-        paths[child.key] = _smooth_on(pmap, raw, f._drivable)
+        paths[child.key] = f._smoothed_path_to(*centres[child.key])
     idle_children = [c for c in children if c.key in set(idle)]
     idle_moves, stranded = move_idle_robots(
         pmap,
@@ -519,6 +537,50 @@ def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupi
         idle_waves=waves(idle_moves, pmap.cell_size, padding),
         radii_tried=tried,
     )
+
+
+@njit(cache=True)
+def _disc_grid(ny, nx, ix0, iy0, h, xy, r):
+    """The bubbles' part of CONFLICT (Fig. 27) on a map of ``ny`` x ``nx`` cells with origin
+    cell (ix0, iy0): cells whose centre lies within ``r`` of a centre ``xy[i]`` (metres),
+    compiled; each disc is tested over the cells of its bounding window only.
+    """
+    out = np.zeros((ny, nx), dtype=np.bool_)
+    limit = r * r + _TOL * h * h
+    for i in range(xy.shape[0]):
+        cx = xy[i, 0]
+        cy = xy[i, 1]
+        c0 = min(max(math.floor((cx - r) / h + 1e-9) - ix0, 0), nx)
+        c1 = min(max(math.floor((cx + r) / h + 1e-9) - ix0 + 1, c0), nx)
+        r0 = min(max(math.floor((cy - r) / h + 1e-9) - iy0, 0), ny)
+        r1 = min(max(math.floor((cy + r) / h + 1e-9) - iy0 + 1, r0), ny)
+        for row in range(r0, r1):
+            dy = (iy0 + row + 0.5) * h - cy
+            for col in range(c0, c1):
+                dx = (ix0 + col + 0.5) * h - cx
+                if dx * dx + dy * dy <= limit:
+                    out[row, col] = True
+    return out
+
+
+@njit(cache=True)
+def _mark_path(grid, pts, padding, ix0, iy0):
+    """Mark in ``grid`` (local cells, origin cell (ix0, iy0)) the cells a robot following the
+    polyline ``pts`` (cell units) sweeps: :func:`~models.hierarchy.planning.padded_cells`
+    (the supercover of every segment dilated by ``padding``; a one-point path gives its cell),
+    compiled, without the sorted keys.
+    """
+    ny, nx = grid.shape
+    n = pts.shape[0]
+    for k in range(max(n - 1, 1)):
+        b = min(k + 1, n - 1)
+        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+        for j in range(cells.shape[0]):
+            c = cells[j, 0] - ix0
+            r = cells[j, 1] - iy0
+            for row in range(max(r - padding, 0), min(r + padding + 1, ny)):
+                for col in range(max(c - padding, 0), min(c + padding + 1, nx)):
+                    grid[row, col] = True
 
 
 def move_idle_robots(
@@ -560,20 +622,12 @@ def move_idle_robots(
         return {}, ()
     ny, nx = pmap._scanned.shape
     h = pmap.cell_size
-    conflict = np.zeros((ny, nx), dtype=np.bool_)
-    for cx, cy in centres.values():
-        rs, cs = pmap._disc_window(cx, cy, r)
-        xs = (pmap._ix0 + np.arange(cs.start, cs.stop) + 0.5) * h
-        ys = (pmap._iy0 + np.arange(rs.start, rs.stop) + 0.5) * h
-        disc = (xs[None, :] - cx) ** 2 + (ys[:, None] - cy) ** 2 <= r * r + _TOL * h * h
-        conflict[rs, cs] |= disc
+    xy = np.array(list(centres.values()), dtype=np.float64).reshape(-1, 2)
+    conflict = _disc_grid(ny, nx, pmap._ix0, pmap._iy0, h, xy, float(r))
 
     def add_path(path: np.ndarray) -> None:
-        cells = padded_cells(path, h, padding)
-        cc = cells[:, 0] - pmap._ix0
-        rr = cells[:, 1] - pmap._iy0
-        ok = (cc >= 0) & (cc < nx) & (rr >= 0) & (rr < ny)
-        conflict[rr[ok], cc[ok]] = True
+        pts = np.asarray(path, dtype=np.float64) / h
+        _mark_path(conflict, pts, int(padding), pmap._ix0, pmap._iy0)
 
     for path in paths.values():
         add_path(path)
@@ -598,7 +652,7 @@ def move_idle_robots(
         angle = np.mod(portable.arctan2(dc, dr), 2 * np.pi)
         best = np.lexsort((angle, ring))[0]
         target = pmap._centre_of(int(free[best, 0]), int(free[best, 1]))
-        path = _smooth_on(pmap, f.path_to(*target), f._drivable)
+        path = f._smoothed_path_to(*target)
         moves[child.key] = path
         conflict[free[best, 0], free[best, 1]] = True
         add_path(path)

@@ -37,7 +37,7 @@ from models.hierarchy.agents import QUEEN, Director, LinkLost, Member, Queen, Sc
 from models.hierarchy.coverage import Plan, Status
 from models.hierarchy.flat import FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
-from models.hierarchy.planning import padded_cells
+from models.hierarchy.planning import _blocked_on_path
 from models.hierarchy.probmap import ProbMap, Rect
 from models.hierarchy.protocol import KINDS, SettledMsg, StartMsg
 from models.hierarchy.units import SUMMARY_UNITS
@@ -337,8 +337,8 @@ class HierarchyModel(SwarmModel):
                 in_bounds=m.in_bounds(x, y),
             )  # fmt: skip
         for k, path in {**plan.idle_moves, **plan.paths}.items():
-            centres = (padded_cells(path, h, padding=0) + 0.5) * h  # the path's own cells
-            blocked = int(m.known_blocked_at(centres).sum())
+            pts = np.asarray(path, dtype=np.float64) / h  # the path's own cells
+            blocked = int(_blocked_on_path(pts, m._ix0, m._iy0, m._scanned, m._blocked, m.tau))
             self.path_cells_blocked += blocked
             self.plans.append(
                 {"director": director.id, "child": director.links[k], "path": path,

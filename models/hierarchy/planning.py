@@ -123,11 +123,23 @@ def _bfs(free, goal, sr, sc, n_target):
     exhaustion.
     """
     fy, w = free.shape
+    dist = np.full((fy, w), -1, dtype=np.int32)
+    pred = np.full((fy, w), -1, dtype=np.int8)
+    queue = np.empty(fy * w, dtype=np.int32)
+    complete = _bfs_into(free, goal, sr, sc, n_target, dist, pred, queue)
+    return dist, pred, complete
+
+
+@njit(cache=True)
+def _bfs_into(free, goal, sr, sc, n_target, dist_grid, pred_grid, queue):
+    """:func:`_bfs` into given framed ``dist_grid`` and ``pred_grid`` (filled with -1) with a
+    work ``queue`` of one entry per cell; returns whether the search ran to exhaustion.
+    """
+    w = free.shape[1]
     flat_free = free.ravel()
     flat_goal = goal.ravel()
-    dist = np.full(fy * w, -1, dtype=np.int32)
-    pred = np.full(fy * w, -1, dtype=np.int8)
-    queue = np.empty(fy * w, dtype=np.int32)
+    dist = dist_grid.ravel()
+    pred = pred_grid.ravel()
     start = (sr + 1) * w + sc + 1
     dist[start] = 0
     queue[0] = start
@@ -170,7 +182,7 @@ def _bfs(free, goal, sr, sc, n_target):
             tail += 1
             if flat_goal[j]:
                 found += 1
-    return dist.reshape(fy, w), pred.reshape(fy, w), head >= tail
+    return head >= tail
 
 
 @njit(cache=True)
@@ -425,6 +437,115 @@ def _without(
     return grid
 
 
+@njit(cache=True)
+def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k, vx, vy):
+    """Every child's step of a coverage call (Fig. 24 steps 8-11) in one compiled call.
+
+    Children are the first ``n`` robots at local cells ``(occ_r[i], occ_c[i])``; the others only
+    block. Child i's drivable grid is ``base`` (framed) with every cell within ``k`` of another
+    robot's cell made undrivable (as :func:`_without`); its search stops once every drivable
+    cell of ``goal`` is reached (as a :class:`DistanceField` with a target). ``goal_flat`` holds
+    the framed flat indices of the goal cells, ``vx`` and ``vy`` their centres. Returns,
+    stacked per child, the framed drivable grids and the :func:`_bfs` results; the positions
+    in ``goal_flat`` of the goal cells each child reaches with their steps (float), child i's
+    at ``offsets[i]:offsets[i + 1]``; and per child the box ``(x_min, x_max, y_min, y_max)``
+    of the centres it reaches (for the coverage call's radius bound; NaN if none). A child
+    outside the grid searches nothing and reaches no cell.
+    """
+    fy, w = base.shape
+    ny = fy - 2
+    nx = w - 2
+    m = goal_flat.shape[0]
+    free = np.zeros((n, fy, w), dtype=np.bool_)
+    dist = np.full((n, fy, w), -1, dtype=np.int32)
+    pred = np.full((n, fy, w), -1, dtype=np.int8)
+    complete = np.zeros(n, dtype=np.bool_)
+    ids = np.empty(n * m, dtype=np.int64)
+    steps = np.empty(n * m, dtype=np.float64)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    boxes = np.full((n, 4), np.nan)
+    queue = np.empty(fy * w, dtype=np.int32)
+    flat_goal = goal.ravel()
+    for i in range(n):
+        offsets[i + 1] = offsets[i]
+        sr = occ_r[i]
+        sc = occ_c[i]
+        if not (0 <= sr < ny and 0 <= sc < nx):
+            continue
+        grid = free[i]
+        grid[:, :] = base
+        for j in range(occ_r.shape[0]):
+            r = occ_r[j]
+            c = occ_c[j]
+            if j != i and 0 <= r < ny and 0 <= c < nx:
+                grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+        flat_free = grid.ravel()
+        n_target = 0
+        for q in range(m):
+            if flat_free[goal_flat[q]]:
+                n_target += 1
+        start = (sr + 1) * w + sc + 1
+        if flat_goal[start] and not flat_free[start]:
+            n_target += 1
+        complete[i] = _bfs_into(grid, goal, sr, sc, n_target, dist[i], pred[i], queue)
+        flat_dist = dist[i].ravel()
+        t = offsets[i]
+        for q in range(m):
+            if flat_dist[goal_flat[q]] >= 0:
+                ids[t] = q
+                steps[t] = flat_dist[goal_flat[q]]
+                if t == offsets[i]:
+                    boxes[i, 0] = boxes[i, 1] = vx[q]
+                    boxes[i, 2] = boxes[i, 3] = vy[q]
+                boxes[i, 0] = min(boxes[i, 0], vx[q])
+                boxes[i, 1] = max(boxes[i, 1], vx[q])
+                boxes[i, 2] = min(boxes[i, 2], vy[q])
+                boxes[i, 3] = max(boxes[i, 3], vy[q])
+                t += 1
+        offsets[i + 1] = t
+    m = offsets[n]
+    return free, dist, pred, complete, ids[:m], steps[:m], offsets, boxes
+
+
+@njit(cache=True)
+def _smoothed_route(pred, drivable, sr, sc, tr, tc, ix0, iy0, h, sx, sy):
+    """:meth:`DistanceField.path_to` then :func:`_smooth_on` (Fig. 32) in one compiled call:
+    the source point ``(sx, sy)`` (metres) in local cell (sr, sc), the centres of the cells
+    along ``pred`` to (tr, tc) (the source cell's own centre dropped when the source stands on
+    it), then the smoothing's keep-mask on the points in local cell units.
+    """
+    cells = _walk(pred, sr, sc, tr, tc)
+    m = cells.shape[0]
+    x0 = (ix0 + cells[0, 1] + 0.5) * h
+    y0 = (iy0 + cells[0, 0] + 0.5) * h
+    first = 1 if math.hypot(x0 - sx, y0 - sy) <= 1e-9 * h else 0
+    n = m + 1 - first
+    path = np.empty((n, 2), dtype=np.float64)
+    path[0, 0] = sx
+    path[0, 1] = sy
+    for k in range(first, m):
+        path[k + 1 - first, 0] = (ix0 + cells[k, 1] + 0.5) * h
+        path[k + 1 - first, 1] = (iy0 + cells[k, 0] + 0.5) * h
+    if n <= 2:
+        return path
+    local = np.empty((n, 2), dtype=np.float64)
+    for k in range(n):
+        local[k, 0] = path[k, 0] / h - ix0
+        local[k, 1] = path[k, 1] / h - iy0
+    keep = _smooth_keep(drivable, local, sr, sc)
+    return path[keep]
+
+
+def _local_cells(pmap: ProbMap, points: Sequence[Sequence[float]]) -> tuple[np.ndarray, np.ndarray]:
+    """Local rows and columns (int64; outside the grid for points outside it) of the cells
+    holding ``points`` (metres), as :func:`_without` finds them.
+    """
+    h = pmap.cell_size
+    rows = [math.floor(y / h + _EPS) - pmap._iy0 for _, y in points]
+    cols = [math.floor(x / h + _EPS) - pmap._ix0 for x, _ in points]
+    return np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64)
+
+
 def _frame(grid: np.ndarray) -> np.ndarray:
     """Bool ``grid`` inside one ring of False (``np.pad`` with False, without its 15 us of
     set-up a call: this runs several times per coverage call).
@@ -469,10 +590,16 @@ class DistanceField:
         self._start(pmap, source, _frame(drivable), None if target is None else _frame(target))
 
     @classmethod
-    def _from_framed(cls, pmap, source, free, goal) -> DistanceField:
-        """Build from framed grids (see :func:`_bfs`) without copying them."""
+    def _from_search(cls, pmap, source, cell, free, dist, pred, complete) -> DistanceField:
+        """Wrap the framed results of a search already run (see :func:`_children_search`) from
+        ``source`` in local cell ``cell``.
+        """
         field = cls.__new__(cls)
-        field._start(pmap, source, free, goal)
+        field._map = pmap
+        field.source = (float(source[0]), float(source[1]))
+        field._cell = cell
+        field._free = free
+        field._dist_f, field._pred_f, field._complete = dist, pred, complete
         return field
 
     def _start(self, pmap, source, free, goal) -> None:
@@ -552,6 +679,24 @@ class DistanceField:
             return np.vstack((np.asarray([self.source]), centres[1:]))
         return np.vstack((np.asarray([self.source]), centres))
 
+    def _smoothed_path_to(self, x: float, y: float) -> np.ndarray:
+        """:meth:`path_to` smoothed on the field's own drivability (Fig. 32), compiled.
+
+        Raises:
+            ValueError: the target is unreachable.
+
+        """
+        m = self._map
+        cell = m._local(x, y)
+        if cell is not None and self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
+            self._finish()
+        if cell is None or self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
+        return _smoothed_route(
+            self._pred, self._drivable, self._cell[0], self._cell[1], cell[0], cell[1], m._ix0,
+            m._iy0, m.cell_size, self.source[0], self.source[1],
+        )  # fmt: skip
+
 
 def shortest_paths(
     pmap: ProbMap,
@@ -614,6 +759,29 @@ def supercover(a: Sequence[float], b: Sequence[float], cell_size: float) -> np.n
     return _supercover_cells(a[0] / h, a[1] / h, b[0] / h, b[1] / h).copy()
 
 
+@njit(cache=True)
+def _blocked_on_path(pts, ix0, iy0, scanned, blocked, tau):
+    """How many distinct cells of the polyline ``pts`` (cell units; its supercover, no padding:
+    :func:`padded_cells` with ``padding=0``) are known blocked on the map grids (scanned and at
+    or above ``tau``; cells outside the grid are not), for the model's path diagnostics.
+    """
+    ny, nx = scanned.shape
+    seen = np.zeros((ny, nx), dtype=np.bool_)
+    count = 0
+    n = pts.shape[0]
+    for k in range(max(n - 1, 1)):
+        b = min(k + 1, n - 1)
+        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+        for j in range(cells.shape[0]):
+            c = cells[j, 0] - ix0
+            r = cells[j, 1] - iy0
+            if 0 <= r < ny and 0 <= c < nx and not seen[r, c]:
+                seen[r, c] = True
+                if scanned[r, c] and blocked[r, c] >= tau:
+                    count += 1
+    return count
+
+
 def _path_keys(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarray:
     """Sorted cell keys swept by ``path`` (metres), dilated by ``padding``."""
     pts = np.asarray(path, dtype=np.float64) / float(cell_size)
@@ -642,6 +810,28 @@ def path_length(path: np.ndarray) -> float:
     if path.shape[0] < 2:
         return 0.0
     return float(np.hypot(*np.diff(path, axis=0).T).sum())
+
+
+@njit(cache=True)
+def _order_violations(wave, keys, offsets, first, last):
+    """Pairs (a, b) of moves with ``wave[a] < wave[b]`` where b's padded path holds a's end
+    cell key ``last[a]``, or a's holds b's start cell key ``first[b]`` (move i's sorted padded
+    cell keys are ``keys[offsets[i]:offsets[i + 1]]``).
+    """
+    n = wave.shape[0]
+    count = 0
+    for a in range(n):
+        keys_a = keys[offsets[a] : offsets[a + 1]]
+        for b in range(n):
+            if wave[a] < wave[b]:
+                keys_b = keys[offsets[b] : offsets[b + 1]]
+                i = np.searchsorted(keys_b, last[a])
+                j = np.searchsorted(keys_a, first[b])
+                if (i < keys_b.shape[0] and keys_b[i] == last[a]) or (
+                    j < keys_a.shape[0] and keys_a[j] == first[b]
+                ):
+                    count += 1
+    return count
 
 
 def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -> list[list[int]]:
@@ -690,22 +880,22 @@ def wave_order_violations(
     and proximity diagnostics): a later wave's padded path crossing an earlier wave's end cell, or
     an earlier wave's padded path crossing a later wave's start cell.
     """
+    moves = [(i, k) for i, wave in enumerate(wave_list) for k in wave]
+    if len(wave_list) < 2 or not moves:
+        return 0
     h = float(cell_size)
+    half = _KEY // 2
 
     def cell_key(point: np.ndarray) -> int:
-        half = _KEY // 2
         ix = math.floor(point[0] / h + _EPS)
         iy = math.floor(point[1] / h + _EPS)
         return (ix + half) * _KEY + (iy + half)
 
-    cells = {k: set(_path_keys(paths[k], cell_size, padding).tolist()) for k in paths}
-    count = 0
-    for i, early in enumerate(wave_list):
-        for late in wave_list[i + 1 :]:
-            for a in early:
-                for b in late:
-                    end_a = cell_key(np.asarray(paths[a])[-1])
-                    start_b = cell_key(np.asarray(paths[b])[0])
-                    if end_a in cells[b] or start_b in cells[a]:
-                        count += 1
-    return count
+    chosen = [np.asarray(paths[k]) for _, k in moves]
+    parts = [_path_keys(p, cell_size, padding) for p in chosen]
+    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([k.size for k in parts])
+    wave = np.array([i for i, _ in moves], dtype=np.int64)
+    first = np.array([cell_key(p[0]) for p in chosen], dtype=np.int64)
+    last = np.array([cell_key(p[-1]) for p in chosen], dtype=np.int64)
+    return int(_order_violations(wave, np.concatenate(parts), offsets, first, last))
