@@ -80,33 +80,54 @@ class PathFollower:
         self._next.pop(robot_id, None)
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
-        """Desired velocities toward each flyer's waypoint, and which flyers arrived."""
+        """Desired velocities toward each flyer's waypoint, and which flyers arrived.
+
+        One compiled call (:func:`_follow`) in the usual tick; a tick in which some flyer
+        passes a corner returns those rows first, moves them on to their next waypoints here,
+        and steers in a second call.
+        """
         state = physics.flyer_state
         target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
-        for row in _passing(physics.pos, target, last, self.speed * physics.dt):
-            rid = int(physics.ids[row])  # only the flyers at a corner this tick
-            k = self._next[rid] + 1
-            self._next[rid] = k
-            path = self._paths[rid]
-            target[row] = path[k]
-            last[row, 0] = float(k == len(path) - 1)
-        desired, done, stalled = _steer(
-            physics.pos, physics.vel, target, last, idle, self.speed, physics.dt, self.stall_ticks
-        )
+        step = self.speed * physics.dt
+        args = (physics.pos, physics.vel, target, last, idle, self.speed, physics.dt)
+        passing, desired, done, stalled = _follow(*args, self.stall_ticks, step)
+        if len(passing):
+            for row in passing.tolist():  # only the flyers at a corner this tick
+                rid = int(physics.ids[row])
+                k = self._next[rid] + 1
+                self._next[rid] = k
+                path = self._paths[rid]
+                target[row] = path[k]
+                last[row, 0] = float(k == len(path) - 1)
+            _, desired, done, stalled = _follow(*args, self.stall_ticks, -1.0)
         self.stalled += stalled
         return desired, done
 
 
 @njit(cache=True)
+def _follow(pos, vel, target, last, idle, speed, dt, stall_ticks, step):
+    """One tick of the follower: the rows of the flyers within ``step`` (one tick's travel) of
+    an intermediate waypoint, in order, and if there are none :func:`_steer`'s desired
+    velocities, done mask and stall count (empty arrays and 0 while some flyer is at a corner;
+    a negative ``step`` finds none).
+    """
+    passing = np.flatnonzero(_passing(pos, target, last, step))
+    if passing.size:
+        return passing, np.empty((0, 2)), np.empty(0, dtype=np.bool_), 0
+    desired, done, stalled = _steer(pos, vel, target, last, idle, speed, dt, stall_ticks)
+    return passing, desired, done, stalled
+
+
+@njit(cache=True)
 def _passing(pos, target, last, step):
-    """Rows of the flyers within one tick's travel of an intermediate waypoint, in order."""
+    """Which flyers are within one tick's travel (``step``) of an intermediate waypoint."""
     n = pos.shape[0]
     out = np.zeros(n, dtype=np.bool_)
     for k in range(n):
         if last[k, 0] == 0.0:
             d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
             out[k] = d <= step
-    return np.flatnonzero(out)
+    return out
 
 
 @njit(cache=True)
