@@ -82,52 +82,41 @@ class PathFollower:
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities toward each flyer's waypoint, and which flyers arrived.
 
-        One compiled call (:func:`_follow`) in the usual tick; a tick in which some flyer
-        passes a corner returns those rows first, moves them on to their next waypoints here,
-        and steers in a second call.
+        One compiled call (:func:`_follow`) in the usual tick; a flyer at a corner is moved on
+        to its next waypoint here, between calls that look for the next one in later rows.
         """
         state = physics.flyer_state
         target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
-        step = self.speed * physics.dt
         args = (physics.pos, physics.vel, target, last, idle, self.speed, physics.dt)
-        passing, desired, done, stalled = _follow(*args, self.stall_ticks, step)
-        if len(passing):
-            for row in passing.tolist():  # only the flyers at a corner this tick
-                rid = int(physics.ids[row])
-                k = self._next[rid] + 1
-                self._next[rid] = k
-                path = self._paths[rid]
-                target[row] = path[k]
-                last[row, 0] = float(k == len(path) - 1)
-            _, desired, done, stalled = _follow(*args, self.stall_ticks, -1.0)
+        step = self.speed * physics.dt
+        desired, done, stalled, row = _follow(*args, self.stall_ticks, step, 0)
+        while row >= 0:  # only the flyers at a corner this tick, each once, in row order
+            rid = int(physics.ids[row])
+            k = self._next[rid] + 1
+            self._next[rid] = k
+            path = self._paths[rid]
+            target[row] = path[k]
+            last[row, 0] = float(k == len(path) - 1)
+            desired, done, stalled, row = _follow(*args, self.stall_ticks, step, row + 1)
         self.stalled += stalled
         return desired, done
 
 
 @njit(cache=True)
-def _follow(pos, vel, target, last, idle, speed, dt, stall_ticks, step):
-    """One tick of the follower: the rows of the flyers within ``step`` (one tick's travel) of
-    an intermediate waypoint, in order, and if there are none :func:`_steer`'s desired
-    velocities, done mask and stall count (empty arrays and 0 while some flyer is at a corner;
-    a negative ``step`` finds none).
+def _follow(pos, vel, target, last, idle, speed, dt, stall_ticks, step, start):
+    """One tick of the follower from row ``start`` on: the first row from there whose flyer is
+    within ``step`` (one tick's travel) of an intermediate waypoint, with no velocities (None,
+    None, 0); else -1 with :func:`_steer`'s desired velocities, done mask and stall count.
+
+    The caller moves a row at a corner on and asks again from the next row, so each flyer
+    moves on at most once per tick, and the steering sees every flyer's new waypoint.
     """
-    passing = np.flatnonzero(_passing(pos, target, last, step))
-    if passing.size:
-        return passing, np.empty((0, 2)), np.empty(0, dtype=np.bool_), 0
-    desired, done, stalled = _steer(pos, vel, target, last, idle, speed, dt, stall_ticks)
-    return passing, desired, done, stalled
-
-
-@njit(cache=True)
-def _passing(pos, target, last, step):
-    """Which flyers are within one tick's travel (``step``) of an intermediate waypoint."""
-    n = pos.shape[0]
-    out = np.zeros(n, dtype=np.bool_)
-    for k in range(n):
+    for k in range(start, pos.shape[0]):
         if last[k, 0] == 0.0:
-            d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
-            out[k] = d <= step
-    return out
+            if math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1]) <= step:
+                return None, None, 0, k
+    desired, done, stalled = _steer(pos, vel, target, last, idle, speed, dt, stall_ticks)
+    return desired, done, stalled, -1
 
 
 @njit(cache=True)

@@ -36,7 +36,7 @@ from abm import gridkernels
 from abm.arena import Arena
 from abm.checks import check_control, check_controller
 from abm.errors import ConfigError, check_range
-from abm.neighbours import new_pairs, pairs_within
+from abm.neighbours import new_pairs, pairs_within, same_keys
 
 if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
     from mesa.experimental.continuous_space import ContinuousSpaceAgent
@@ -337,7 +337,7 @@ class Physics:
         desired = np.ascontiguousarray(desired, dtype=float)
         noise = self._body_noise(n)
         if n <= DIRECT_PAIRS:
-            distance, new_walls, now, new, finished = _tick_direct(
+            distance, finished, contacts = _tick_direct(
                 self.pos, self.vel, desired, noise, *self._flight_constants,
                 self._wall_contact, self.ids, self._pairs_in_contact, done,
             )  # fmt: skip
@@ -345,14 +345,13 @@ class Physics:
         else:
             contact = np.empty(n, dtype=bool)
             self._fly_one_tick(desired, noise, contact)
-            new_walls, now, new = _after_flight(
+            contacts = _after_flight(
                 self.pos, self.vel, contact, self._wall_contact, *self._contact_candidates(),
                 2 * self.params.body_radius, self.ids, self._pairs_in_contact,
             )  # fmt: skip
             finished = done.any()
-        self._pairs_in_contact = now
-        if len(new_walls) or len(new):
-            self._count_collisions(new_walls, new)
+        if contacts is not None:
+            self._contacts_changed(*contacts)
         if self.trace is not None:
             self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
         if self.positions_out is not None:
@@ -394,11 +393,14 @@ class Physics:
         for job in elsewhere:
             self.distance += job.result()
 
-    def _count_collisions(self, new_walls: np.ndarray, new_pairs: np.ndarray) -> None:
-        """Count this tick's new contacts and report them: walls (rows of the bodies that
-        touch one now and did not last tick), then robot pairs (sorted id keys
-        ``low_id << 32 | high_id``, two collisions each).
+    def _contacts_changed(
+        self, new_walls: np.ndarray, now: np.ndarray, new_pairs: np.ndarray
+    ) -> None:
+        """Keep the robot contacts ``now`` and count and report this tick's new contacts:
+        walls (rows of the bodies that touch one now and did not last tick), then robot pairs
+        (sorted id keys ``low_id << 32 | high_id``, two collisions each).
         """
+        self._pairs_in_contact = now
         self.wall_collisions += len(new_walls)
         self.robot_collisions += 2 * len(new_pairs)
         if self.on_collision is not None:
@@ -433,8 +435,8 @@ def _tick_direct(
     then :func:`_after_flight` on every row pair ``i < j``, in lexicographic order (the
     candidates :func:`abm.neighbours.pairs_within` would give, and more).
 
-    Returns the path length flown, :func:`_after_flight`'s new wall rows, contacts and new
-    contacts, and whether ``done`` marks any flyer (a flight ends this tick).
+    Returns the path length flown, whether ``done`` marks any flyer (a flight ends this tick)
+    and what :func:`_after_flight` returns.
     """
     n = pos.shape[0]
     contact = np.empty(n, dtype=np.bool_)
@@ -451,7 +453,7 @@ def _tick_direct(
             first[k] = i
             second[k] = j
             k += 1
-    new_walls, now, new = _after_flight(
+    contacts = _after_flight(
         pos, vel, contact, wall_contact, first, second, 2.0 * radius, ids, before
     )
     finished = False
@@ -459,7 +461,7 @@ def _tick_direct(
         if done[k]:
             finished = True
             break
-    return distance, new_walls, now, new, finished
+    return distance, finished, contacts
 
 
 @njit(cache=True)
@@ -473,14 +475,16 @@ def _after_flight(
     reach: float,
     ids: np.ndarray,
     before: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The contacts after a flight step: walls, then robots among the candidate row pairs.
 
     A body that touches a wall now (``contact``) and did not last tick (``wall_contact``,
     updated in place) is a new wall collision. The candidate pairs closer than ``reach`` touch
-    and are bounced (:func:`_bounce`, in place). Returns the rows of the new wall contacts,
-    the robot contacts as sorted keys ``low_id << 32 | high_id``, and the keys not in
-    ``before`` (last tick's, sorted): the new contacts, found by a binary search each.
+    and are bounced (:func:`_bounce`, in place). Returns None when nothing changed (no new
+    wall contact, the robot contacts are ``before``, last tick's): the usual tick, whose
+    return then costs no arrays. Else the rows of the new wall contacts, the robot contacts as
+    sorted keys ``low_id << 32 | high_id``, and the keys not in ``before`` (sorted): the new
+    contacts, found by a binary search each.
     """
     new_walls = np.flatnonzero(contact & ~wall_contact)
     wall_contact[:] = contact
@@ -491,6 +495,8 @@ def _after_flight(
         a, b = ids[first[k]], ids[second[k]]
         now[k] = (min(a, b) << 32) | max(a, b)
     now.sort()  # the pairs are unique, so are the keys
+    if new_walls.size == 0 and same_keys(now, before):
+        return None
     return new_walls, now, new_pairs(now, before)
 
 
