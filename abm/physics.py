@@ -281,30 +281,36 @@ class Physics:
         """End these robots' flights now (they landed, attached, ...): each one's event from
         :meth:`fly` fires. Returns their last positions ``(k, 2)``.
         """
-        rows = self._rows(robot_ids)
-        finished = [self._arrivals[i] for i in rows]
-        last = self._remove(rows)
+        return self._land(self._rows(robot_ids))
+
+    def _land(self, gone: np.ndarray) -> np.ndarray:
+        """:meth:`finish` for the flyers of the bool row mask ``gone`` (a tick's done mask is
+        one already: no ids to look up).
+        """
+        finished = [a for a, g in zip(self._arrivals, gone.tolist(), strict=True) if g]
+        last = self._remove(gone)
         for event in finished:
             event.succeed()
         return last
 
     def _rows(self, robot_ids: Iterable[int]) -> np.ndarray:
+        """The bool row mask of the flyers ``robot_ids``; ValueError if one is not flying."""
         wanted = np.asarray(list(robot_ids), dtype=np.int64)
-        rows = np.flatnonzero(_member_of(self.ids, wanted))
-        if len(rows) != _distinct(wanted):
+        rows = _member_of(self.ids, wanted)
+        if np.count_nonzero(rows) != _distinct(wanted):
             missing = sorted(set(wanted.tolist()) - set(self.ids.tolist()))
             raise ValueError(f"robots {missing} are not flying")
         return rows
 
-    def _remove(self, rows: np.ndarray) -> np.ndarray:
-        keep = np.ones(len(self.ids), dtype=bool)
-        keep[rows] = False
-        last = self.pos[rows].copy()
-        gone = self.ids[rows]
+    def _remove(self, gone: np.ndarray) -> np.ndarray:
+        """Take the flyers of the bool row mask ``gone`` out of the air; their last positions."""
+        keep = ~gone
+        last = self.pos[gone]
         pairs = self._pairs_in_contact
         if len(pairs):
+            ids = self.ids[gone]
             self._pairs_in_contact = pairs[
-                ~(_member_of(pairs >> 32, gone) | _member_of(pairs & _LOW, gone))
+                ~(_member_of(pairs >> 32, ids) | _member_of(pairs & _LOW, ids))
             ]
         self.ids = self.ids[keep]
         self.pos = self.pos[keep]
@@ -312,7 +318,7 @@ class Physics:
         self._wall_contact = self._wall_contact[keep]
         for name, array in self.flyer_state.items():
             self.flyer_state[name] = array[keep]
-        self._arrivals = [a for a, k in zip(self._arrivals, keep, strict=True) if k]
+        self._arrivals = [a for a, k in zip(self._arrivals, keep.tolist(), strict=True) if k]
         self._candidates = None
         return last
 
@@ -357,7 +363,7 @@ class Physics:
         if self.positions_out is not None:
             self.positions_out(self.ids, self.pos)
         if finished:
-            self.finish(self.ids[done])
+            self._land(done)
 
     def _body_noise(self, n: int) -> np.ndarray:
         """The tick's standard normal body-noise draws ``(n, 2)``, in a reused buffer.
