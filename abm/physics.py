@@ -366,18 +366,18 @@ class Physics:
             self._land(done)
 
     def _body_noise(self, n: int) -> np.ndarray:
-        """The tick's standard normal body-noise draws ``(n, 2)``, in a reused buffer.
+        """A reused buffer of at least ``n`` rows whose first ``n`` hold the tick's standard
+        normal body-noise draws (the flight kernel reads only those).
 
         Drawn as ``rng.standard_normal`` and scaled in the flight kernel: the same numbers as
-        ``rng.normal(0, body_noise)``, without a new array per tick (zeros, and no draw, for
-        a body without noise).
+        ``rng.normal(0, body_noise)``, without a new array per tick (zeros, and no draw and no
+        slice, for a body without noise).
         """
         if len(self._noise) < n:
             self._noise = np.zeros((max(n, 2 * len(self._noise)), 2))
-        noise = self._noise[:n]
         if self.params.body_noise > 0:
-            self.rng.standard_normal(out=noise)
-        return noise
+            self.rng.standard_normal(out=self._noise[:n])
+        return self._noise
 
     def _fly_one_tick(self, desired: np.ndarray, noise: np.ndarray, contact: np.ndarray) -> None:
         """Flight dynamics and wall contacts for every flyer (:func:`gridkernels.flight_rows`),
