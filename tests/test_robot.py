@@ -90,3 +90,18 @@ def test_the_space_mirrors_the_flyers_every_tick_while_rows_change(seed):
     model.run(until=15.0)
     assert len(checked) > 50 and max(checked) >= 2
     assert "resting" in removed and "walking" in removed
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 30), st.data())
+def test_the_compiled_row_assignment_is_numpys(n, data):
+    """``place_flyers`` writes the flyers' rows with a compiled loop: numpy's
+    ``target[rows] = values``, repeated rows included (the last value wins)."""
+    from abm.model import _put_rows
+
+    rows = np.array(data.draw(st.lists(st.integers(0, n - 1), max_size=2 * n)), dtype=np.int64)
+    values = np.arange(2.0 * len(rows)).reshape(-1, 2) + 0.5
+    expected, got = np.zeros((n, 2)), np.zeros((n, 2))
+    expected[rows] = values
+    _put_rows(got, rows, values)
+    np.testing.assert_array_equal(got, expected)
