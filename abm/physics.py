@@ -492,8 +492,7 @@ def _after_flight(
     sorted keys ``low_id << 32 | high_id``, and the keys not in ``before`` (sorted): the new
     contacts, found by a binary search each.
     """
-    new_walls = np.flatnonzero(contact & ~wall_contact)
-    wall_contact[:] = contact
+    new_walls = _new_contacts(contact, wall_contact)
     first, second = _closer_than(pos, first, second, reach)
     _bounce(pos, vel, first, second)
     now = np.empty(first.shape[0], dtype=np.int64)
@@ -504,6 +503,25 @@ def _after_flight(
     if new_walls.size == 0 and same_keys(now, before):
         return None
     return new_walls, now, new_pairs(now, before)
+
+
+@njit(cache=True)
+def _new_contacts(contact: np.ndarray, wall_contact: np.ndarray) -> np.ndarray:
+    """The rows where ``contact`` is set and ``wall_contact`` (last tick's) is not, and
+    ``wall_contact`` set to ``contact``: ``np.flatnonzero(contact & ~wall_contact)`` without
+    the temporary arrays.
+    """
+    found = 0
+    for k in range(contact.shape[0]):
+        found += contact[k] and not wall_contact[k]
+    rows = np.empty(found, dtype=np.int64)
+    found = 0
+    for k in range(contact.shape[0]):
+        if contact[k] and not wall_contact[k]:
+            rows[found] = k
+            found += 1
+        wall_contact[k] = contact[k]
+    return rows
 
 
 @njit(cache=True)

@@ -248,6 +248,20 @@ def test_a_tick_measuring_every_pair_equals_one_with_contact_candidates(seed):
     assert same_runs(candidates, direct)
 
 
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.booleans()), max_size=40))
+def test_new_wall_contacts_are_the_numpy_rule(flags):
+    """The compiled new-contact step: ``np.flatnonzero(contact & ~before)``, and ``before``
+    overwritten with ``contact``."""
+    from abm.physics import _new_contacts
+
+    contact = np.array([c for c, _ in flags], dtype=bool)
+    before = np.array([b for _, b in flags], dtype=bool)
+    expected = np.flatnonzero(contact & ~before)
+    np.testing.assert_array_equal(_new_contacts(contact, before), expected)
+    np.testing.assert_array_equal(before, contact)
+
+
 @settings(max_examples=300, deadline=None)
 @given(
     st.floats(-1e6, 1e6, allow_nan=False),
