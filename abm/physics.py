@@ -18,7 +18,8 @@ through a wall: it is stopped flush against it. A new contact counts one wall co
 Robots whose centres come closer than two body radii collide elastically; each new contact
 counts two collisions (one for each robot). The per-flyer work is
 compiled (:func:`abm.gridkernels.flight_rows`): with tens of flyers, numpy's per-call overhead,
-not arithmetic, would set the speed.
+not arithmetic, would set the speed. Up to :data:`DIRECT_PAIRS` flyers a whole tick (flight,
+walls, contacts) is one compiled call that returns no array unless a contact changed.
 """
 
 import math
