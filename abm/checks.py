@@ -99,13 +99,15 @@ def check_control(
             and done.shape == (n,)
             and desired.dtype.kind == "f"
             and done.dtype.kind == "b"
-            and (_all_finite(desired) if desired.dtype is _FLOAT64 else np.isfinite(desired).all())
+            and (_all_finite(desired) if desired.dtype == _FLOAT64 else np.isfinite(desired).all())
         ):
             return desired, done
     hook = hook_name(owner, controller, "control(physics)")
     raise HookError(f"{hook} returned {_what_is_wrong(result, ids)}")
 
 
+#: Compared with ``==``: an array a compiled kernel returns has a float64 dtype object of its
+#: own (numba's), not numpy's singleton, which ``is`` would miss.
 _FLOAT64 = np.dtype(np.float64)
 
 

@@ -10,7 +10,8 @@ uniform grid of cells at least ``r`` wide needs only the 3 x 3 cells around a po
   periodic), in lexicographic order, so results never depend on how the search is organised.
 - :func:`within`: for each query point the indices of the points within ``r`` (compiled; CSR).
 - :func:`new_pairs`: the pairs close now that were not close before, as sorted pair keys
-  (compiled; what counts a contact or an approach once, not every tick it lasts).
+  (compiled; what counts a contact or an approach once, not every tick it lasts);
+  :func:`same_keys` tells whether nothing changed (so a kernel need not return its keys).
 - :class:`NeighbourIndex`: a dynamic index of keyed points that come, move and go one at a
   time (event-driven users such as the comm graph), answering ``near(point, r)`` with the
   keys in the 3 x 3 cells around the point (a superset: the caller measures the distance).
@@ -31,6 +32,7 @@ __all__ = [
     "nearest_distance",
     "new_pairs",
     "pairs_within",
+    "same_keys",
     "within",
 ]
 
@@ -44,6 +46,19 @@ def new_pairs(now: np.ndarray, before: np.ndarray) -> np.ndarray:
         return now
     at = np.minimum(np.searchsorted(before, now), before.shape[0] - 1)
     return now[before[at] != now]
+
+
+@njit(cache=True)
+def same_keys(now: np.ndarray, before: np.ndarray) -> bool:
+    """Whether two 1-d key arrays hold the same values in the same order (``np.array_equal``,
+    compiled for the kernels that return nothing when their keys did not change).
+    """
+    if now.shape[0] != before.shape[0]:
+        return False
+    for k in range(now.shape[0]):
+        if now[k] != before[k]:
+            return False
+    return True
 
 
 def _check_radius(radius: float) -> float:

@@ -54,9 +54,8 @@ class PathFollower:
         self.stalled = 0
         self._paths: dict[int, np.ndarray] = {}
         self._next: dict[int, int] = {}
-        self._target = physics.add_flyer_state("path_target", 2)
-        physics.add_flyer_state("path_last", 1)
-        physics.add_flyer_state("path_idle", 1)
+        # per flyer: its waypoint (x, y), 1.0 if that is the last one, ticks without progress
+        physics.add_flyer_state("path", 4)
         physics.controller = self
 
     def drive(self, robot_id: int, start: np.ndarray, waypoints: np.ndarray) -> simpy.Event:
@@ -70,8 +69,9 @@ class PathFollower:
         self._next[robot_id] = 0
         event = self.physics.fly(robot_id, start)
         row = len(self.physics.ids) - 1
-        self.physics.flyer_state["path_target"][row] = waypoints[0]
-        self.physics.flyer_state["path_last"][row] = float(len(waypoints) == 1)
+        state = self.physics.flyer_state["path"]
+        state[row, :2] = waypoints[0]
+        state[row, 2] = float(len(waypoints) == 1)
         event.callbacks.append(lambda _ev: self._forget(robot_id))
         return event
 
@@ -80,56 +80,68 @@ class PathFollower:
         self._next.pop(robot_id, None)
 
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
-        """Desired velocities toward each flyer's waypoint, and which flyers arrived."""
-        state = physics.flyer_state
-        target, last, idle = state["path_target"], state["path_last"], state["path_idle"]
-        for row in _passing(physics.pos, target, last, self.speed * physics.dt):
-            rid = int(physics.ids[row])  # only the flyers at a corner this tick
+        """Desired velocities toward each flyer's waypoint, and which flyers arrived.
+
+        One compiled call (:func:`_follow`) in the usual tick; a flyer at a corner is moved on
+        to its next waypoint here, between calls that look for the next one in later rows.
+        """
+        state = physics.flyer_state["path"]
+        args = (physics.pos, physics.vel, state, self.speed, physics.dt, self.stall_ticks)
+        step = self.speed * physics.dt
+        desired, done, stalled, row = _follow(*args, step, 0)
+        while row >= 0:  # only the flyers at a corner this tick, each once, in row order
+            rid = int(physics.ids[row])
             k = self._next[rid] + 1
             self._next[rid] = k
             path = self._paths[rid]
-            target[row] = path[k]
-            last[row, 0] = float(k == len(path) - 1)
-        desired, done, stalled = _steer(
-            physics.pos, physics.vel, target, last, idle, self.speed, physics.dt, self.stall_ticks
-        )
+            state[row, :2] = path[k]
+            state[row, 2] = float(k == len(path) - 1)
+            desired, done, stalled, row = _follow(*args, step, row + 1)
         self.stalled += stalled
         return desired, done
 
 
 @njit(cache=True)
-def _passing(pos, target, last, step):
-    """Rows of the flyers within one tick's travel of an intermediate waypoint, in order."""
-    n = pos.shape[0]
-    out = np.zeros(n, dtype=np.bool_)
-    for k in range(n):
-        if last[k, 0] == 0.0:
-            d = math.hypot(target[k, 0] - pos[k, 0], target[k, 1] - pos[k, 1])
-            out[k] = d <= step
-    return np.flatnonzero(out)
+def _follow(pos, vel, state, speed, dt, stall_ticks, step, start):
+    """One tick of the follower from row ``start`` on: the first row from there whose flyer is
+    within ``step`` (one tick's travel) of an intermediate waypoint, with no velocities (None,
+    None, 0); else -1 with :func:`_steer`'s desired velocities, done mask and stall count.
+    ``state`` holds each flyer's waypoint (x, y), 1.0 if that is its last one, and its ticks
+    without progress.
+
+    The caller moves a row at a corner on and asks again from the next row, so each flyer
+    moves on at most once per tick, and the steering sees every flyer's new waypoint.
+    """
+    for k in range(start, pos.shape[0]):
+        if state[k, 2] == 0.0:
+            if math.hypot(state[k, 0] - pos[k, 0], state[k, 1] - pos[k, 1]) <= step:
+                return None, None, 0, k
+    desired, done, stalled = _steer(pos, vel, state, speed, dt, stall_ticks)
+    return desired, done, stalled, -1
 
 
 @njit(cache=True)
-def _steer(pos, vel, target, last, idle, speed, dt, stall_ticks):
+def _steer(pos, vel, state, speed, dt, stall_ticks):
     """Desired velocity of every flyer (at most ``speed``, landing exactly on the last
-    waypoint), and which flyers are done (arrived, or stalled ``stall_ticks`` ticks).
+    waypoint), and which flyers are done (arrived, or stalled ``stall_ticks`` ticks); the
+    ticks without progress (``state[:, 3]``) counted in place.
     """
     n = pos.shape[0]
     desired = np.zeros((n, 2))
     done = np.zeros(n, dtype=np.bool_)
     stalled = 0
     for k in range(n):
-        gx = target[k, 0] - pos[k, 0]
-        gy = target[k, 1] - pos[k, 1]
+        gx = state[k, 0] - pos[k, 0]
+        gy = state[k, 1] - pos[k, 1]
         dist = math.hypot(gx, gy)
-        arrived = last[k, 0] == 1.0 and dist < 1e-6
+        arrived = state[k, 2] == 1.0 and dist < 1e-6
         v = min(speed, dist / dt)
         if dist > 1e-12:
             desired[k, 0] = gx * v / dist
             desired[k, 1] = gy * v / dist
         moving = math.hypot(vel[k, 0], vel[k, 1]) * dt > 1e-4
-        idle[k, 0] = 0.0 if (moving or arrived) else idle[k, 0] + 1.0
-        if idle[k, 0] >= stall_ticks:
+        state[k, 3] = 0.0 if (moving or arrived) else state[k, 3] + 1.0
+        if state[k, 3] >= stall_ticks:
             stalled += 1
             done[k] = True
         if arrived:

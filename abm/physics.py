@@ -18,7 +18,8 @@ through a wall: it is stopped flush against it. A new contact counts one wall co
 Robots whose centres come closer than two body radii collide elastically; each new contact
 counts two collisions (one for each robot). The per-flyer work is
 compiled (:func:`abm.gridkernels.flight_rows`): with tens of flyers, numpy's per-call overhead,
-not arithmetic, would set the speed.
+not arithmetic, would set the speed. Up to :data:`DIRECT_PAIRS` flyers a whole tick (flight,
+walls, contacts) is one compiled call that returns no array unless a contact changed.
 """
 
 import math
@@ -36,7 +37,7 @@ from abm import gridkernels
 from abm.arena import Arena
 from abm.checks import check_control, check_controller
 from abm.errors import ConfigError, check_range
-from abm.neighbours import new_pairs, pairs_within
+from abm.neighbours import new_pairs, pairs_within, same_keys
 
 if TYPE_CHECKING:  # annotations only: the parts do not need Mesa to run
     from mesa.experimental.continuous_space import ContinuousSpaceAgent
@@ -51,6 +52,10 @@ ROWS_PER_THREAD = 20_000
 #: Contact candidates are the pairs within two body radii plus a skin this many ticks of the
 #: largest move wide; they are searched again only once some flyer has moved half the skin.
 CONTACT_SKIN_TICKS = 10
+#: Up to this many flyers a tick is one compiled call (:func:`_tick_direct`) that measures every
+#: pair directly (a few hundred distances at most) instead of keeping contact candidates: with
+#: a handful of flyers the Python and numpy calls around the kernels, not the kernels, cost.
+DIRECT_PAIRS = 32
 _CPUS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 _pool: tuple[int, ThreadPoolExecutor] | None = None
 
@@ -188,6 +193,8 @@ class Physics:
         )
         self.on_collision = on_collision
         self.owner = owner
+        #: The flyers' robot ids, one row each; a new array whenever flyers join or leave,
+        #: never changed in place (a listener may key what it caches on the array).
         self.ids = np.empty(0, dtype=np.int64)
         self.pos = np.empty((0, 2))
         self.vel = np.empty((0, 2))
@@ -275,30 +282,36 @@ class Physics:
         """End these robots' flights now (they landed, attached, ...): each one's event from
         :meth:`fly` fires. Returns their last positions ``(k, 2)``.
         """
-        rows = self._rows(robot_ids)
-        finished = [self._arrivals[i] for i in rows]
-        last = self._remove(rows)
+        return self._land(self._rows(robot_ids))
+
+    def _land(self, gone: np.ndarray) -> np.ndarray:
+        """:meth:`finish` for the flyers of the bool row mask ``gone`` (a tick's done mask is
+        one already: no ids to look up).
+        """
+        finished = [a for a, g in zip(self._arrivals, gone.tolist(), strict=True) if g]
+        last = self._remove(gone)
         for event in finished:
             event.succeed()
         return last
 
     def _rows(self, robot_ids: Iterable[int]) -> np.ndarray:
+        """The bool row mask of the flyers ``robot_ids``; ValueError if one is not flying."""
         wanted = np.asarray(list(robot_ids), dtype=np.int64)
-        rows = np.flatnonzero(_member_of(self.ids, wanted))
-        if len(rows) != _distinct(wanted):
+        rows = _member_of(self.ids, wanted)
+        if np.count_nonzero(rows) != _distinct(wanted):
             missing = sorted(set(wanted.tolist()) - set(self.ids.tolist()))
             raise ValueError(f"robots {missing} are not flying")
         return rows
 
-    def _remove(self, rows: np.ndarray) -> np.ndarray:
-        keep = np.ones(len(self.ids), dtype=bool)
-        keep[rows] = False
-        last = self.pos[rows].copy()
-        gone = self.ids[rows]
+    def _remove(self, gone: np.ndarray) -> np.ndarray:
+        """Take the flyers of the bool row mask ``gone`` out of the air; their last positions."""
+        keep = ~gone
+        last = self.pos[gone]
         pairs = self._pairs_in_contact
         if len(pairs):
+            ids = self.ids[gone]
             self._pairs_in_contact = pairs[
-                ~(_member_of(pairs >> 32, gone) | _member_of(pairs & _LOW, gone))
+                ~(_member_of(pairs >> 32, ids) | _member_of(pairs & _LOW, ids))
             ]
         self.ids = self.ids[keep]
         self.pos = self.pos[keep]
@@ -306,7 +319,7 @@ class Physics:
         self._wall_contact = self._wall_contact[keep]
         for name, array in self.flyer_state.items():
             self.flyer_state[name] = array[keep]
-        self._arrivals = [a for a, k in zip(self._arrivals, keep, strict=True) if k]
+        self._arrivals = [a for a, k in zip(self._arrivals, keep.tolist(), strict=True) if k]
         self._candidates = None
         return last
 
@@ -322,83 +335,86 @@ class Physics:
     def tick(self) -> None:
         """Advance every flyer by one ``dt``, as the controller's checked output asks."""
         self.ticks += 1
-        self.flyer_steps += self.n_flying
+        n = len(self.ids)
+        self.flyer_steps += n
         controller = self.controller
         if controller is None:
             check_controller(controller, self.owner)
         desired, done = check_control(controller.control(self), self.ids, self.owner, controller)
-        contact = self._fly_one_tick(np.ascontiguousarray(desired, dtype=float))
-        self._count_wall_contacts(contact)
-        self._robot_contacts()
+        desired = np.ascontiguousarray(desired, dtype=float)
+        noise = self._body_noise(n)
+        if n <= DIRECT_PAIRS:
+            distance, finished, contacts = _tick_direct(
+                self.pos, self.vel, desired, noise, *self._flight_constants,
+                self._wall_contact, self.ids, self._pairs_in_contact, done,
+            )  # fmt: skip
+            self.distance += distance
+        else:
+            contact = np.empty(n, dtype=bool)
+            self._fly_one_tick(desired, noise, contact)
+            contacts = _after_flight(
+                self.pos, self.vel, contact, self._wall_contact, *self._contact_candidates(),
+                2 * self.params.body_radius, self.ids, self._pairs_in_contact,
+            )  # fmt: skip
+            finished = done.any()
+        if contacts is not None:
+            self._contacts_changed(*contacts)
         if self.trace is not None:
             self.trace.append((self.env.now, self.ids.copy(), self.pos.copy()))
         if self.positions_out is not None:
             self.positions_out(self.ids, self.pos)
-        if done.any():
-            self.finish(self.ids[done])
+        if finished:
+            self._land(done)
 
-    def _fly_one_tick(self, desired: np.ndarray) -> np.ndarray:
-        """Flight dynamics and wall contacts for every flyer (:func:`gridkernels.flight_rows`);
-        returns which bodies touch a wall.
+    def _body_noise(self, n: int) -> np.ndarray:
+        """A reused buffer of at least ``n`` rows whose first ``n`` hold the tick's standard
+        normal body-noise draws (the flight kernel reads only those).
 
-        The body noise is drawn as ``rng.standard_normal`` into a reused buffer and scaled in
-        the kernel: the same numbers as ``rng.normal(0, body_noise)``, without a new array per
-        tick. From twice :data:`ROWS_PER_THREAD` flyers the rows are split over threads (rows
-        are independent, so the result is the same as one pass).
+        Drawn as ``rng.standard_normal`` and scaled in the flight kernel: the same numbers as
+        ``rng.normal(0, body_noise)``, without a new array per tick (zeros, and no draw and no
+        slice, for a body without noise).
         """
-        n = self.n_flying
-        p = self.params
         if len(self._noise) < n:
             self._noise = np.zeros((max(n, 2 * len(self._noise)), 2))
-        noise = self._noise[:n]
-        if p.body_noise > 0:
-            self.rng.standard_normal(out=noise)
-        contact = np.empty(n, dtype=bool)
+        if self.params.body_noise > 0:
+            self.rng.standard_normal(out=self._noise[:n])
+        return self._noise
+
+    def _fly_one_tick(self, desired: np.ndarray, noise: np.ndarray, contact: np.ndarray) -> None:
+        """Flight dynamics and wall contacts for every flyer (:func:`gridkernels.flight_rows`),
+        with ``contact`` set to which bodies touch a wall and the path length flown added to
+        :attr:`distance`.
+
+        From twice :data:`ROWS_PER_THREAD` flyers the rows are split over threads (rows are
+        independent, so the result is the same as one pass).
+        """
+        n = self.n_flying
         args = (self.pos, self.vel, desired, noise, *self._flight_constants, contact)
         if n < 2 * ROWS_PER_THREAD:  # one range (row_chunks), without its cost per tick
             self.distance += gridkernels.flight_rows(*args, 0, n)
-            return contact
+            return
         (first, last), *others = row_chunks(n)
         pool = _thread_pool() if others else None
         elsewhere = [pool.submit(gridkernels.flight_rows, *args, *rows) for rows in others]
         self.distance += gridkernels.flight_rows(*args, first, last)
         for job in elsewhere:
             self.distance += job.result()
-        return contact
 
-    def _count_wall_contacts(self, contact: np.ndarray) -> None:
-        """A body that touches a wall now and did not last tick is a new wall collision."""
-        new_contacts = contact & ~self._wall_contact
-        self._wall_contact = contact
-        if new_contacts.any():
-            self.wall_collisions += int(new_contacts.sum())
-            if self.on_collision is not None:
-                for rid in self.ids[new_contacts]:
-                    self.on_collision("wall", int(rid), None)
-
-    def _robot_contacts(self) -> None:
-        """Elastic robot-robot collisions; each new contact counts 2 (one per robot).
-
-        The touching pairs, their impulses and which contacts are new are one compiled step,
-        :func:`_contacts_now`, on the candidates of :meth:`_contact_candidates`.
+    def _contacts_changed(
+        self, new_walls: np.ndarray, now: np.ndarray, new_pairs: np.ndarray
+    ) -> None:
+        """Keep the robot contacts ``now`` and count and report this tick's new contacts:
+        walls (rows of the bodies that touch one now and did not last tick), then robot pairs
+        (sorted id keys ``low_id << 32 | high_id``, two collisions each).
         """
-        if len(self.ids) < 2:
-            self._pairs_in_contact = self._pairs_in_contact[:0]
-            return
-        now, new = _contacts_now(
-            self.pos,
-            self.vel,
-            *self._contact_candidates(),
-            2 * self.params.body_radius,
-            self.ids,
-            self._pairs_in_contact,
-        )
         self._pairs_in_contact = now
-        if len(new):
-            self.robot_collisions += 2 * len(new)
-            if self.on_collision is not None:
-                for key in new.tolist():
-                    self.on_collision("robot", key >> 32, key & _LOW)
+        self.wall_collisions += len(new_walls)
+        self.robot_collisions += 2 * len(new_pairs)
+        if self.on_collision is not None:
+            for rid in self.ids[new_walls].tolist():
+                self.on_collision("wall", rid, None)
+            for key in new_pairs.tolist():
+                self.on_collision("robot", key >> 32, key & _LOW)
 
     def _contact_candidates(self) -> tuple[np.ndarray, np.ndarray]:
         """Row pairs ``i < j`` that may touch, in lexicographic order: a Verlet list that holds
@@ -418,20 +434,66 @@ class Physics:
 
 
 @njit(cache=True)
-def _contacts_now(
+def _tick_direct(
+    pos, vel, desired, noise, noise_scale, padded, res, mass, tau, max_force, drag, max_speed,
+    dt, radius, wall_contact, ids, before, done,
+):  # fmt: skip
+    """A whole tick of a few flyers in one call: the flight step (:func:`gridkernels.flight_rows`)
+    then :func:`_after_flight` on every row pair ``i < j``, in lexicographic order (the
+    candidates :func:`abm.neighbours.pairs_within` would give, and more).
+
+    Returns the path length flown, whether ``done`` marks any flyer (a flight ends this tick)
+    and what :func:`_after_flight` returns.
+    """
+    n = pos.shape[0]
+    contact = np.empty(n, dtype=np.bool_)
+    distance = gridkernels.flight_rows(
+        pos, vel, desired, noise, noise_scale, padded, res, mass, tau, max_force, drag,
+        max_speed, dt, radius, contact, 0, n,
+    )  # fmt: skip
+    m = n * (n - 1) // 2
+    first = np.empty(m, dtype=np.int64)
+    second = np.empty(m, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        for j in range(i + 1, n):
+            first[k] = i
+            second[k] = j
+            k += 1
+    contacts = _after_flight(
+        pos, vel, contact, wall_contact, first, second, 2.0 * radius, ids, before
+    )
+    finished = False
+    for k in range(n):
+        if done[k]:
+            finished = True
+            break
+    return distance, finished, contacts
+
+
+@njit(cache=True)
+def _after_flight(
     pos: np.ndarray,
     vel: np.ndarray,
+    contact: np.ndarray,
+    wall_contact: np.ndarray,
     first: np.ndarray,
     second: np.ndarray,
     reach: float,
     ids: np.ndarray,
     before: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The contacts now among the candidate row pairs, bounced (:func:`_bounce`, in place).
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The contacts after a flight step: walls, then robots among the candidate row pairs.
 
-    Returns the contacts as sorted keys ``low_id << 32 | high_id``, and the keys not in
-    ``before`` (last tick's, sorted): the new contacts, found by a binary search each.
+    A body that touches a wall now (``contact``) and did not last tick (``wall_contact``,
+    updated in place) is a new wall collision. The candidate pairs closer than ``reach`` touch
+    and are bounced (:func:`_bounce`, in place). Returns None when nothing changed (no new
+    wall contact, the robot contacts are ``before``, last tick's): the usual tick, whose
+    return then costs no arrays. Else the rows of the new wall contacts, the robot contacts as
+    sorted keys ``low_id << 32 | high_id``, and the keys not in ``before`` (sorted): the new
+    contacts, found by a binary search each.
     """
+    new_walls = _new_contacts(contact, wall_contact)
     first, second = _closer_than(pos, first, second, reach)
     _bounce(pos, vel, first, second)
     now = np.empty(first.shape[0], dtype=np.int64)
@@ -439,7 +501,28 @@ def _contacts_now(
         a, b = ids[first[k]], ids[second[k]]
         now[k] = (min(a, b) << 32) | max(a, b)
     now.sort()  # the pairs are unique, so are the keys
-    return now, new_pairs(now, before)
+    if new_walls.size == 0 and same_keys(now, before):
+        return None
+    return new_walls, now, new_pairs(now, before)
+
+
+@njit(cache=True)
+def _new_contacts(contact: np.ndarray, wall_contact: np.ndarray) -> np.ndarray:
+    """The rows where ``contact`` is set and ``wall_contact`` (last tick's) is not, and
+    ``wall_contact`` set to ``contact``: ``np.flatnonzero(contact & ~wall_contact)`` without
+    the temporary arrays.
+    """
+    found = 0
+    for k in range(contact.shape[0]):
+        found += contact[k] and not wall_contact[k]
+    rows = np.empty(found, dtype=np.int64)
+    found = 0
+    for k in range(contact.shape[0]):
+        if contact[k] and not wall_contact[k]:
+            rows[found] = k
+            found += 1
+        wall_contact[k] = contact[k]
+    return rows
 
 
 @njit(cache=True)

@@ -15,6 +15,7 @@ import simpy
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
+from numba import njit
 from tiny_model import TinyModel, TinyParams, Walker
 
 from abm import registry
@@ -217,6 +218,26 @@ def test_any_output_of_the_documented_kind_is_accepted(n, dtype, fortran, data):
     done = data.draw(hnp.arrays(np.bool_, (n,)))
     checked = check_control((desired, done), np.arange(n), "M", object())
     assert checked[0] is desired and checked[1] is done  # passed on as they are
+
+
+@settings(max_examples=40, deadline=None)
+@given(n=st.integers(1, 6), row=st.integers(0, 5), bad=st.sampled_from([np.nan, np.inf, -np.inf]))
+def test_velocities_made_by_a_compiled_kernel_are_checked_like_numpys(n, row, bad):
+    """A controller's kernel returns float64 arrays whose dtype object is numba's, not numpy's
+    singleton: they are accepted when finite and refused with a non-finite entry."""
+    desired, done = _kernel_output(n, row % n, 0.5)
+    assert check_control((desired, done), np.arange(n), "M", object())[0] is desired
+    desired, done = _kernel_output(n, row % n, bad)
+    with pytest.raises(HookError, match=f"non-finite desired velocities for 1 of {n} flyers"):
+        check_control((desired, done), np.arange(n), "M", object())
+
+
+@njit(cache=True)
+def _kernel_output(n: int, row: int, value: float) -> tuple[np.ndarray, np.ndarray]:
+    """Zero velocities but ``value`` in one entry of ``row``, and no flyer done."""
+    desired = np.zeros((n, 2))
+    desired[row, 1] = value
+    return desired, np.zeros(n, dtype=np.bool_)
 
 
 # ---------------------------------------------------------------- 2. docstring, attributes

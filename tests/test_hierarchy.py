@@ -257,11 +257,14 @@ def test_the_proximity_step_counts_each_approach_once_as_the_set_rule_does(case)
     for xy, flying in zip(ticks, flying_by_tick, strict=False):
         positions = np.array(xy).reshape(n, 2)
         flying = np.array(sorted(set(flying)), dtype=np.int64)
-        near_keys, new, sib = _approaches(
+        keys, new, sib = _approaches(
             positions, scout_rows, scout_of, flying, BODY_SIDE * 4, near_keys, parent
         )
-        near_set, ref_new, ref_sib = _approaches_by_sets(
+        now_set, ref_new, ref_sib = _approaches_by_sets(
             positions, scout_rows, scout_of, flying, BODY_SIDE * 4, near_set, parent
         )
+        assert (keys is None) == (now_set == near_set)  # None: the keys did not change
+        near_keys = near_keys if keys is None else keys
+        near_set = now_set
         assert sorted(a * n + b for a, b in near_set) == near_keys.tolist()
         assert (new, sib) == (ref_new, ref_sib)

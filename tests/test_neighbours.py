@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.errors import ConfigError
-from abm.neighbours import NeighbourIndex, nearest_distance, pairs_within, within
+from abm.neighbours import NeighbourIndex, nearest_distance, pairs_within, same_keys, within
 
 
 def brute_pairs(points, radius, box=None, inclusive=False):
@@ -113,3 +113,14 @@ def test_nearest_distance_equals_the_minimum_over_all_targets(n, m, seed):
     if m:
         want = np.hypot(*(points[:, None] - targets[None]).transpose(2, 0, 1)).min(axis=1)
     np.testing.assert_array_equal(nearest_distance(points, targets), want)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.integers(-3, 3), max_size=6),
+    st.lists(st.integers(-3, 3), max_size=6),
+)
+def test_same_keys_is_numpys_array_equal(a, b):
+    a, b = np.array(a, dtype=np.int64), np.array(b, dtype=np.int64)
+    assert same_keys(a, b) == np.array_equal(a, b)
+    assert same_keys(a, a.copy())

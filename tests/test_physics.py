@@ -176,40 +176,90 @@ def test_the_flight_step_split_over_threads_equals_one_pass(seed):
     assert same_runs(one_pass, threaded)
 
 
-def test_contacts_are_the_pairs_closer_than_two_radii():
+@pytest.mark.parametrize("direct_pairs", [0, 1000])
+def test_contacts_are_the_pairs_closer_than_two_radii(direct_pairs, monkeypatch):
     """Checked tick by tick against a direct search while flyers join, move and leave: the
-    contacts kept (as id keys) and the new ones counted and reported."""
+    contacts kept (as id keys) and the new ones counted and reported; and the new wall
+    contacts: the bodies touching a wall now and not before the tick, each flush against one.
+    With the contact candidates (``DIRECT_PAIRS`` 0) and with every pair measured in the
+    tick's one call (1000)."""
+    import abm.physics
     from abm.neighbours import pairs_within
 
+    monkeypatch.setattr(abm.physics, "DIRECT_PAIRS", direct_pairs)
     rng = np.random.default_rng(3)
-    arena = Arena(np.ones((6, 6), dtype=bool), 1.0)
+    free = np.ones((6, 6), dtype=bool)
+    free[2, 1:4] = False
+    arena = Arena(free, 1.0)
     env = simpy.Environment()
-    physics = Physics(env, arena, rng, Crowd(rng), params=FlightParams(max_speed=2.0))
-    reported = []
-    physics.on_collision = lambda kind, a, b: reported.append((kind, a, b))
-    measure = physics._robot_contacts
+    reported = {"robot": [], "wall": []}
     ticks = []
+    start = {}  # the contacts, the counts and who touched a wall before the tick
 
-    def checked_contacts():
-        before = set(physics._pairs_in_contact.tolist())
-        reported.clear()
-        counted = physics.robot_collisions
-        i, j = pairs_within(physics.pos, 2 * physics.params.body_radius)
-        a, b = physics.ids[i], physics.ids[j]
+    def checked_contacts(ids, pos):
+        """The physics' positions_out: after a tick's contacts, before its arrivals leave."""
+        r = physics.params.body_radius
+        i, j = pairs_within(pos, 2 * r)
+        a, b = ids[i], ids[j]
         expected = np.sort(np.minimum(a, b) << 32 | np.maximum(a, b))
-        measure()
         assert np.array_equal(physics._pairs_in_contact, expected)
-        new = sorted(set(expected.tolist()) - before)
-        assert reported == [("robot", key >> 32, key & (2**32 - 1)) for key in new]
-        assert physics.robot_collisions - counted == 2 * len(new)
-        ticks.append((len(expected), len(new)))
+        new = sorted(set(expected.tolist()) - start["contacts"])
+        assert reported["robot"] == [(key >> 32, key & (2**32 - 1)) for key in new]
+        assert physics.robot_collisions - start["robots"] == 2 * len(new)
+        walls = ids[physics._wall_contact & ~start["touching"]].tolist()
+        assert reported["wall"] == [(rid, None) for rid in walls]
+        assert physics.wall_collisions - start["walls"] == len(walls)
+        hit = pos[physics._wall_contact]
+        assert not square_in_free_space(arena, hit, r + 1e-6).any()  # flush against a wall
+        ticks.append((len(expected), len(new), len(walls)))
 
-    physics._robot_contacts = checked_contacts
+    physics = Physics(env, arena, rng, Crowd(rng), params=FlightParams(max_speed=2.0),
+                      positions_out=checked_contacts)  # fmt: skip
+    physics.on_collision = lambda kind, a, b: reported[kind].append((a, b))
+    tick = physics.tick
+
+    def checked_tick():
+        start["contacts"] = set(physics._pairs_in_contact.tolist())
+        start["robots"], start["walls"] = physics.robot_collisions, physics.wall_collisions
+        start["touching"] = physics._wall_contact.copy()
+        reported["robot"].clear()
+        reported["wall"].clear()
+        tick()
+
+    physics.tick = checked_tick
     cells = arena.free_cell_centres()
     physics.fly_many(range(40), cells[rng.integers(len(cells), size=40)])
     env.run(until=200 * physics.dt)
     assert len(ticks) >= 150
-    assert sum(t for t, _ in ticks) > 0 and sum(n for _, n in ticks) > 0
+    assert all(sum(t[k] for t in ticks) > 0 for k in range(3))  # contacts, new ones, walls
+
+
+@settings(max_examples=6, deadline=None)
+@given(st.integers(0, 10_000))
+def test_a_tick_measuring_every_pair_equals_one_with_contact_candidates(seed):
+    """:func:`abm.physics._tick_direct` (every row pair, up to ``DIRECT_PAIRS`` flyers) moves
+    every flyer and counts every collision exactly as the flight step and the contact
+    candidates do, over a crowd whose size changes as flyers join and land."""
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        candidates = crowd_run(seed, monkeypatch, DIRECT_PAIRS=0)
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        direct = crowd_run(seed, monkeypatch, DIRECT_PAIRS=1000)
+    assert direct[1] > 0 and direct[2] > 0  # robots and walls are hit
+    assert same_runs(candidates, direct)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.booleans()), max_size=40))
+def test_new_wall_contacts_are_the_numpy_rule(flags):
+    """The compiled new-contact step: ``np.flatnonzero(contact & ~before)``, and ``before``
+    overwritten with ``contact``."""
+    from abm.physics import _new_contacts
+
+    contact = np.array([c for c, _ in flags], dtype=bool)
+    before = np.array([b for _, b in flags], dtype=bool)
+    expected = np.flatnonzero(contact & ~before)
+    np.testing.assert_array_equal(_new_contacts(contact, before), expected)
+    np.testing.assert_array_equal(before, contact)
 
 
 @settings(max_examples=300, deadline=None)

@@ -51,3 +51,57 @@ def test_a_robot_failed_in_flight_leaves_the_air_and_its_behaviour_ends(seed, wh
     assert events[(events.robot == rid) & (events.time > when)].empty
     counts = model.state_counts().iloc[-1]
     assert counts[list(model.STATES)].sum() == len(model.agents) and counts.failed == 1
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.integers(0, 1000))
+def test_the_space_mirrors_the_flyers_every_tick_while_rows_change(seed):
+    """The physics places its flyers through rows looked up once per flyer set
+    (``SwarmModel.place_flyers``): after every tick each flyer's robot is where the physics
+    has it, while walkers take off (the flyers change) and join the space (new rows) as
+    others fly, land, and are removed from the ground and from the air (the rows move up)."""
+    from tiny_model import TinyModel
+
+    model = TinyModel(seed=seed, walkers=12, launch_period=1.0, rest_rate=0.3)
+    place = model.physics.positions_out
+    checked = []
+    removed = []
+
+    def checked_place(ids, pos):
+        place(ids, pos)
+        for rid, xy in zip(ids.tolist(), pos, strict=True):
+            assert np.array_equal(model.robot(rid).position, xy)
+        checked.append(len(ids))
+
+    def remover():
+        for k in range(6):
+            yield model.env.timeout(1.75)
+            robots = list(model.agents)
+            if k % 2:  # one flying (the flyers change too)
+                chosen = [r for r in robots if r.unique_id in model.physics.ids][-1:]
+            else:  # one resting on an early row: only the flyers' rows change
+                chosen = [r for r in robots if r.state == "resting"][:1]
+            for robot in chosen:
+                robot.remove()
+                removed.append(robot.state)
+
+    model.physics.positions_out = checked_place
+    model.env.process(remover())
+    model.run(until=15.0)
+    assert len(checked) > 50 and max(checked) >= 2
+    assert "resting" in removed and "walking" in removed
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 30), st.data())
+def test_the_compiled_row_assignment_is_numpys(n, data):
+    """``place_flyers`` writes the flyers' rows with a compiled loop: numpy's
+    ``target[rows] = values``, repeated rows included (the last value wins)."""
+    from abm.model import _put_rows
+
+    rows = np.array(data.draw(st.lists(st.integers(0, n - 1), max_size=2 * n)), dtype=np.int64)
+    values = np.arange(2.0 * len(rows)).reshape(-1, 2) + 0.5
+    expected, got = np.zeros((n, 2)), np.zeros((n, 2))
+    expected[rows] = values
+    _put_rows(got, rows, values)
+    np.testing.assert_array_equal(got, expected)

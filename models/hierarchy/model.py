@@ -28,7 +28,7 @@ from abm import portable
 from abm.clock import call_later
 from abm.comms import MessageLog, RingLinks, Shadowing, TreeLinks
 from abm.model import SwarmModel
-from abm.neighbours import new_pairs
+from abm.neighbours import new_pairs, same_keys
 from abm.pathfollow import PathFollower, ground_robot
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
@@ -319,12 +319,14 @@ class HierarchyModel(SwarmModel):
         (``robot_proximity_events``, README "Choices": wave-order and proximity diagnostics; a pair
         counts once per approach).
         """
-        self._near, new, siblings = _approaches(
+        near, new, siblings = _approaches(
             self.space.agent_positions, self._scout_rows, self._scout_of, physics.ids,
             BODY_SIDE, self._near, self._parent_code,
         )  # fmt: skip
-        self.robot_proximity_events += new
-        self.sibling_proximity_events += siblings
+        if near is not None:
+            self._near = near
+            self.robot_proximity_events += new
+            self.sibling_proximity_events += siblings
 
     def log_plan(self, director: Director, m: ProbMap, plan: Plan) -> None:
         """Record a round's bubbles and paths (the invariant tests read them)."""
@@ -458,10 +460,12 @@ def _approaches(positions, scout_rows, scout_of, flying, reach, near, parent):
     """One tick of the proximity diagnostic, compiled: the scout pairs closer than ``reach``
     with at least one of them flying, as sorted keys ``min * scouts + max`` of their scout
     indices; how many of them were not in ``near`` (the last tick's keys), and how many of
-    those are siblings (the same ``parent`` code).
+    those are siblings (the same ``parent`` code). The keys are None when they are ``near``
+    (the usual tick: no array to return).
     """
     n = scout_rows.size
-    keys = []
+    keys = np.empty(flying.size * n, dtype=np.int64)
+    found = 0
     for robot in flying:
         a = scout_of[robot] if robot < scout_of.size else -1
         if a < 0:
@@ -472,8 +476,11 @@ def _approaches(positions, scout_rows, scout_of, flying, reach, near, parent):
                 dx = ax - positions[scout_rows[b], 0]
                 dy = ay - positions[scout_rows[b], 1]
                 if dx * dx + dy * dy < reach * reach:
-                    keys.append(min(a, b) * n + max(a, b))
-    now = np.unique(np.array(keys, dtype=np.int64))
+                    keys[found] = min(a, b) * n + max(a, b)
+                    found += 1
+    now = np.unique(keys[:found])
+    if same_keys(now, near):
+        return None, 0, 0
     new = new_pairs(now, near)
     siblings = 0
     for key in new:
