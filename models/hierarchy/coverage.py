@@ -37,7 +37,7 @@ from models.hierarchy.planning import (
     _children_search,
     _framed_base,
     _local_cells,
-    _supercover_cells,
+    _polyline_parts,
     shortest_paths,
     waves,
 )
@@ -222,11 +222,7 @@ def _valid_setup(inside, scanned, exhausted, ix0, iy0, h):
     """
     valid = _valid_grid(inside, scanned, exhausted)
     ny, nx = valid.shape
-    n = 0
-    for r in range(ny):
-        for c in range(nx):
-            if valid[r, c]:
-                n += 1
+    n = np.count_nonzero(valid)
     rows = np.empty(n, dtype=np.int64)
     cols = np.empty(n, dtype=np.int64)
     goal = np.zeros((ny + 2, nx + 2), dtype=np.bool_)
@@ -571,10 +567,7 @@ def _mark_path(grid, pts, padding, ix0, iy0):
     compiled, without the sorted keys.
     """
     ny, nx = grid.shape
-    n = pts.shape[0]
-    for k in range(max(n - 1, 1)):
-        b = min(k + 1, n - 1)
-        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+    for cells in _polyline_parts(pts):
         for j in range(cells.shape[0]):
             c = cells[j, 0] - ix0
             r = cells[j, 1] - iy0

@@ -297,21 +297,25 @@ _KEY = 1 << 21
 
 
 @njit(cache=True)
+def _polyline_parts(pts):
+    """The supercover cells ``(k, 2)`` as ``(ix, iy)`` of each segment of the polyline ``pts``
+    (cell units), one array per segment (cells at shared corners repeated); a one-point path
+    gives its own cell.
+    """
+    n = pts.shape[0]
+    parts = []
+    for k in range(max(n - 1, 1)):
+        b = min(k + 1, n - 1)
+        parts.append(_supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1]))
+    return parts
+
+
+@njit(cache=True)
 def _padded_keys(pts, padding):
     """Sorted keys of the cells swept by the polyline ``pts`` (cell units), dilated by
     ``padding`` cells (README "Choices": waves).
     """
-    n = pts.shape[0]
-    parts = []
-    total = 0
-    if n == 1:
-        parts.append(_supercover_cells(pts[0, 0], pts[0, 1], pts[0, 0], pts[0, 1]))
-        total = parts[0].shape[0]
-    else:
-        for k in range(n - 1):
-            cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[k + 1, 0], pts[k + 1, 1])
-            parts.append(cells)
-            total += cells.shape[0]
+    parts = _polyline_parts(pts)
     lo_x = 1 << 40
     lo_y = 1 << 40
     hi_x = -(1 << 40)
@@ -332,12 +336,7 @@ def _padded_keys(pts, padding):
             cx = cells[j, 0] - lo_x
             cy = cells[j, 1] - lo_y
             grid[cx - padding : cx + padding + 1, cy - padding : cy + padding + 1] = True
-    count = 0
-    for i in range(w):
-        for j in range(hgt):
-            if grid[i, j]:
-                count += 1
-    keys = np.empty(count, dtype=np.int64)
+    keys = np.empty(np.count_nonzero(grid), dtype=np.int64)
     count = 0
     half = _KEY // 2
     for i in range(w):
@@ -768,10 +767,7 @@ def _blocked_on_path(pts, ix0, iy0, scanned, blocked, tau):
     ny, nx = scanned.shape
     seen = np.zeros((ny, nx), dtype=np.bool_)
     count = 0
-    n = pts.shape[0]
-    for k in range(max(n - 1, 1)):
-        b = min(k + 1, n - 1)
-        cells = _supercover_cells(pts[k, 0], pts[k, 1], pts[b, 0], pts[b, 1])
+    for cells in _polyline_parts(pts):
         for j in range(cells.shape[0]):
             c = cells[j, 0] - ix0
             r = cells[j, 1] - iy0
