@@ -425,15 +425,24 @@ def _without(
     undrivable.
     """
     grid = framed.copy()
-    k = max(padding, 0)
-    h = pmap.cell_size
-    ny, nx = pmap._scanned.shape
-    for x, y in occupied:
-        r = math.floor(y / h + _EPS) - pmap._iy0
-        c = math.floor(x / h + _EPS) - pmap._ix0
-        if 0 <= r < ny and 0 <= c < nx:
-            grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+    rows, cols = _local_cells(pmap, occupied)
+    _block_around(grid, rows, cols, max(padding, 0), -1)
     return grid
+
+
+@njit(cache=True)
+def _block_around(grid, rows, cols, k, skip):
+    """Make every cell of the framed ``grid`` within ``k`` cells of a robot's local cell
+    ``(rows[j], cols[j])`` undrivable (README "Choices": drivability), in place; robot ``skip``
+    (the one searching) and robots outside the grid block nothing.
+    """
+    ny = grid.shape[0] - 2
+    nx = grid.shape[1] - 2
+    for j in range(rows.shape[0]):
+        r = rows[j]
+        c = cols[j]
+        if j != skip and 0 <= r < ny and 0 <= c < nx:
+            grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
 
 
 @njit(cache=True)
@@ -442,14 +451,14 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k, vx, vy):
 
     Children are the first ``n`` robots at local cells ``(occ_r[i], occ_c[i])``; the others only
     block. Child i's drivable grid is ``base`` (framed) with every cell within ``k`` of another
-    robot's cell made undrivable (as :func:`_without`); its search stops once every drivable
-    cell of ``goal`` is reached (as a :class:`DistanceField` with a target). ``goal_flat`` holds
-    the framed flat indices of the goal cells, ``vx`` and ``vy`` their centres. Returns,
-    stacked per child, the framed drivable grids and the :func:`_bfs` results; the positions
-    in ``goal_flat`` of the goal cells each child reaches with their steps (float), child i's
-    at ``offsets[i]:offsets[i + 1]``; and per child the box ``(x_min, x_max, y_min, y_max)``
-    of the centres it reaches (for the coverage call's radius bound; NaN if none). A child
-    outside the grid searches nothing and reaches no cell.
+    robot's cell made undrivable (:func:`_block_around`, as in :func:`_without`); its search
+    stops once every drivable cell of ``goal`` is reached (as a :class:`DistanceField` with a
+    target). ``goal_flat`` holds the framed flat indices of the goal cells, ``vx`` and ``vy``
+    their centres. Returns, stacked per child, the framed drivable grids and the :func:`_bfs`
+    results; the positions in ``goal_flat`` of the goal cells each child reaches with their
+    steps (float), child i's at ``offsets[i]:offsets[i + 1]``; and per child the box
+    ``(x_min, x_max, y_min, y_max)`` of the centres it reaches (for the coverage call's radius
+    bound; NaN if none). A child outside the grid searches nothing and reaches no cell.
     """
     fy, w = base.shape
     ny = fy - 2
@@ -473,11 +482,7 @@ def _children_search(base, goal, goal_flat, occ_r, occ_c, n, k, vx, vy):
             continue
         grid = free[i]
         grid[:, :] = base
-        for j in range(occ_r.shape[0]):
-            r = occ_r[j]
-            c = occ_c[j]
-            if j != i and 0 <= r < ny and 0 <= c < nx:
-                grid[max(r - k, 0) + 1 : r + k + 2, max(c - k, 0) + 1 : c + k + 2] = False
+        _block_around(grid, occ_r, occ_c, k, i)
         flat_free = grid.ravel()
         n_target = 0
         for q in range(m):
@@ -537,7 +542,7 @@ def _smoothed_route(pred, drivable, sr, sc, tr, tc, ix0, iy0, h, sx, sy):
 
 def _local_cells(pmap: ProbMap, points: Sequence[Sequence[float]]) -> tuple[np.ndarray, np.ndarray]:
     """Local rows and columns (int64; outside the grid for points outside it) of the cells
-    holding ``points`` (metres), as :func:`_without` finds them.
+    holding ``points`` (metres).
     """
     h = pmap.cell_size
     rows = [math.floor(y / h + _EPS) - pmap._iy0 for _, y in points]
