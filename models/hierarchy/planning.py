@@ -690,12 +690,10 @@ class DistanceField:
             ValueError: the target is unreachable.
 
         """
+        if not self.reachable(x, y):
+            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
         m = self._map
         cell = m._local(x, y)
-        if cell is not None and self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
-            self._finish()
-        if cell is None or self._dist_f[cell[0] + 1, cell[1] + 1] < 0:
-            raise ValueError(f"target ({x}, {y}) is not reachable from {self.source}")
         return _smoothed_route(
             self._pred, self._drivable, self._cell[0], self._cell[1], cell[0], cell[1], m._ix0,
             m._iy0, m.cell_size, self.source[0], self.source[1],
