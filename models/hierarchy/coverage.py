@@ -41,7 +41,7 @@ from models.hierarchy.planning import (
     shortest_paths,
     waves,
 )
-from models.hierarchy.probmap import ProbMap
+from models.hierarchy.probmap import ProbMap, disc_window
 
 __all__ = [
     "PACKING_RATIO",
@@ -539,17 +539,14 @@ def _plan(pmap, children, active, idle, placed, dists, vx, vy, r, fields, occupi
 def _disc_grid(ny, nx, ix0, iy0, h, xy, r):
     """The bubbles' part of CONFLICT (Fig. 27) on a map of ``ny`` x ``nx`` cells with origin
     cell (ix0, iy0): cells whose centre lies within ``r`` of a centre ``xy[i]`` (metres),
-    compiled; each disc is tested over the cells of its bounding window only.
+    compiled; each disc is tested over the cells of its window (:func:`disc_window`) only.
     """
     out = np.zeros((ny, nx), dtype=np.bool_)
     limit = r * r + _TOL * h * h
     for i in range(xy.shape[0]):
         cx = xy[i, 0]
         cy = xy[i, 1]
-        c0 = min(max(math.floor((cx - r) / h + 1e-9) - ix0, 0), nx)
-        c1 = min(max(math.floor((cx + r) / h + 1e-9) - ix0 + 1, c0), nx)
-        r0 = min(max(math.floor((cy - r) / h + 1e-9) - iy0, 0), ny)
-        r1 = min(max(math.floor((cy + r) / h + 1e-9) - iy0 + 1, r0), ny)
+        r0, r1, c0, c1 = disc_window(cx, cy, r, h, ix0, iy0, ny, nx)
         for row in range(r0, r1):
             dy = (iy0 + row + 0.5) * h - cy
             for col in range(c0, c1):

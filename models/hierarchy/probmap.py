@@ -30,7 +30,7 @@ from abm import portable
 from abm.errors import ConfigError
 from models.hierarchy.planning import _los_mark
 
-__all__ = ["STAMPS", "Bubble", "MapWindow", "ProbMap", "Rect"]
+__all__ = ["STAMPS", "Bubble", "MapWindow", "ProbMap", "Rect", "disc_window"]
 
 STAMPS = ("mass", "peak")
 """How a reported point is spread over cells (Fig. 28; README "Choices": point stamping, switch
@@ -113,6 +113,20 @@ class MapWindow:
 def _cell(v: float, h: float) -> int:
     """Global cell index of coordinate ``v`` (metres)."""
     return math.floor(v / h + _EPS)
+
+
+@njit(cache=True)
+def disc_window(x, y, r, h, ix0, iy0, ny, nx):
+    """Local bounds ``(r0, r1, c0, c1)`` (ends exclusive) of the cells of a stored grid of
+    ``ny`` x ``nx`` cells with origin cell (ix0, iy0) that cover the disc of radius ``r`` at
+    (x, y) (metres; cells of :func:`_cell`), clipped to the grid (compiled: coverage calls use
+    it in their own kernels).
+    """
+    c0 = min(max(math.floor((x - r) / h + _EPS) - ix0, 0), nx)
+    c1 = min(max(math.floor((x + r) / h + _EPS) - ix0 + 1, c0), nx)
+    r0 = min(max(math.floor((y - r) / h + _EPS) - iy0, 0), ny)
+    r1 = min(max(math.floor((y + r) / h + _EPS) - iy0 + 1, r0), ny)
+    return r0, r1, c0, c1
 
 
 class ProbMap:
@@ -229,12 +243,8 @@ class ProbMap:
 
     def _disc_window(self, x: float, y: float, r: float) -> tuple[slice, slice]:
         """Row and column slices of the stored grid covering the disc of radius r at (x, y)."""
-        h = self.cell_size
         ny, nx = self._scanned.shape
-        c0 = min(max(_cell(x - r, h) - self._ix0, 0), nx)
-        c1 = min(max(_cell(x + r, h) - self._ix0 + 1, c0), nx)
-        r0 = min(max(_cell(y - r, h) - self._iy0, 0), ny)
-        r1 = min(max(_cell(y + r, h) - self._iy0 + 1, r0), ny)
+        r0, r1, c0, c1 = disc_window(x, y, r, self.cell_size, self._ix0, self._iy0, ny, nx)
         return slice(r0, r1), slice(c0, c1)
 
     # ------------------------------------------------------------------ queries (metres)
