@@ -302,7 +302,7 @@ class HierarchyModel(SwarmModel):
         if not hit.any():
             return np.empty((0, 2))
         points = position + dirs[hit] * (dist[hit] + HIT_NUDGE)[:, None]
-        if p.dedupe_points_per_cell and len(points):
+        if p.dedupe_points_per_cell:
             cells = np.floor(points / p.cell_size).astype(np.int64)
             _, first = np.unique(cells, axis=0, return_index=True)
             points = points[np.sort(first)]
