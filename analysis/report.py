@@ -233,11 +233,20 @@ def _tally(comparison: pd.DataFrame | None, claims: list[dict] | None) -> list[s
         counts = pd.Series(verdicts).value_counts()
         tested = sum(counts.get(v, 0) for v in ("holds", "does not hold", "undecided"))
         parts = [f"{counts.get('holds', 0)} of {tested} judged here hold"]
-        parts += [f"{n} {v}" for v, n in counts.items() if v != "holds"]
-        apart = BY_CONSTRUCTION in counts
-        note = f" ({BY_CONSTRUCTION}: not counted as reproduced)" if apart else ""
-        lines.append(f"{name.capitalize()}: {'; '.join(parts)}{note}.")
+        parts += [_counted(n, v) for v, n in counts.items() if v != "holds"]
+        lines.append(f"{name.capitalize()}: {'; '.join(parts)}.")
     return lines
+
+
+def _counted(n: int, verdict: str) -> str:
+    """``n`` rows of one verdict, as the tally says it ("4 do not hold", "1 by construction
+    (not a test), not counted as reproduced").
+    """
+    if verdict == "does not hold" and n != 1:
+        return f"{n} do not hold"
+    if verdict == BY_CONSTRUCTION:
+        return f"{n} {verdict}, not counted as reproduced"
+    return f"{n} {verdict}"
 
 
 def _block(sweep: _Sweep, cls: type | None, published: list, titled: bool) -> dict:

@@ -14,7 +14,7 @@ from analysis.compare import (
     judge_claims,
     parameter_defaults,
 )
-from analysis.report import write_report
+from analysis.report import _tally, write_report
 from models.beacon_explorer import BeaconExplorerModel
 from models.beacon_explorer.published import CENSORED as BEACON_CENSORED
 from models.beacon_explorer.published import PUBLISHED as BEACON
@@ -188,10 +188,21 @@ def test_tangible_pso_c3_is_labelled_by_construction_and_not_counted(tmp_path):
     judged = claims["verdict"].isin(JUDGED).sum()
     held = (claims["verdict"] == "holds").sum()
     assert f"Claims: {held} of {judged} judged here hold" in html
-    assert f"1 {BY_CONSTRUCTION}" in html and "not counted as reproduced" in html
+    assert f"1 {BY_CONSTRUCTION}, not counted as reproduced" in html
     # the deadlock shares with motion planning are shown, never judged
     pso = table[table["claim or metric"].str.contains("with motion planning: deadlock")]
     assert set(pso["verdict"]) == {"shown only"}
+
+
+def test_the_tally_counts_each_verdict_in_words_a_reader_can_cite():
+    verdicts = ["holds"] * 5 + ["does not hold"] * 4 + ["not testable", BY_CONSTRUCTION]
+    claims = [{"verdict": v} for v in verdicts]
+    assert _tally(None, claims) == [
+        "Claims: 5 of 9 judged here hold; 4 do not hold; 1 not testable; "
+        f"1 {BY_CONSTRUCTION}, not counted as reproduced."
+    ]
+    one = [{"verdict": "holds"}, {"verdict": "does not hold"}]
+    assert _tally(None, one) == ["Claims: 1 of 2 judged here hold; 1 does not hold."]
 
 
 def test_tangible_pso_c4_is_judged_against_the_papers_96_8_percent():
