@@ -338,7 +338,8 @@ def analyse(
         "lambdas: the paper's regressions (alpha6 on C_rb, a0 on entropy and size) give the "
         "start values, then the six lambdas are fitted jointly to all count curves, "
         "minimising the mean RMSD of w and b over them (the Table 2 figure; "
-        "analysis.macro.refine_lambdas); rmsd_*_reg are the RMSDs of the regressed start"
+        "analysis.macro.refine_lambdas); rmsd_*_reg are the RMSDs that the regressed start "
+        "values give, before the joint fit"
     )
     curves["wander_lambda"] = np.nan
     curves["beacon_lambda"] = np.nan
