@@ -85,6 +85,28 @@ def test_errors_are_one_line_without_traceback(tmp_path, capsys):
     assert "Traceback" not in captured.err
 
 
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (["run", "flocking", "--birdz", "3"], "abm run: error: unrecognized arguments: --birdz 3; "
+         "did you mean --birds for --birdz? (see abm run flocking --help)"),
+        (["sweep", "--workrs=3", "x.toml"], "abm sweep: error: unrecognized arguments: "
+         "--workrs=3; did you mean --workers for --workrs? (see abm sweep --help)"),
+        (["--degub"], "abm: error: unrecognized arguments: --degub; did you mean --debug for "
+         "--degub? (see abm --help)"),
+        (["report", "--zzzz", "x"], "abm report: error: unrecognized arguments: --zzzz "
+         "(see abm report --help)"),
+    ],
+)  # fmt: skip
+def test_a_misspelt_option_is_named_with_the_verbs_own_option_it_is_closest_to(
+    argv, said, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    assert capsys.readouterr().err.strip() == said
+    assert list(tmp_path.iterdir()) == []  # refused before any work
+
+
 def test_debug_shows_the_traceback(tmp_path):
     command = [
         sys.executable, "-c", "import sys; from analysis.cli import main; sys.exit(main())",

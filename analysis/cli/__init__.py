@@ -7,6 +7,7 @@ block) unless ``--debug`` is given.
 """
 
 import argparse
+import difflib
 import errno
 import importlib
 import sys
@@ -32,7 +33,22 @@ class OneLineParser(argparse.ArgumentParser):
         """Raise the error instead of printing usage and exiting (argparse's contract: never
         return).
         """
-        raise ConfigError(f"{message} (see {self.prog} --help)")
+        raise ConfigError(f"{message}{self._close_matches(message)} (see {self.prog} --help)")
+
+    def _close_matches(self, message: str) -> str:
+        """For unrecognised options, the parser's own options they are most likely misspelt
+        from ("--birdz" -> "--birds"), or nothing.
+        """
+        prefix = "unrecognized arguments: "
+        if not message.startswith(prefix):
+            return ""
+        known = [option for option in self._option_string_actions if option.startswith("--")]
+        hints = []
+        for word in message[len(prefix) :].split():
+            given = word.split("=", 1)[0]
+            if given.startswith("--") and (close := difflib.get_close_matches(given, known, 1)):
+                hints.append(f"{close[0]} for {given}")
+        return f"; did you mean {', '.join(hints)}?" if hints else ""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -59,15 +75,27 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _verb_parser(parser: argparse.ArgumentParser, verb: str | None) -> argparse.ArgumentParser:
+    """The sub-parser of ``verb`` (``parser`` itself when no verb was given)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction) and verb in action.choices:
+            return action.choices[verb]
+    return parser
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``abm`` console script."""
     _never_fail_on_encoding(sys.stdout)
     _never_fail_on_encoding(sys.stderr)
     parser = build_parser()
+    where = parser
     try:
-        args = parser.parse_args(argv)
+        args, extras = parser.parse_known_args(argv)
+        if extras:  # named by the verb's own parser, which knows the options they misspell
+            where = _verb_parser(parser, args.verb)
+            where.error(f"unrecognized arguments: {' '.join(extras)}")
     except ConfigError as exc:
-        print(f"abm: error: {one_line(exc)}", file=sys.stderr)
+        print(f"{where.prog}: error: {one_line(exc)}", file=sys.stderr)
         return 2
     if args.verb is None:
         parser.print_help()
