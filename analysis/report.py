@@ -232,7 +232,8 @@ def _tally(comparison: pd.DataFrame | None, claims: list[dict] | None) -> list[s
             continue
         counts = pd.Series(verdicts).value_counts()
         tested = sum(counts.get(v, 0) for v in ("holds", "does not hold", "undecided"))
-        parts = [f"{counts.get('holds', 0)} of {tested} judged here hold"]
+        held = counts.get("holds", 0)
+        parts = [f"{held} of {tested} judged here hold" if tested else "none judged here"]
         parts += [_counted(n, v) for v, n in counts.items() if v != "holds"]
         lines.append(f"{name.capitalize()}: {'; '.join(parts)}.")
     return lines

@@ -203,6 +203,8 @@ def test_the_tally_counts_each_verdict_in_words_a_reader_can_cite():
     ]
     one = [{"verdict": "holds"}, {"verdict": "does not hold"}]
     assert _tally(None, one) == ["Claims: 1 of 2 judged here hold; 1 does not hold."]
+    shown = pd.DataFrame({"verdict": ["not comparable"]})
+    assert _tally(shown, None) == ["Published numbers: none judged here; 1 not comparable."]
 
 
 def test_tangible_pso_c4_is_judged_against_the_papers_96_8_percent():
