@@ -317,11 +317,13 @@ def _pow(x, y):
         n = int(abs(y))
         result = 1.0
         base = x
-        while n:
+        while True:
             if n & 1:
                 result *= base
-            base *= base
             n >>= 1
+            if not n:  # no square past the last bit: it could overflow (a spurious flag)
+                break
+            base *= base
         return sign * (1.0 / result if y < 0 else result)
     return sign * exp_scalar(y * log_scalar(x))
 
