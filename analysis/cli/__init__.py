@@ -29,6 +29,11 @@ class OneLineParser(argparse.ArgumentParser):
     pointing to ``--help``) instead of a usage block and an exit.
     """
 
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        #: The verbs' own parsers by verb (``abm``'s parser only), for options a verb lacks.
+        self.verb_parsers: dict[str, argparse.ArgumentParser] = {}
+
     def error(self, message: str):
         """Raise the error instead of printing usage and exiting (argparse's contract: never
         return).
@@ -51,7 +56,7 @@ class OneLineParser(argparse.ArgumentParser):
         return f"; did you mean {', '.join(hints)}?" if hints else ""
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser() -> OneLineParser:
     """The argument parser with every available verb."""
     verbs = _load_verbs()
     epilog = "examples:\n" + "\n".join(f"  {v.EXAMPLE:<70} # {v.HELP}" for v in verbs)
@@ -72,14 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
         )
         verb.add_arguments(p)
         p.set_defaults(handler=verb.main)
-    return parser
-
-
-def _verb_parser(parser: argparse.ArgumentParser, verb: str | None) -> argparse.ArgumentParser:
-    """The sub-parser of ``verb`` (``parser`` itself when no verb was given)."""
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction) and verb in action.choices:
-            return action.choices[verb]
+        parser.verb_parsers[verb.VERB] = p
     return parser
 
 
@@ -92,7 +90,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args, extras = parser.parse_known_args(argv)
         if extras:  # named by the verb's own parser, which knows the options they misspell
-            where = _verb_parser(parser, args.verb)
+            where = parser.verb_parsers.get(args.verb, parser)
             where.error(f"unrecognized arguments: {' '.join(extras)}")
     except ConfigError as exc:
         print(f"{where.prog}: error: {one_line(exc)}", file=sys.stderr)
