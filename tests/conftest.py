@@ -6,10 +6,17 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from abm import registry
 
 TESTS = Path(__file__).resolve().parent
+
+# No per-example deadline for property tests: the first example of a test often loads numba
+# (0.3 s of start-up before any cached kernel runs) or compiles, so a test run alone failed as
+# "flaky" on its first example (tests/test_kinematics.py's angle wrap, 355 ms against 200 ms).
+settings.register_profile("project", deadline=None)
+settings.load_profile("project")
 
 
 @pytest.fixture(scope="session")

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from numpy._core import _multiarray_umath as umath
 
@@ -121,7 +121,6 @@ def _ulps(got: np.ndarray, want: list[float]) -> np.ndarray:
     return np.abs(got - want) / np.spacing(np.maximum(np.abs(want), 1e-300))
 
 
-@settings(deadline=None)  # the first example builds the ufunc: numba's start-up, ~0.3 s
 @given(st.lists(st.floats(-1e4, 1e4), min_size=1, max_size=20))
 def test_sine_and_cosine_within_one_ulp_of_the_c_library(values):
     x = np.array(values)
@@ -130,7 +129,6 @@ def test_sine_and_cosine_within_one_ulp_of_the_c_library(values):
     assert _ulps(portable.tan(x), [math.tan(v) for v in x]).max() <= 3.0
 
 
-@settings(deadline=None)  # the first example builds the ufunc: numba's start-up, ~0.3 s
 @given(st.lists(st.floats(-745.0, 709.0), min_size=1, max_size=20))
 def test_exp_within_one_ulp_of_the_c_library(values):
     x = np.array(values)
@@ -140,7 +138,6 @@ def test_exp_within_one_ulp_of_the_c_library(values):
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
 
-@settings(deadline=None)  # the first example builds the ufunc: numba's start-up, ~0.3 s
 @given(st.lists(st.tuples(finite, finite), min_size=1, max_size=20))
 def test_arctan2_within_one_ulp_of_the_c_library(pairs):
     y, x = np.array(pairs).T
@@ -149,7 +146,6 @@ def test_arctan2_within_one_ulp_of_the_c_library(pairs):
     assert (np.signbit(got) == np.signbit([math.atan2(a, b) for a, b in pairs])).all()
 
 
-@settings(deadline=None)  # the first example builds the ufunc: numba's start-up, ~0.3 s
 @given(st.lists(st.floats(1e-300, 1e300), min_size=1, max_size=20), st.floats(-3.0, 3.0))
 def test_logarithm_and_power_near_the_c_library(values, y):
     x = np.array(values)
