@@ -96,9 +96,11 @@ def test_errors_are_one_line_without_traceback(tmp_path, capsys):
          "--degub? (see abm --help)"),
         (["report", "--zzzz", "x"], "abm report: error: unrecognized arguments: --zzzz "
          "(see abm report --help)"),
+        (["calibrate", "tangible-pso"], "abm calibrate: error: the following arguments are "
+         "required: --target, --free, --out (see abm calibrate --help)"),
     ],
 )  # fmt: skip
-def test_a_misspelt_option_is_named_with_the_verbs_own_option_it_is_closest_to(
+def test_a_bad_command_line_is_named_by_the_verb_that_refused_it_with_its_closest_option(
     argv, said, tmp_path, monkeypatch, capsys
 ):
     monkeypatch.chdir(tmp_path)

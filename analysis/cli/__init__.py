@@ -14,7 +14,7 @@ import sys
 
 from abm.errors import ABMError, ConfigError
 
-__all__ = ["main", "build_parser", "one_line", "OneLineParser", "VERB_MODULES"]
+__all__ = ["main", "build_parser", "one_line", "OneLineParser", "UsageError", "VERB_MODULES"]
 
 #: Verb modules, in the order ``abm --help`` lists them.
 VERB_MODULES = ("run", "sweep", "explore", "calibrate", "report", "fit", "render", "viz")
@@ -22,6 +22,16 @@ VERB_MODULES = ("run", "sweep", "explore", "calibrate", "report", "fit", "render
 
 def _load_verbs() -> list:
     return [importlib.import_module(f"analysis.cli.{name}") for name in VERB_MODULES]
+
+
+class UsageError(ConfigError):
+    """A command line a parser refused, with that parser's ``prog`` (``abm``, ``abm sweep``,
+    ...) to name it by.
+    """
+
+    def __init__(self, message: str, prog: str = "abm") -> None:
+        super().__init__(message)
+        self.prog = prog
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -38,7 +48,8 @@ class OneLineParser(argparse.ArgumentParser):
         """Raise the error instead of printing usage and exiting (argparse's contract: never
         return).
         """
-        raise ConfigError(f"{message}{self._close_matches(message)} (see {self.prog} --help)")
+        hints = self._close_matches(message)
+        raise UsageError(f"{message}{hints} (see {self.prog} --help)", self.prog)
 
     def _close_matches(self, message: str) -> str:
         """For unrecognised options, the parser's own options they are most likely misspelt
@@ -86,14 +97,14 @@ def main(argv: list[str] | None = None) -> int:
     _never_fail_on_encoding(sys.stdout)
     _never_fail_on_encoding(sys.stderr)
     parser = build_parser()
-    where = parser
     try:
         args, extras = parser.parse_known_args(argv)
         if extras:  # named by the verb's own parser, which knows the options they misspell
-            where = parser.verb_parsers.get(args.verb, parser)
-            where.error(f"unrecognized arguments: {' '.join(extras)}")
-    except ConfigError as exc:
-        print(f"{where.prog}: error: {one_line(exc)}", file=sys.stderr)
+            parser.verb_parsers.get(args.verb, parser).error(
+                f"unrecognized arguments: {' '.join(extras)}"
+            )
+    except ConfigError as exc:  # named by the parser that refused it: abm, or abm VERB
+        print(f"{getattr(exc, 'prog', parser.prog)}: error: {one_line(exc)}", file=sys.stderr)
         return 2
     if args.verb is None:
         parser.print_help()
