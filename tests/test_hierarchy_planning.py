@@ -12,7 +12,6 @@ from abm.errors import ConfigError
 from models.hierarchy.coverage import _valid_grid, _valid_setup
 from models.hierarchy.planning import (
     DistanceField,
-    _blocked_on_path,
     _children_search,
     _drivable,
     _frame,
@@ -497,7 +496,7 @@ def test_the_compiled_blocked_path_count_is_the_numpy_rule(scanned, blocked, pat
     pmap = random_map(scanned, blocked)
     path = np.array(path)
     want = int(pmap.known_blocked_at((padded_cells(path, H, padding=0) + 0.5) * H).sum())
-    got = _blocked_on_path(path / H, pmap._ix0, pmap._iy0, pmap._scanned, pmap._blocked, pmap.tau)
+    got = pmap.known_blocked_on(path)
     assert got == want
 
 

@@ -37,7 +37,6 @@ from models.hierarchy.agents import QUEEN, Director, LinkLost, Member, Queen, Sc
 from models.hierarchy.coverage import Plan, Status
 from models.hierarchy.flat import FlatHolder, FlatScout, ring_order
 from models.hierarchy.params import HierarchyParams
-from models.hierarchy.planning import _blocked_on_path
 from models.hierarchy.probmap import ProbMap, Rect
 from models.hierarchy.protocol import KINDS, SettledMsg, StartMsg
 from models.hierarchy.units import SUMMARY_UNITS
@@ -330,7 +329,6 @@ class HierarchyModel(SwarmModel):
 
     def log_plan(self, director: Director, m: ProbMap, plan: Plan) -> None:
         """Record a round's bubbles and paths (the invariant tests read them)."""
-        h = self.params.cell_size
         for k, (x, y) in plan.centres.items():
             self.recorder.log(
                 "bubble", director.unique_id if isinstance(director, Robot) else None,
@@ -339,9 +337,7 @@ class HierarchyModel(SwarmModel):
                 in_bounds=m.in_bounds(x, y),
             )  # fmt: skip
         for k, path in {**plan.idle_moves, **plan.paths}.items():
-            pts = np.asarray(path, dtype=np.float64) / h  # the path's own cells
-            blocked = int(_blocked_on_path(pts, m._ix0, m._iy0, m._scanned, m._blocked, m.tau))
-            self.path_cells_blocked += blocked
+            self.path_cells_blocked += m.known_blocked_on(path)  # the path's own cells
             self.plans.append(
                 {"director": director.id, "child": director.links[k], "path": path,
                  "round": director.iterations, "r": plan.radius}

@@ -28,7 +28,7 @@ from scipy.special import ndtr
 
 from abm import portable
 from abm.errors import ConfigError
-from models.hierarchy.planning import _los_mark
+from models.hierarchy.planning import _blocked_on_path, _los_mark
 
 __all__ = ["STAMPS", "Bubble", "MapWindow", "ProbMap", "Rect", "disc_window"]
 
@@ -309,6 +309,15 @@ class ProbMap:
         pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
         return _known_blocked_at(
             pts, self.cell_size, self._ix0, self._iy0, self._scanned, self._blocked, self.tau
+        )
+
+    def known_blocked_on(self, path: np.ndarray) -> int:
+        """How many distinct cells of the polyline ``path`` (metres; the cells it sweeps, no
+        padding) are known blocked: the plan log's count of blocked cells on a path.
+        """
+        pts = np.asarray(path, dtype=np.float64) / self.cell_size
+        return int(
+            _blocked_on_path(pts, self._ix0, self._iy0, self._scanned, self._blocked, self.tau)
         )
 
     def cell_centre(self, x: float, y: float) -> tuple[float, float]:
