@@ -7,14 +7,25 @@ block) unless ``--debug`` is given.
 """
 
 import argparse
+import atexit
 import difflib
 import errno
 import importlib
+import os
 import sys
+import threading
 
 from abm.errors import ABMError, ConfigError
 
-__all__ = ["main", "build_parser", "one_line", "OneLineParser", "UsageError", "VERB_MODULES"]
+__all__ = [
+    "main",
+    "console",
+    "build_parser",
+    "one_line",
+    "OneLineParser",
+    "UsageError",
+    "VERB_MODULES",
+]
 
 #: Verb modules, in the order ``abm --help`` lists them.
 VERB_MODULES = ("run", "sweep", "explore", "calibrate", "report", "fit", "render", "viz")
@@ -92,8 +103,39 @@ def build_parser() -> OneLineParser:
     return parser
 
 
+def console() -> None:
+    """The ``abm`` console script: :func:`main`, then an exit without the interpreter's teardown.
+
+    When a command has finished, its files are written and closed. The interpreter would then
+    free every object of Mesa, pandas, SciPy, numba and matplotlib one by one: 0.3-0.5 s of a
+    warm ``abm run flocking`` on a 2.0 GHz Xeon, for nothing the user sees. So, as
+    multiprocessing's own child processes do, the command leaves with ``os._exit`` once what
+    an ordinary exit runs first has run: every exit handler (logging's flush, a process pool's
+    join, a plugin's own) and the flush of stdout and stderr. A thread that is not a daemon
+    and still runs gets the ordinary exit, which waits for it; an exception escaping
+    :func:`main` (``--debug``) takes the ordinary path too. Callers of :func:`main` (tests,
+    scripts) keep the ordinary exit.
+    """
+    try:
+        code = main()
+    except SystemExit as exc:  # argparse's --help ends this way
+        if not isinstance(exc.code, int | None):
+            raise
+        code = exc.code or 0
+    others = [t for t in threading.enumerate() if t is not threading.main_thread()]
+    if any(t.is_alive() and not t.daemon for t in others):
+        sys.exit(code)
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe or stream: nothing more can reach it
+            pass
+    os._exit(code)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``abm`` console script."""
+    """Run one ``abm`` command line (``argv``, default ``sys.argv[1:]``); its exit code."""
     _never_fail_on_encoding(sys.stdout)
     _never_fail_on_encoding(sys.stderr)
     parser = build_parser()
@@ -161,4 +203,4 @@ def _never_fail_on_encoding(stream) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console()
