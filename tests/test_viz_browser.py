@@ -78,6 +78,10 @@ def _free_port() -> int:
         return sock.getsockname()[1]
 
 
+#: JavaScript: the "Time: ..." the page shows ('' before there is one).
+SHOWN_TIME = "(document.body.innerText.match(/Time: \\S+/) || [''])[0]"
+
+
 def _case(name: str) -> tuple:
     if name in CASES:
         return CASES[name]
@@ -187,9 +191,10 @@ def test_page_draws_arena_robots_and_plots(viz_url, tmp_path):
             assert page.get_by_text(slider).count() >= 1, "sliders missing"
 
             step = page.get_by_role("button", name="Step")
-            for _ in range(steps):
-                step.click()
-                page.wait_for_timeout(250)
+            for _ in range(steps):  # each click once the page shows the step before it done:
+                shown = page.evaluate(SHOWN_TIME)  # on a slow machine, a click sent while
+                step.click()  # the server still draws the last step was lost
+                page.wait_for_function(f"arg => ({SHOWN_TIME}) !== arg", arg=shown, timeout=30_000)
             page.wait_for_function(
                 f"document.body.innerText.includes('Time: {time_text}')", timeout=30_000
             )
