@@ -191,9 +191,11 @@ def test_page_draws_arena_robots_and_plots(viz_url, tmp_path):
             assert page.get_by_text(slider).count() >= 1, "sliders missing"
 
             step = page.get_by_role("button", name="Step")
-            for _ in range(steps):  # each click once the page shows the step before it done:
-                shown = page.evaluate(SHOWN_TIME)  # on a slow machine, a click sent while
-                step.click()  # the server still draws the last step was lost
+            # Each click once the page shows the step before it done: on a slow machine a
+            # click sent while the server was still drawing the last step was lost.
+            for _ in range(steps):
+                shown = page.evaluate(SHOWN_TIME)
+                step.click()
                 page.wait_for_function(f"arg => ({SHOWN_TIME}) !== arg", arg=shown, timeout=30_000)
             page.wait_for_function(
                 f"document.body.innerText.includes('Time: {time_text}')", timeout=30_000

@@ -107,7 +107,7 @@ def console() -> None:
     """The ``abm`` console script: :func:`main`, then an exit without the interpreter's teardown.
 
     When a command has finished, its files are written and closed. The interpreter would then
-    free every object of Mesa, pandas, SciPy, numba and matplotlib one by one: 0.3-0.5 s of a
+    free every object of Mesa, pandas, SciPy, numba and matplotlib one by one: 0.4-0.8 s of a
     warm ``abm run flocking`` on a 2.0 GHz Xeon, for nothing the user sees. So, as
     multiprocessing's own child processes do, the command leaves with ``os._exit`` once what
     an ordinary exit runs first has run: every exit handler (logging's flush, a process pool's
