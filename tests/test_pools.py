@@ -60,7 +60,11 @@ def test_the_frozen_heap_stops_growing_from_run_to_run():
     with process_pool(1) as pool:
         frozen = pool.submit(_frozen_after_each_run, 6).result()
     assert frozen[0] > 10_000
-    assert len(set(frozen[2:])) == 1, frozen  # after the imports and the compiled functions
+    # After the imports and the compiled functions (the first two runs), no run adds to it. It
+    # may shrink: in a fresh clone, where numba compiled the kernels instead of loading them,
+    # the counts were [61434, 206314, 206314, 206304, 206304, 206304].
+    later = frozen[2:]
+    assert all(after <= before for before, after in zip(later, later[1:], strict=False)), frozen
 
 
 def test_outside_a_pool_worker_the_heap_is_left_alone():
