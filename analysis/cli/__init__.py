@@ -14,6 +14,7 @@ import importlib
 import os
 import sys
 import threading
+from typing import NoReturn
 
 from abm.errors import ABMError, ConfigError
 
@@ -103,7 +104,7 @@ def build_parser() -> OneLineParser:
     return parser
 
 
-def console() -> None:
+def console() -> NoReturn:
     """The ``abm`` console script: :func:`main`, then an exit without the interpreter's teardown.
 
     When a command has finished, its files are written and closed. The interpreter would then
