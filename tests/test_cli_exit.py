@@ -16,7 +16,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: Runs ``console()`` on ``sys.argv[1:]`` after the set-up a test passes in ``SETUP``.
+#: Runs ``console()`` on ``sys.argv[1:]`` after the code a test passes as ``setup``.
 PROBE = """
 import atexit, sys, threading, time
 from analysis.cli import console
