@@ -33,7 +33,8 @@ from matplotlib.ticker import MaxNLocator
 from tqdm import tqdm
 
 from abm.errors import ABMError, ConfigError
-from abm.viz.scene import COVERED_COLOUR, Scene, SceneView
+from abm.scene import Scene
+from abm.viz.scene import COVERED_COLOUR, SceneView
 from analysis.blit import FrameBlitter
 from analysis.gif import write_gif
 from analysis.run_folder import SavedRun

@@ -364,7 +364,7 @@ def test_layers_that_are_not_layers_are_named_and_leave_no_files(capsys, tmp_pat
 
 
 def test_arrows_of_the_wrong_shape_are_named(capsys, tmp_path):
-    from abm.viz.scene import scene_of
+    from abm.scene import scene_of
 
     model = BadArrowsModel(seed=1, **_short()).run()
     expected = (

@@ -5,7 +5,8 @@ the Solara components) need the ``viz`` extra and are imported on first use, so
 ``import abm.viz`` works without it.
 """
 
-from abm.viz.scene import Scene, SceneView, scene_of, view_of
+from abm.scene import Scene, scene_of
+from abm.viz.scene import SceneView, view_of
 
 __all__ = ["Scene", "SceneView", "make_page", "scene_of", "view_of"]
 

@@ -18,8 +18,9 @@ from matplotlib.ticker import MaxNLocator
 from mesa.visualization import SolaraViz
 from mesa.visualization.utils import update_counter
 
+from abm.scene import scene_of
 from abm.viz.controls import default_controls, default_series, initial_kwargs
-from abm.viz.scene import scene_of, view_of
+from abm.viz.scene import view_of
 
 __all__ = ["SwarmPlots", "SwarmSpace", "make_page"]
 

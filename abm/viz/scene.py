@@ -1,13 +1,13 @@
-"""What a swarm looks like at one instant, and a matplotlib view that draws it.
+"""A matplotlib view that draws what a swarm looks like (:mod:`abm.scene`).
 
-A :class:`Scene` holds plain arrays (robot positions and states, comm links, the covered
-raster, optional arrows), so the same :class:`SceneView` draws a live model (via
-:func:`scene_of`) in the SolaraViz page and a recorded run in ``abm render``. The view builds
-its artists once and :meth:`SceneView.update` only swaps their data, which keeps animations fast.
+A :class:`~abm.scene.Scene` holds plain arrays (robot positions and states, comm links, the
+covered raster, optional arrows), so the same :class:`SceneView` draws a live model (via
+:func:`~abm.scene.scene_of`) in the SolaraViz page and ``abm run``'s PNG, and a recorded run in
+``abm render``. The view builds its artists once and :meth:`SceneView.update` only swaps their
+data, which keeps animations fast.
 """
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -16,7 +16,7 @@ from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from abm.checks import arrows_of, layers_of
+from abm.scene import Backdrop, Scene, backdrop_of
 from abm.styles import Layer, StateStyle, resolve_styles
 
 __all__ = [
@@ -24,10 +24,9 @@ __all__ = [
     "COVERED_COLOUR",
     "LINK_COLOUR",
     "WALL_COLOUR",
-    "Scene",
     "SceneView",
-    "scene_of",
     "view_of",
+    "view_on",
 ]
 
 WALL_COLOUR = "#3a3a3a"
@@ -36,71 +35,20 @@ LINK_COLOUR = "#56B4E9"
 ARROW_COLOUR = "#CC79A7"  # reddish purple: apart from the palette's first colours
 
 
-@dataclass
-class Scene:
-    """The swarm at one instant, as plain arrays.
-
-    Attributes:
-        time: simulated time (s).
-        positions: ``(n, 2)`` robot positions (m).
-        states: ``(n,)`` robot states.
-        links: ``(m, 2, 2)`` comm links as segments (m).
-        covered: boolean coverage raster ``[rows, cols]`` (pixels of ``SceneView.pixel`` m), or
-            None when the model keeps none.
-        arrows: ``(points, vectors)`` in m, e.g. the beacons' desired directions, or None.
-        layers: the model's extra :class:`~abm.styles.Layer` s (point clouds, rasters).
-
-    """
-
-    time: float
-    positions: np.ndarray
-    states: np.ndarray
-    links: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 2)))
-    covered: np.ndarray | None = None
-    arrows: tuple[np.ndarray, np.ndarray] | None = None
-    layers: list[Layer] = field(default_factory=list)
-
-
-def scene_of(model) -> Scene:
-    """The current scene of a live SwarmModel (robots, comm links, coverage, arrows)."""
-    agents = list(model.space.active_agents)
-    # Mesa's space has no position array before its first agent
-    positions = (
-        np.asarray(model.space.agent_positions, dtype=float).reshape(-1, 2)
-        if agents
-        else np.zeros((0, 2))
-    )
-    states = np.array([agent.state for agent in agents], dtype=object)
-    graph = model.comms.graph
-    placed = graph.nodes(data="pos")
-    links = np.array(
-        [
-            [placed[a], placed[b]]
-            for a, b in graph.edges
-            if placed[a] is not None and placed[b] is not None  # off-arena nodes: no line
-        ],
-        dtype=float,
-    ).reshape(-1, 2, 2)
-    return Scene(
-        time=float(model.time),
-        positions=positions,
-        states=states,
-        links=links,
-        covered=None if model.coverage is None else model.coverage.covered,
-        arrows=arrows_of(model) if model.ARROWS_LABEL else None,
-        layers=layers_of(model),
-    )
-
-
 def view_of(model, ax: Axes) -> "SceneView":
     """A :class:`SceneView` of a live model on ``ax``, from the model's declared hooks."""
+    return view_on(ax, backdrop_of(model))
+
+
+def view_on(ax: Axes, backdrop: Backdrop) -> "SceneView":
+    """A :class:`SceneView` of ``backdrop`` on ``ax``."""
     return SceneView(
         ax,
-        model.arena.free,
-        model.arena.resolution,
-        model.state_styles,
-        pixel=None if model.coverage is None else model.coverage.pixel,
-        arrows_label=model.ARROWS_LABEL,
+        backdrop.free,
+        backdrop.resolution,
+        backdrop.styles,
+        pixel=backdrop.pixel,
+        arrows_label=backdrop.arrows_label,
     )
 
 
