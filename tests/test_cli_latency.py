@@ -32,6 +32,7 @@ RUN_ONLY = (
     "abm.gridkernels",
     "abm.portable",
     "abm.draw",
+    "abm.png_process",
     "analysis.run_folder",
 )
 

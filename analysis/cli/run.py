@@ -16,6 +16,10 @@ import tempfile
 from contextlib import nullcontext
 from datetime import datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from abm.png_process import PngProcess
 
 VERB = "run"
 HELP = "run one simulation of a model, print its summary, save the run folder and a PNG"
@@ -80,7 +84,9 @@ def main(args: argparse.Namespace) -> int:
     The parameters are checked against the model's ``Params`` read without importing the
     model's module (:func:`abm.registry.declared`), and what only a run needs (the model
     class, the drawing, the run folder's writer, the progress line) is imported after, so
-    ``--help`` and a bad parameter answer at once.
+    ``--help`` and a bad parameter answer at once. The PNG is drawn by a process started once
+    the parameters are accepted, which loads matplotlib while this one loads the model and
+    runs it (:mod:`abm.png_process`).
     """
     from abm.errors import ConfigError
     from abm.params import make_params
@@ -102,6 +108,27 @@ def main(args: argparse.Namespace) -> int:
     # default (fast sweeps) is not to.
     params.setdefault("trace_interval", model.params().trace_interval or 1.0)
     planned = make_params(model.params, params)  # every parameter checked before the run
+    from abm.png_process import PngProcess
+
+    with PngProcess() as drawer:  # loads matplotlib on the other core meanwhile
+        return _run_and_save(args, name, options, params, planned, drawer)
+
+
+def _run_and_save(
+    args: argparse.Namespace,
+    name: str,
+    options: argparse.Namespace,
+    params: dict,
+    planned,
+    drawer: "PngProcess",
+) -> int:
+    """Import the model, check the output folder, run, print, save the run folder and its
+    PNG (drawn by ``drawer``, an :class:`abm.png_process.PngProcess`).
+    """
+    from abm.registry import model_class
+    from abm.scene import picture_of
+    from analysis.cli.progress import RunProgress
+
     cls = model_class(args.model)
     if options.out is not None:
         from analysis.run_folder import check_run_target
@@ -111,9 +138,6 @@ def main(args: argparse.Namespace) -> int:
         out, made = _prepare(options.out)
     else:
         out, made = _prepare(None, name, options.seed)
-    from abm.draw import save_swarm_png
-    from analysis.cli.progress import RunProgress
-
     try:
         model = cls(seed=options.seed, **params)
         progress = RunProgress(model) if options.progress else None
@@ -133,7 +157,7 @@ def main(args: argparse.Namespace) -> int:
     print()
     for path in written:
         print(f"wrote {path}")
-    png = save_swarm_png(model, out / "final.png", title=_title(name, summary))
+    png = drawer.save(picture_of(model, _title(name, summary)), out / "final.png")
     print(f"wrote {png}")
     print(f"next: abm render {out}")
     return 0
