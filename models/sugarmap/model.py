@@ -35,12 +35,12 @@ from abm.kinematics import bump_moves, wrap_degrees
 from abm.model import SwarmModel
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
-from models.sugarmap import published
+from models.sugarmap import filterkernels, published
 from models.sugarmap.agents import Anchor, Explorer
 from models.sugarmap.arenas import load_arena, start_cells
 from models.sugarmap.baselines import OMSTC, BounceWalk, lattice_turns
 from models.sugarmap.params import SugarMapParams
-from models.sugarmap.particles import MapGrid, ParticleFilter, global_map
+from models.sugarmap.particles import MapGrid, ParticleFilter
 from models.sugarmap.planner import CoveragePlanner
 from models.sugarmap.rtof import RToF
 from models.sugarmap.units import SUMMARY_UNITS
@@ -274,7 +274,7 @@ class SugarMapModel(SwarmModel):
                     pick=p.resolved("pick"),
                     self_cover=p.resolved("self_cover"),
                 )
-            self.global_map = global_map(self.filter.node_maps())
+            self.global_map = self.filter.global_map()
         elif p.algorithm == "random_walk" and p.resolved("random_walk") == "bounce":
             self.bounce = BounceWalk(n, self.rng)
         elif p.algorithm == "omstc":
@@ -403,7 +403,7 @@ class SugarMapModel(SwarmModel):
                 continue
             match = self.filter.correct(self.rng, e, signatures[e], self.env.now)
             explorer.record(match, self.pos[e])
-        self.global_map = global_map(self.filter.node_maps())
+        self.global_map = self.filter.global_map()
 
     def on_robot_failed(self, robot: Robot) -> None:
         """An anchor (by default from its launch on) or, where ``fault_states`` names their
@@ -453,12 +453,13 @@ class SugarMapModel(SwarmModel):
             "idle": int(self.idle.sum()),
         }
         if self.filter is not None:
-            g = self._navigable_estimate()
-            truth = self.coverage.covered[free]
+            est, error = filterkernels.map_scores(
+                self._navigable_estimate(), free, self.coverage.covered, self.params.cover_th
+            )
             false = self.false_matches
             values.update(
-                coverage_est=100.0 * float((g[free] >= self.params.cover_th).mean()),
-                map_error=float(np.abs(g[free] - truth).mean()),
+                coverage_est=100.0 * float(est),
+                map_error=float(error),
                 pose_error=float(np.hypot(*(self.filter.mean_positions() - self.pos).T).mean()),
                 signatures=int(self.filter.n_stored.sum()),
                 matches=self.true_matches + false,
