@@ -231,7 +231,9 @@ class SugarMapModel(SwarmModel):
         # executed heading (deg), all face north (README "Choices": start)
         self.truth_heading = np.zeros(n)
         self.command_heading = np.zeros(n)  # the last commanded absolute heading
-        self.presumed = self.starts.copy()
+        # the command-integrated pose, kept only where the planner reads it (planner_pose)
+        presumed = p.algorithm == "sugarmap" and p.resolved("planner_pose") == "presumed"
+        self.presumed = self.starts.copy() if presumed else None
         self.active = np.ones(n, dtype=bool)
         self.idle = np.zeros(n, dtype=bool)
         self.last_cell = np.full((n, 2), -1)  # no cell yet: the start cell is an entry
@@ -365,11 +367,12 @@ class SugarMapModel(SwarmModel):
                     if self.omstc is not None:
                         self.omstc.blocked(explorer.row)
         self.pos = new
-        go = moving & ~self.blocked
-        rad = np.radians(heading)
-        self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
-            [portable.sin(rad[go]), portable.cos(rad[go])], axis=1
-        )
+        if self.presumed is not None:
+            go = moving & ~self.blocked
+            rad = np.radians(heading)
+            self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
+                [portable.sin(rad[go]), portable.cos(rad[go])], axis=1
+            )
         self.place(self.explorer_ids, self.pos)
         self.coverage.stamp(self.pos, self.env.now)
         self._count_entries()
