@@ -18,8 +18,13 @@ import numpy as np
 from numba import njit
 
 from abm.neighbours import cell_grid, cell_of
+from abm.portable import cos_scalar, sin_scalar
+
+#: Radians per degree, as numpy's ``radians`` multiplies by it.
+_RAD = math.pi / 180.0
 
 __all__ = [
+    "bump_moves",
     "cardinal_distances",
     "flight_rows",
     "nearest_visible",
@@ -197,6 +202,31 @@ def segments_cross(padded, sat, res, starts, ends):
             padded, sat, res, starts[k, 0], starts[k, 1], ends[k, 0], ends[k, 1]
         )
     return out
+
+
+@njit(cache=True)
+def bump_moves(padded, sat, res, positions, heading, distance):
+    """The bump model's moves (:func:`abm.kinematics.bump_moves`), row by row: ``positions[k]``
+    plus ``distance[k] * (sin, cos)`` of compass ``heading[k]`` (deg), unless that end point's
+    cell is not free or the straight path enters a wall cell; then the robot stays.
+
+    Returns:
+        ``(positions, blocked)``: new ``(n, 2)`` positions and ``(n,)`` bool.
+
+    """
+    n = positions.shape[0]
+    out = positions.copy()
+    blocked = np.empty(n, dtype=np.bool_)
+    for k in range(n):
+        rad = heading[k] * _RAD
+        x0, y0 = positions[k, 0], positions[k, 1]
+        x1 = x0 + distance[k] * sin_scalar(rad)
+        y1 = y0 + distance[k] * cos_scalar(rad)
+        free = _free(padded, int(math.floor(x1 / res)), int(math.floor(y1 / res)))
+        blocked[k] = not free or segment_crosses(padded, sat, res, x0, y0, x1, y1)
+        if not blocked[k]:
+            out[k, 0], out[k, 1] = x1, y1
+    return out, blocked
 
 
 @njit(cache=True)

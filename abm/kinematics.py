@@ -10,7 +10,7 @@ is and the move is reported as blocked. So no robot ever enters or crosses a wal
 
 import numpy as np
 
-from abm import portable
+from abm import gridkernels, portable
 from abm.arena import Arena
 
 __all__ = ["bump_moves", "heading_vectors", "wrap_degrees"]
@@ -37,8 +37,21 @@ def bump_moves(
         a boolean ``(n,)`` that is True where the move would have entered a wall.
 
     """
-    positions = np.atleast_2d(np.asarray(positions, dtype=float))
-    distance = np.broadcast_to(np.asarray(distance, dtype=float), (len(positions),))
-    end = positions + distance[:, None] * heading_vectors(heading).reshape(-1, 2)
-    blocked = ~arena.is_free(end) | arena.segment_crosses_wall(positions, end)
-    return np.where(blocked[:, None], positions, end), blocked
+    positions = np.ascontiguousarray(np.atleast_2d(np.asarray(positions, dtype=float)))
+    n = len(positions)
+    return gridkernels.bump_moves(
+        arena.padded,
+        arena.walls_sat,
+        arena.resolution,
+        positions,
+        _per_row(heading, n),
+        _per_row(distance, n),
+    )
+
+
+def _per_row(values: np.ndarray, n: int) -> np.ndarray:
+    """``values`` (one per row, or one for all) as a contiguous float ``(n,)`` array."""
+    values = np.asarray(values, dtype=float)
+    if values.shape == (n,) and values.flags.c_contiguous:
+        return values
+    return np.ascontiguousarray(np.broadcast_to(values, (n,)))

@@ -35,12 +35,12 @@ from abm.kinematics import bump_moves, wrap_degrees
 from abm.model import SwarmModel
 from abm.robot import Robot
 from abm.styles import Layer, StateStyle
-from models.sugarmap import published
+from models.sugarmap import filterkernels, published
 from models.sugarmap.agents import Anchor, Explorer
 from models.sugarmap.arenas import load_arena, start_cells
 from models.sugarmap.baselines import OMSTC, BounceWalk, lattice_turns
 from models.sugarmap.params import SugarMapParams
-from models.sugarmap.particles import MapGrid, ParticleFilter, global_map
+from models.sugarmap.particles import MapGrid, ParticleFilter
 from models.sugarmap.planner import CoveragePlanner
 from models.sugarmap.rtof import RToF
 from models.sugarmap.units import SUMMARY_UNITS
@@ -231,7 +231,9 @@ class SugarMapModel(SwarmModel):
         # executed heading (deg), all face north (README "Choices": start)
         self.truth_heading = np.zeros(n)
         self.command_heading = np.zeros(n)  # the last commanded absolute heading
-        self.presumed = self.starts.copy()
+        # the command-integrated pose, kept only where the planner reads it (planner_pose)
+        presumed = p.algorithm == "sugarmap" and p.resolved("planner_pose") == "presumed"
+        self.presumed = self.starts.copy() if presumed else None
         self.active = np.ones(n, dtype=bool)
         self.idle = np.zeros(n, dtype=bool)
         self.last_cell = np.full((n, 2), -1)  # no cell yet: the start cell is an entry
@@ -274,7 +276,7 @@ class SugarMapModel(SwarmModel):
                     pick=p.resolved("pick"),
                     self_cover=p.resolved("self_cover"),
                 )
-            self.global_map = global_map(self.filter.node_maps())
+            self.global_map = self.filter.global_map()
         elif p.algorithm == "random_walk" and p.resolved("random_walk") == "bounce":
             self.bounce = BounceWalk(n, self.rng)
         elif p.algorithm == "omstc":
@@ -365,11 +367,12 @@ class SugarMapModel(SwarmModel):
                     if self.omstc is not None:
                         self.omstc.blocked(explorer.row)
         self.pos = new
-        go = moving & ~self.blocked
-        rad = np.radians(heading)
-        self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
-            [portable.sin(rad[go]), portable.cos(rad[go])], axis=1
-        )
+        if self.presumed is not None:
+            go = moving & ~self.blocked
+            rad = np.radians(heading)
+            self.presumed[go] += (speed[go] * p.dt)[:, None] * np.stack(
+                [portable.sin(rad[go]), portable.cos(rad[go])], axis=1
+            )
         self.place(self.explorer_ids, self.pos)
         self.coverage.stamp(self.pos, self.env.now)
         self._count_entries()
@@ -403,7 +406,7 @@ class SugarMapModel(SwarmModel):
                 continue
             match = self.filter.correct(self.rng, e, signatures[e], self.env.now)
             explorer.record(match, self.pos[e])
-        self.global_map = global_map(self.filter.node_maps())
+        self.global_map = self.filter.global_map()
 
     def on_robot_failed(self, robot: Robot) -> None:
         """An anchor (by default from its launch on) or, where ``fault_states`` names their
@@ -453,12 +456,13 @@ class SugarMapModel(SwarmModel):
             "idle": int(self.idle.sum()),
         }
         if self.filter is not None:
-            g = self._navigable_estimate()
-            truth = self.coverage.covered[free]
+            est, error = filterkernels.map_scores(
+                self._navigable_estimate(), free, self.coverage.covered, self.params.cover_th
+            )
             false = self.false_matches
             values.update(
-                coverage_est=100.0 * float((g[free] >= self.params.cover_th).mean()),
-                map_error=float(np.abs(g[free] - truth).mean()),
+                coverage_est=100.0 * float(est),
+                map_error=float(error),
                 pose_error=float(np.hypot(*(self.filter.mean_positions() - self.pos).T).mean()),
                 signatures=int(self.filter.n_stored.sum()),
                 matches=self.true_matches + false,

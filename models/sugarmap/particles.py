@@ -14,7 +14,8 @@ own past, so that history must travel with it). Each tick (Sect. 3.3):
 - F3/F4 merge: NodeMap = the particles' mean LocalMap (eq. 9); GlobalMap = 1 - prod(1 - NodeMap)
   over the explorers (eq. 10).
 
-Everything over (explorers x particles) is one numpy operation; Python loops run over explorers
+Everything over (explorers x particles) is one numpy operation or one compiled kernel
+(:mod:`models.sugarmap.filterkernels`, the same arithmetic); Python loops run over explorers
 only. Particles know no walls: the brain has no map (README "Choices": particles and walls).
 Symbols: N particles, N_a anchors, n_e explorers, i particle, e explorer, j stored signature.
 """
@@ -27,6 +28,7 @@ import numpy as np
 from abm import portable
 from abm.errors import ConfigError, check_choice, check_range
 from abm.kinematics import wrap_degrees
+from models.sugarmap import filterkernels
 
 __all__ = ["MapGrid", "Match", "ParticleFilter", "calibrate_sig_th", "eq8_weights",
            "global_map", "signature_distance"]  # fmt: skip
@@ -87,7 +89,11 @@ class MapGrid:
         points = np.asarray(points, dtype=float)
         ix = np.floor((points[..., 0] - self.origin[0]) / self.cell).astype(np.int64)
         iy = np.floor((points[..., 1] - self.origin[1]) / self.cell).astype(np.int64)
-        return np.clip(ix, 0, self.shape[1] - 1), np.clip(iy, 0, self.shape[0] - 1)
+        # np.minimum/np.maximum, not np.clip: the same integers without clip's per-call cost
+        return (
+            np.minimum(np.maximum(ix, 0), self.shape[1] - 1),
+            np.minimum(np.maximum(iy, 0), self.shape[0] - 1),
+        )
 
 
 @dataclass(frozen=True)
@@ -164,15 +170,7 @@ def eq8_weights(delta: np.ndarray) -> np.ndarray:
     delta = np.asarray(delta, dtype=float)
     if delta.ndim != 1 or len(delta) == 0 or not np.all((delta >= 0) & np.isfinite(delta)):
         raise ConfigError(f"delta must be a non-empty 1-D array of finite values >= 0, got {delta}")
-    return _eq8(delta)
-
-
-def _eq8(delta: np.ndarray) -> np.ndarray:
-    """Eq. 8 normalised, unchecked (the filter's own distances are valid by construction)."""
-    n, total = len(delta), float(delta.sum())
-    if n == 1 or total == 0:
-        return np.full(n, 1.0 / n)
-    return (total - delta) / (total * (n - 1))
+    return filterkernels.eq8_weights(delta)
 
 
 def _gauss_weights(delta: np.ndarray, sigma_m: float) -> np.ndarray:
@@ -380,28 +378,31 @@ class ParticleFilter:
         check_range("dt", dt, 0.0, low_open=True)
         if not np.all(speed >= 0):
             raise ConfigError(f"speed must be >= 0 m/s, got {speed}")
-        n_phi = rng.standard_normal(self.phi.shape) * (self.turn_noise * np.abs(turn))[:, None]
-        n_v = rng.standard_normal(self.phi.shape) * (self.speed_noise * speed)[:, None]
-        if self.heading_model == "literal":
-            self.phi = heading[:, None] + n_phi
-        else:
-            self.phi = self.phi + turn[:, None] + n_phi
-        step = np.maximum(speed[:, None] + n_v, 0.0) * (dt * moved)[:, None]
-        rad = np.radians(self.phi)
-        self.pos[..., 0] += step * portable.sin(rad)
-        self.pos[..., 1] += step * portable.cos(rad)
+        z_phi = rng.standard_normal(self.phi.shape)
+        z_v = rng.standard_normal(self.phi.shape)
+        accumulate = self.heading_model == "accumulate"
+        filterkernels.predict(
+            z_phi,
+            z_v,
+            heading,
+            turn,
+            speed,
+            moved,
+            float(dt),
+            self.turn_noise,
+            self.speed_noise,
+            accumulate,
+            self.phi,
+            self.pos,
+        )
         self._mark()
 
     def _mark(self) -> None:
-        """Eq. 4: every particle marks the cell it is in (one fancy-index write); the per-cell
-        counts behind eq. 9 follow.
+        """Eq. 4: every particle marks the cell it is in; the per-cell counts behind eq. 9
+        follow.
         """
-        ix, iy = self.grid.cells(self.pos)
-        e, n = np.indices(ix.shape)
-        new = ~self.localmap[e, n, iy, ix]
-        e, n, iy, ix = e[new], n[new], iy[new], ix[new]
-        self.localmap[e, n, iy, ix] = True
-        np.add.at(self._counts, (e, iy, ix), 1)
+        (x0, y0), cell = self.grid.origin, self.grid.cell
+        filterkernels.mark(self.pos, self.localmap, self._counts, x0, y0, cell)
 
     def correct(
         self, rng: np.random.Generator, explorer: int, signature: np.ndarray, now: float
@@ -457,16 +458,21 @@ class ParticleFilter:
         s = int(self.n_stored[e])
         if s == 0:
             return -1, np.inf
-        distance = _eq11(signature[None, :], self.signatures[e, :s], self.sig_norm)
-        distance[now - self.stored_at[e, :s] < self.min_match_age] = np.inf
-        j = int(np.argmin(distance))
-        return j, float(distance[j])
+        j, distance = filterkernels.nearest_signature(
+            signature,
+            self.signatures[e, :s],
+            self.stored_at[e, :s],
+            float(now),
+            self.min_match_age,
+            self.sig_norm == "rms",
+        )
+        return int(j), float(distance)
 
     def _reweight(self, e: int, j: int) -> None:
         """Eqs. 7 and 8: weights from each particle's distance to its own Store_i[j]."""
-        delta = np.hypot(*(self.pos[e] - self.store[e, :, j]).T)
+        delta = filterkernels.eq7_distances(self.pos[e], self.store[e], j)
         if self.weight_rule == "eq8":
-            self.weights[e] = _eq8(delta)
+            self.weights[e] = filterkernels.eq8_weights(delta)
         else:
             self.weights[e] = _gauss_weights(delta, self.sigma_m)
 
@@ -480,16 +486,18 @@ class ParticleFilter:
         n = self.n_particles
         # N independent draws from the weights by inverse CDF: what Generator.choice(n, n,
         # p=w) computes, without its per-call validation.
-        cdf = np.cumsum(self.weights[e])
-        pick = np.searchsorted(cdf / cdf[-1], rng.random(n), side="right")
-        s = int(self.n_stored[e])
-        self.pos[e] = self.pos[e, pick]
+        filterkernels.resample(
+            self.weights[e],
+            rng.random(n),
+            self.pos[e],
+            self.phi[e],
+            self.localmap[e],
+            self.store[e],
+            int(self.n_stored[e]),
+            self._counts[e],
+        )
         if self.resample_noise > 0:
             self.pos[e] += rng.normal(0.0, self.resample_noise, (n, 2))
-        self.phi[e] = self.phi[e, pick]
-        self.localmap[e] = self.localmap[e, pick]
-        self.store[e, :, :s] = self.store[e, pick, :s]
-        self._counts[e] = self.localmap[e].sum(axis=0, dtype=self._counts.dtype)
         self.weights[e] = 1.0 / n
 
     def _store(self, e: int, signature: np.ndarray, now: float) -> None:
@@ -519,6 +527,16 @@ class ParticleFilter:
 
         """
         return self._counts / self.n_particles
+
+    def global_map(self) -> np.ndarray:
+        """Eq. 10 over this filter's explorers: :func:`global_map` of :meth:`node_maps`, the
+        same values in one compiled pass over eq. 9's per-cell counts.
+
+        Returns:
+            ``(H, W)`` GlobalMap.
+
+        """
+        return filterkernels.global_map(self._counts, self.n_particles)
 
     def mean_positions(self) -> np.ndarray:
         """Each explorer's weighted mean particle position ``(n_e, 2)`` (m, brain frame)."""

@@ -24,7 +24,9 @@ The explorer has no range sensor, so a cell is known to be blocked only by bumpi
 it expires after ``blocked_ttl`` s. Neighbours outside the estimate grid count as blocked.
 """
 
+from bisect import bisect_right
 from collections import deque
+from itertools import accumulate
 
 import numpy as np
 
@@ -255,11 +257,19 @@ class CoveragePlanner:
         rng: np.random.Generator,
         bonus: Cell | None = None,
     ) -> Cell:
-        """One of ``cells`` with probability proportional to its weight (P9, P13)."""
-        g = np.array([probability[c] for c in cells])
-        weights = 1.0 - g + self.eps if self.pick == "one_minus" else 1.0 / (g + self.eps)
+        """One of ``cells`` with probability proportional to its weight (P9, P13).
+
+        Plain floats, not numpy: at most four weights, where numpy's per-call cost is most of
+        the work; the sums and the search are the same (a running sum, the first cumulative
+        weight above the draw).
+        """
+        eps = self.eps
+        if self.pick == "one_minus":
+            weights = [1.0 - probability[c] + eps for c in cells]
+        else:
+            weights = [1.0 / (probability[c] + eps) for c in cells]
         if bonus is not None:
-            weights += self.beta * np.array([c == bonus for c in cells])
-        cumulative = np.cumsum(weights)
-        k = int(np.searchsorted(cumulative, rng.random() * cumulative[-1], side="right"))
+            weights = [w + self.beta * (c == bonus) for w, c in zip(weights, cells, strict=True)]
+        cumulative = list(accumulate(weights))
+        k = bisect_right(cumulative, rng.random() * cumulative[-1])
         return cells[min(k, len(cells) - 1)]
