@@ -143,9 +143,11 @@ class Member:
         return sorted(k for k in self.links if k > 0)
 
     def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:
-        """Send ``msg`` to local address ``local`` over the comm network (logged there)."""
+        """Send ``msg`` to local address ``local`` over the comm network (logged there; no
+        member waits on a delivery, so it is posted, not an event).
+        """
         dst = self.links[local]
-        self.model.comms.send(
+        self.model.comms.post(
             self.id,
             dst,
             msg,
