@@ -238,8 +238,8 @@ class Scout(TreeRobot):
         self.set_state("scout_scanning")
         if p.scan_time > 0:
             yield self.env.timeout(p.scan_time)
-        for x, y in self.model.sense(self.position, min(r, p.scout_r_max)):
-            self.send(0, PointMsg(float(x), float(y), p.sigma_sensor))
+        for x, y in self.model.sense(self.position, min(r, p.scout_r_max)).tolist():
+            self.send(0, PointMsg(x, y, p.sigma_sensor))
         if p.los_hint_separate:
             self.send(0, LosHintMsg())
         self.send(0, ScanCompleteMsg(infer_los=not p.los_hint_separate))
