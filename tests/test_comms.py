@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from abm.arena import Arena
+from abm.clock import Clock
 from abm.comms import CommNetwork, GradientFlood, MessageLog, TreeLinks
 from abm.comms.policies import RingLinks
 from abm.errors import LinkError
@@ -113,6 +114,56 @@ def test_messages_arrive_after_the_latency_as_events():
     net.send(0, 1, "hello", lambda s, d, p: log.append((s, d, p, env.now)))
     env.run()
     assert log == [(0, 1, "hello", 0.1)]
+
+
+def _deliveries(how: str, make_env, sends: list, loss: float) -> list:
+    """Every step of a scenario where node 0 sends (``how``: "send" or "post") to the nodes
+    ``sends`` lists as ``(pause in ticks, receiver)``, a bystander process wakes
+    every tick, and node 3 leaves at t = 0.25 (its copies in flight are dropped); then the
+    count of messages and the generator's next draw.
+    """
+    env = make_env()
+    net = CommNetwork(env, Arena(np.ones((20, 20), dtype=bool), 1.0),
+                      np.random.default_rng(3), 4.0, 0.1, loss)  # fmt: skip
+    for i, p in enumerate([(1.0, 1.0), (3.0, 1.0), (1.0, 3.0), (3.0, 3.0)]):
+        net.add(i, p)
+    steps = []
+    arrive = lambda s, d, p: steps.append((env.now, "got", s, d, p))  # noqa: E731
+    drop = lambda s, d, p: steps.append((env.now, "drop", s, d, p))  # noqa: E731
+
+    def sender():
+        for k, (pause, dst) in enumerate(sends):
+            yield env.timeout(pause * 0.05)
+            getattr(net, how)(0, dst, k, arrive, drop)
+            steps.append((env.now, "sent", k))
+
+    def bystander():
+        for _ in range(30):
+            steps.append((env.now, "tick"))
+            yield env.timeout(0.05)
+
+    def leaver():
+        yield env.timeout(0.25)
+        net.remove(3)
+
+    for process in (sender, bystander, leaver):
+        env.process(process())
+    env.run()
+    return [steps, net.messages_sent, net.rng.random()]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.tuples(st.integers(0, 2), st.integers(1, 3)), max_size=12),
+    st.sampled_from([0.0, 0.4]),
+    st.sampled_from([simpy.Environment, Clock]),
+)
+def test_a_posted_message_arrives_or_is_dropped_as_a_sent_one(sends, loss, make_env):
+    """Posting gives the steps of sending, in the same order (same-instant bursts, a
+    bystander waking at the arrival instants, a receiver leaving while copies are in flight,
+    message loss delaying copies), the same count and the same random draws.
+    """
+    assert _deliveries("post", make_env, sends, loss) == _deliveries("send", make_env, sends, loss)
 
 
 def _broadcast_arrivals(how: str, **network) -> list:

@@ -9,8 +9,9 @@ get.
 
 What it keeps of ``simpy.Store``, event for event:
 
-- ``put(item)`` files the item at once and schedules one event; when that event is processed
-  the oldest waiting ``get`` (if any) takes the oldest item.
+- ``put(item)`` files the item at once and takes one place among the events (a plain call,
+  where the Store schedules its put event); at that place the oldest waiting ``get`` (if any)
+  takes the oldest item.
 - ``get()`` returns an event; it is triggered at once if it is the only waiting ``get`` and
   an item is filed, else it waits in line.
 - A ``get`` whose process was interrupted stays in line and takes an item, as in SimPy.
@@ -21,6 +22,8 @@ from typing import Any
 
 import simpy
 from simpy.events import Event
+
+from abm.clock import scheduler
 
 
 class Inbox:
@@ -38,13 +41,16 @@ class Inbox:
         self.env = env
         self.items: list[Any] = []
         self._waiting: deque[Event] = deque()
+        self._call_later = scheduler(env)
 
-    def put(self, item: Any) -> Event:
-        """File ``item`` now; returns the (already triggered) put event, as ``Store.put``."""
+    def put(self, item: Any) -> None:
+        """File ``item`` now. The put's turn among the events (where ``Store.put`` schedules
+        its put event) serves the oldest waiting get; nothing waits on a put of an unbounded
+        inbox, so the turn is a plain call on the clock (:func:`~abm.clock.call_later`), not
+        an event of its own.
+        """
         self.items.append(item)
-        put = Event(self.env)
-        put.callbacks.append(self._serve)
-        return put.succeed()
+        self._call_later(0, self._serve)
 
     def get(self) -> Event:
         """An event whose value is the oldest item, triggered once it is this one's turn."""

@@ -309,16 +309,8 @@ class CommNetwork:
             LinkError: the policy forbids the pair (e.g. two siblings of a tree).
 
         """
-        self._check_policy(src, dst, kind)
-        if self.log is not None:
-            self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
-        self.messages_sent += 1
-        lost = False
-        if self._burst is not None:
-            loss, rng = self._burst
-            lost = bool(rng.random() < loss)
-            self.messages_lost += lost
-        event = self.env.timeout(self.delivery_delay(), value=payload)
+        delay, lost = self._transmit(src, dst, kind, items, nbytes, phase, origin, hop)
+        event = self.env.timeout(delay, value=payload)
 
         def deliver(_event: simpy.Event) -> None:
             if not lost and self.graph.has_edge(src, dst):
@@ -328,6 +320,67 @@ class CommNetwork:
 
         event.callbacks.append(deliver)
         return event
+
+    def post(
+        self,
+        src: Node,
+        dst: Node,
+        payload: object,
+        handler: Callable[[Node, Node, object], None],
+        on_drop: Callable[[Node, Node, object], None] | None = None,
+        *,
+        kind: str = "message",
+        items: int = 0,
+        nbytes: int = 0,
+        phase: str = "task",
+        origin: Node | None = None,
+        hop: int = 0,
+    ) -> None:
+        """:meth:`send` for a sender that never waits on the delivery: the same checks, log
+        row, random draws and arrival, at the same place among the events (a plain call on the
+        clock, :func:`~abm.clock.call_later`, instead of a timeout of its own). A
+        message-driven model posts tens of thousands of messages a run; the copies a sender
+        posts one after another at one instant then arrive as one event.
+
+        Raises:
+            LinkError: the policy forbids the pair (e.g. two siblings of a tree).
+
+        """
+        delay, lost = self._transmit(src, dst, kind, items, nbytes, phase, origin, hop)
+        self._call_later(delay, self._arrive_one, (src, dst, payload, handler, on_drop, lost))
+
+    def _transmit(
+        self,
+        src: Node,
+        dst: Node,
+        kind: str,
+        items: int,
+        nbytes: int,
+        phase: str,
+        origin: Node | None,
+        hop: int,
+    ) -> tuple[float, bool]:
+        """One transmission of :meth:`send` or :meth:`post`: checked against the policy,
+        logged and counted; its delay (s) and whether a loss burst lost it.
+        """
+        self._check_policy(src, dst, kind)
+        if self.log is not None:
+            self.log.record(self.env.now, src, dst, kind, items, nbytes, phase, origin, hop)
+        self.messages_sent += 1
+        lost = False
+        if self._burst is not None:
+            loss, rng = self._burst
+            lost = bool(rng.random() < loss)
+            self.messages_lost += lost
+        return self.delivery_delay(), lost
+
+    def _arrive_one(self, message: tuple) -> None:
+        """A posted message arrives: handed over if its link held, else dropped."""
+        src, dst, payload, handler, on_drop, lost = message
+        if not lost and self.graph.has_edge(src, dst):
+            handler(src, dst, payload)
+        elif on_drop is not None:
+            on_drop(src, dst, payload)
 
     def _check_policy(self, src: Node, dst: Node, kind: str) -> None:
         """Raise LinkError if the link policy forbids a message from ``src`` to ``dst``."""

@@ -40,7 +40,7 @@ import numpy as np
 from abm.comms.inbox import Inbox
 from abm.robot import Robot
 from models.hierarchy.coverage import Child, Plan, Status, coverage
-from models.hierarchy.planning import path_length, wave_order_violations, waves
+from models.hierarchy.planning import path_length, wave_order_violations
 from models.hierarchy.probmap import Bubble, MapWindow, ProbMap, Rect
 from models.hierarchy.protocol import (
     ArrivedMsg,
@@ -143,9 +143,11 @@ class Member:
         return sorted(k for k in self.links if k > 0)
 
     def send(self, local: int, msg: Message, origin: object = None, hop: int = 0) -> None:
-        """Send ``msg`` to local address ``local`` over the comm network (logged there)."""
+        """Send ``msg`` to local address ``local`` over the comm network (logged there; no
+        member waits on a delivery, so it is posted, not an event).
+        """
         dst = self.links[local]
-        self.model.comms.send(
+        self.model.comms.post(
             self.id,
             dst,
             msg,
@@ -236,8 +238,8 @@ class Scout(TreeRobot):
         self.set_state("scout_scanning")
         if p.scan_time > 0:
             yield self.env.timeout(p.scan_time)
-        for x, y in self.model.sense(self.position, min(r, p.scout_r_max)):
-            self.send(0, PointMsg(float(x), float(y), p.sigma_sensor))
+        for x, y in self.model.sense(self.position, min(r, p.scout_r_max)).tolist():
+            self.send(0, PointMsg(x, y, p.sigma_sensor))
         if p.los_hint_separate:
             self.send(0, LosHintMsg())
         self.send(0, ScanCompleteMsg(infer_los=not p.los_hint_separate))
@@ -366,21 +368,21 @@ class Director(Member):
         """Dispatch one plan and merge every placed child's report (README "Choices": rounds)."""
         p = self.model.params
         self.model.log_plan(self, m, plan)
-        yield from self.dispatch(plan.idle_moves, MoveMsg)
+        yield from self.dispatch(plan.idle_moves, plan.idle_waves, MoveMsg)
         placed = sorted(plan.centres)
         combine = p.combine_move_scan
         moves = {k: plan.paths[k] for k in placed if len(plan.paths[k]) > 1}
         for k in self._alive(placed):
             self._map_down(k, plan, m)
         if self.staggers():
-            yield from self.stagger(moves, placed, plan.radius)
+            yield from self.stagger(moves, plan.waves, placed, plan.radius)
         elif combine:
-            yield from self.dispatch(moves, AssignMsg, r=plan.radius)
+            yield from self.dispatch(moves, plan.waves, AssignMsg, r=plan.radius)
             for k in self._alive(placed):
                 if k not in moves:
                     self.send(k, ScanMsg(plan.radius))
         else:
-            yield from self.dispatch(moves, MoveMsg)
+            yield from self.dispatch(moves, plan.waves, MoveMsg)
             for k in self._alive(placed):
                 self.send(k, ScanMsg(plan.radius))
         self.settled()
@@ -395,15 +397,18 @@ class Director(Member):
         """
         return False
 
-    def stagger(self, moves: dict[int, np.ndarray], placed: list[int], r: float):
+    def stagger(
+        self, moves: dict[int, np.ndarray], planned: list[list[int]], placed: list[int], r: float
+    ):
         """Send the placed children into their new bubbles one subtree at a time (ours, issue
-        30): in wave order (the children that do not move last), each gets its MOVE, then its
-        SCAN (or one ASSIGN), and the next is sent only when this one's subtree has settled:
-        SETTLED from a child with children, ARRIVED from a child without.
+        30): in wave order (``planned``: the plan's waves of ``moves``; the children that do not
+        move last), each gets its MOVE, then its SCAN (or one ASSIGN), and the next is sent only
+        when this one's subtree has settled: SETTLED from a child with children, ARRIVED from a
+        child without.
         """
         p = self.model.params
         h = p.cell_size
-        wave_list = waves(moves, h) if p.wave_generator else [sorted(moves)]
+        wave_list = planned if p.wave_generator else [sorted(moves)]
         order = [k for wave in wave_list for k in wave]
         self.wave_order_violations += wave_order_violations([[k] for k in order], moves, h)
         order += [k for k in placed if k not in moves]
@@ -451,15 +456,17 @@ class Director(Member):
                 box = box.union(self.bubble[k].box())
             self.send(k, MapDownMsg(m.window(box), m.tau))
 
-    def dispatch(self, moves: dict[int, np.ndarray], kind, r: float | None = None):
-        """Send the moves wave by wave; the next wave leaves when the last has arrived."""
+    def dispatch(
+        self, moves: dict[int, np.ndarray], planned: list[list[int]], kind, r: float | None = None
+    ):
+        """Send the moves wave by wave (``planned``: the plan's waves of ``moves``, used with
+        the wave generator; without it one wave); the next wave leaves when the last has
+        arrived.
+        """
         if not moves:
             return
         h = self.model.params.cell_size
-        if self.model.params.wave_generator:
-            wave_list = waves(moves, h)
-        else:
-            wave_list = [sorted(moves)]
+        wave_list = planned if self.model.params.wave_generator else [sorted(moves)]
         self.wave_order_violations += wave_order_violations(wave_list, moves, h)
         for wave in wave_list:
             wave = self._alive(wave)

@@ -362,7 +362,7 @@ class HierarchyModel(SwarmModel):
         scouts, workers = self.scouts(), self.workers()
         log = self.comms.log.frame()
         task = log[log["phase"] == "task"]
-        load = self.comms.log.load()
+        load = self.comms.log.load(log)
         out = {
             "topology": p.topology,
             "N": 1 + len(self.agents),

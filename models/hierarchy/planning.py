@@ -787,6 +787,51 @@ def _path_keys(path: np.ndarray, cell_size: float, padding: int = 1) -> np.ndarr
     return _padded_keys(pts, int(padding))
 
 
+def _keys_of(
+    paths: Sequence[np.ndarray], cell_size: float, padding: int = 1
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_path_keys` of every path (metres) in one compiled call: the keys concatenated,
+    path i's at ``offsets[i]:offsets[i + 1]`` (a wave plan's paths cost one call, not one each).
+    """
+    parts = [np.asarray(path, dtype=np.float64).reshape(-1, 2) for path in paths]
+    lengths = np.array([part.shape[0] for part in parts], dtype=np.int64)
+    return _padded_keys_many(np.concatenate(parts) / float(cell_size), lengths, int(padding))
+
+
+@njit(cache=True)
+def _padded_keys_many(pts, lengths, padding):
+    """:func:`_padded_keys` of each polyline of ``pts`` (the polylines' points one after the
+    other, ``lengths[i]`` points for polyline i): the sorted keys of all, concatenated, and the
+    ``offsets`` of each one's.
+    """
+    n = lengths.shape[0]
+    starts = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        starts[i + 1] = starts[i] + lengths[i]
+    parts = [_padded_keys(pts[starts[i] : starts[i + 1]], padding) for i in range(n)]
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        offsets[i + 1] = offsets[i] + parts[i].shape[0]
+    keys = np.empty(offsets[n], dtype=np.int64)
+    for i in range(n):
+        keys[offsets[i] : offsets[i + 1]] = parts[i]
+    return keys, offsets
+
+
+@njit(cache=True)
+def _conflicts(keys, offsets):
+    """Which pairs of padded paths share a cell (:func:`_overlap` of every pair), as a
+    symmetric bool matrix; path i's sorted keys are ``keys[offsets[i]:offsets[i + 1]]``.
+    """
+    n = offsets.shape[0] - 1
+    out = np.zeros((n, n), dtype=np.bool_)
+    for a in range(n):
+        for b in range(a + 1, n):
+            if _overlap(keys[offsets[a] : offsets[a + 1]], keys[offsets[b] : offsets[b + 1]]):
+                out[a, b] = out[b, a] = True
+    return out
+
+
 def _decode(keys: np.ndarray) -> np.ndarray:
     """Global cells ``(k, 2)`` as ``(ix, iy)`` of cell keys."""
     half = _KEY // 2
@@ -808,7 +853,8 @@ def path_length(path: np.ndarray) -> float:
     path = np.asarray(path, dtype=np.float64)
     if path.shape[0] < 2:
         return 0.0
-    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+    step = path[1:] - path[:-1]  # np.diff's values, without its generic set-up (a drive each)
+    return float(np.hypot(step[:, 0], step[:, 1]).sum())
 
 
 @njit(cache=True)
@@ -850,13 +896,11 @@ def waves(paths: Mapping[int, np.ndarray], cell_size: float, padding: int = 1) -
 
     """
     keys = sorted(paths)
-    cells = {k: _path_keys(paths[k], cell_size, padding) for k in keys}
-    conflict: dict[int, set[int]] = {k: set() for k in keys}
-    for i, a in enumerate(keys):
-        for b in keys[i + 1 :]:
-            if _overlap(cells[a], cells[b]):
-                conflict[a].add(b)
-                conflict[b].add(a)
+    if not keys:
+        return []
+    clash = _conflicts(*_keys_of([paths[k] for k in keys], cell_size, padding)).tolist()
+    conflict = {a: {b for b, hit in zip(keys, row, strict=True) if hit}
+                for a, row in zip(keys, clash, strict=True)}  # fmt: skip
     order = sorted(keys, key=lambda k: (-len(conflict[k]), k))
     result: list[list[int]] = []
     for k in order:
@@ -891,10 +935,8 @@ def wave_order_violations(
         return (ix + half) * _KEY + (iy + half)
 
     chosen = [np.asarray(paths[k]) for _, k in moves]
-    parts = [_path_keys(p, cell_size, padding) for p in chosen]
-    offsets = np.zeros(len(parts) + 1, dtype=np.int64)
-    offsets[1:] = np.cumsum([k.size for k in parts])
+    keys, offsets = _keys_of(chosen, cell_size, padding)
     wave = np.array([i for i, _ in moves], dtype=np.int64)
     first = np.array([cell_key(p[0]) for p in chosen], dtype=np.int64)
     last = np.array([cell_key(p[-1]) for p in chosen], dtype=np.int64)
-    return int(_order_violations(wave, np.concatenate(parts), offsets, first, last))
+    return int(_order_violations(wave, keys, offsets, first, last))
