@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from numba import njit
 
 from abm.arena import CARDINALS, Arena
 from abm.errors import ConfigError, MapError
@@ -102,6 +103,26 @@ def test_nearest_visible_is_the_nearest_target_in_range_and_sight(seed, m, max_r
             and not arena.segment_crosses_wall(point[None], targets[j][None])[0]
         ]
         assert found[k] == (seen[0] if seen else -1)
+
+
+@njit
+def _numba_argsort(values):
+    return np.argsort(values)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(0, 5), max_size=30), st.integers(0, 5))
+def test_the_search_ranks_candidates_as_numba_argsort_does(keys, spare):
+    """The nearest-visible search ranks its candidates without numba's argsort call (its
+    index array and partition stack cost most of a search): the same order, ties included
+    (few distinct keys), up to and beyond the 15 keys numba sorts by insertion.
+    """
+    from abm.gridkernels import _ascending
+
+    found = len(keys)
+    dist = np.array([*keys, *[99.0] * spare], dtype=float)  # slots past ``found`` are ignored
+    rank = np.full(len(dist), -7, dtype=np.int64)
+    np.testing.assert_array_equal(_ascending(dist, found, rank), _numba_argsort(dist[:found]))
 
 
 def test_points_outside_the_grid_are_walls():

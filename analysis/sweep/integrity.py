@@ -86,8 +86,10 @@ def read_verified(path: Path):
 
     """
     try:
-        table = pq.read_table(path, page_checksum_verification=True)
-        return table.to_pandas()
+        # one file through ParquetFile, single-threaded: the same table as pq.read_table's,
+        # in under half its time for a one-row file (a report reads every run's file)
+        with pq.ParquetFile(path, page_checksum_verification=True) as file:
+            return file.read(use_threads=False).to_pandas(use_threads=False)
     except Exception as exc:  # pyarrow raises ArrowInvalid, OSError, ... for damaged files
         raise CorruptResultError("unreadable", f"{type(exc).__name__}: {exc}") from exc
 

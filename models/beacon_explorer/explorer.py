@@ -88,6 +88,13 @@ class ExplorerController:
         self._corridor = np.zeros(0, dtype=bool)  # corridor beacon or not, in signals() order
         self._row_of = np.zeros(0, dtype=np.int64)  # each beacon's row by robot id
         self._placed: tuple | None = None  # the beacons' places and their cell grid
+        # reused per-tick arrays (rows >= the flyers): the draws, the desired velocities and
+        # the attach mask; a compiled call's new arrays cost more to hand back than to fill
+        self._draws = np.zeros((0, 6))
+        self._desired = np.zeros((0, 2))
+        self._attach = np.zeros(0, dtype=bool)
+        self._views = (self._draws, self._desired, self._attach)
+        self._beacon_args: tuple | None = None
         physics.add_flyer_state("T", 2)
         physics.add_flyer_state("guide", 1)  # robot id of the beacon followed (0: none yet)
         # where the flyer last was in touch with a beacon (x, y) and whether it ever was (1/0)
@@ -122,12 +129,27 @@ class ExplorerController:
         self._constants = np.array([constants], dtype=_CONSTANTS)
 
     def _current_signals(self):
+        """The beacons' signals (ids, positions, D, to-empty) as the explorers read them."""
+        self._beacon_arguments()
+        return self._signals
+
+    def _beacon_arguments(self) -> tuple | None:
+        """What :func:`_steer` reads of the beacons, ``ids`` to ``corridor`` in its order (None
+        while there is none), renewed whenever a signal explorers read changes (the network's
+        version) and otherwise reused as one tuple: assembling it every tick cost a few us.
+        """
         if self._version != self.beacons.version:
-            self._signals = self.beacons.signals()
+            self._signals = ids, beacon_pos, desired_vec, to_empty = self.beacons.signals()
             self._corridor = self.beacons.corridors()
             self._row_of = self.beacons.rows_by_id()
             self._version = self.beacons.version
-        return self._signals
+            self._beacon_args = None
+            if len(beacon_pos):
+                placed, grid = self._beacons_placed(beacon_pos)
+                vectors = np.ascontiguousarray(desired_vec)
+                self._beacon_args = (ids, self._row_of, placed, *grid, vectors, to_empty,
+                                     self._corridor)  # fmt: skip
+        return self._beacon_args
 
     def _beacons_placed(self, beacon_pos: np.ndarray) -> tuple:
         """The beacons' positions (contiguous) and the cell grid :func:`nearest_visible_on`
@@ -141,15 +163,30 @@ class ExplorerController:
             self._placed = (beacon_pos, pos, (lo, width, dims, start, order))
         return self._placed[1:]
 
+    def _buffers(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The first ``n`` rows of the reused draw, desired-velocity and attach arrays
+        (grown to twice the size when too short; the views kept while ``n`` stays). The
+        physics reads the last two only within the tick they are returned for.
+        """
+        if len(self._views[0]) != n:
+            if len(self._draws) < n:
+                rows = max(n, 2 * len(self._draws))
+                self._draws = np.zeros((rows, 6))
+                self._desired = np.zeros((rows, 2))
+                self._attach = np.zeros(rows, dtype=bool)
+            self._views = (self._draws[:n], self._desired[:n], self._attach[:n])
+        return self._views
+
     def control(self, physics: Physics) -> tuple[np.ndarray, np.ndarray]:
         """Desired velocities of all flyers and which of them attach now."""
         n = physics.n_flying
-        ids, beacon_pos, desired_vec, to_empty = self._current_signals()
-        if len(beacon_pos) == 0:
+        beacons = self._beacon_arguments()
+        if beacons is None:
             return np.zeros((n, 2)), np.zeros(n, dtype=bool)
         arena = self.arena
-        placed, grid = self._beacons_placed(beacon_pos)
-        desired, attach = _steer(
+        draws, desired, attach = self._buffers(n)
+        self.rng.standard_normal(out=draws)  # the same numbers as standard_normal((n, 6))
+        attaching = _steer(
             arena.padded,
             arena.runs,
             arena.walls_sat,
@@ -161,18 +198,16 @@ class ExplorerController:
             physics.flyer_state["contact"],
             physics.flyer_state["slide"],
             physics.flyer_state["loyal"],
-            ids,
-            self._row_of,
-            placed,
-            *grid,
-            np.ascontiguousarray(desired_vec),
-            to_empty,
-            self._corridor,
-            self.rng.standard_normal((n, 6)),
+            *beacons,
+            draws,
             self._constants,
+            desired,
+            attach,
         )
-        for row in np.nonzero(attach)[0]:
-            self.stopped_to_attach(int(physics.ids[row]), int(physics.flyer_state["guide"][row, 0]))
+        if attaching:
+            for row in np.flatnonzero(attach):
+                guide = int(physics.flyer_state["guide"][row, 0])
+                self.stopped_to_attach(int(physics.ids[row]), guide)
         return desired, attach
 
 
@@ -202,6 +237,8 @@ def _steer(
     corridor,
     z,
     constants,
+    desired,
+    attach,
 ):
     """Fig. 4 for every flyer: T = L + C with L = N + D; attach when |T| <= eps.
 
@@ -212,18 +249,23 @@ def _steer(
     ``T`` (the low-pass filtered translation vector) and ``guide`` (the beacon each flyer
     follows) and ``contact`` (where it was last in touch) are updated in place. A flyer out of
     touch with every beacon flies back to that point (``lost_return``; else it hovers).
-    Returns desired velocities and the attach mask.
+    Writes the desired velocities into ``desired`` ``(n, 2)`` and the attach mask into
+    ``attach`` ``(n,)`` (every row: zero velocity and no attach where a flyer hovers) and
+    returns how many flyers attach: handing back two new arrays cost more than the loop
+    for a few flyers.
     """
     p = constants[0]
     n = pos.shape[0]
-    desired = np.zeros((n, 2))
-    attach = np.zeros(n, dtype=np.bool_)
+    attaching = 0
     nearest = nearest_visible_on(
         padded, sat, res, pos, beacon_pos, p.comm_range,
         grid_lo, grid_width, grid_dims, grid_start, grid_order,
     )  # fmt: skip
     walls = cardinal_distances(padded, runs, res, pos, p.sensor_range)
     for i in range(n):
+        desired[i, 0] = 0.0
+        desired[i, 1] = 0.0
+        attach[i] = False
         lost = nearest[i] < 0  # out of touch with every beacon
         k = max(nearest[i], 0)
         if not lost:
@@ -298,7 +340,8 @@ def _steer(
             and to_empty[k]
             and math.hypot(nx, ny) > p.interspace / 2
         )
-    return desired, attach
+        attaching += attach[i]
+    return attaching
 
 
 @njit(cache=True)
