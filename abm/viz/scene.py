@@ -57,12 +57,8 @@ class SceneView:
 
     Args:
         ax: where to draw.
-        free: the arena's free grid ``[rows, cols]`` (row 0 = south).
-        resolution: side of one arena cell (m).
-        styles: state -> :class:`~abm.styles.StateStyle`, in legend order (or a sequence of
-            states, styled from the palette).
-        pixel: side of one coverage-raster pixel (m); None if there is no coverage raster.
-        arrows_label: legend label of the arrows (None: no arrows are drawn).
+        free, resolution, styles, pixel, arrows_label: the backdrop, as the fields of
+            :class:`abm.scene.Backdrop` (:func:`view_on` passes one).
 
     """
 
