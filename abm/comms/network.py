@@ -311,14 +311,8 @@ class CommNetwork:
         """
         delay, lost = self._transmit(src, dst, kind, items, nbytes, phase, origin, hop)
         event = self.env.timeout(delay, value=payload)
-
-        def deliver(_event: simpy.Event) -> None:
-            if not lost and self.graph.has_edge(src, dst):
-                handler(src, dst, payload)
-            elif on_drop is not None:
-                on_drop(src, dst, payload)
-
-        event.callbacks.append(deliver)
+        message = (src, dst, payload, handler, on_drop, lost)
+        event.callbacks.append(lambda _event: self._arrive_one(message))
         return event
 
     def post(
@@ -375,7 +369,7 @@ class CommNetwork:
         return self.delivery_delay(), lost
 
     def _arrive_one(self, message: tuple) -> None:
-        """A posted message arrives: handed over if its link held, else dropped."""
+        """A sent or posted message arrives: handed over if its link held, else dropped."""
         src, dst, payload, handler, on_drop, lost = message
         if not lost and self.graph.has_edge(src, dst):
             handler(src, dst, payload)
