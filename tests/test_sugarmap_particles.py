@@ -85,6 +85,19 @@ def test_eq10_one_explorer_global_map_is_its_node_map():
     np.testing.assert_allclose(global_map(pf.node_maps()), pf.node_maps()[0], atol=1e-15)
 
 
+def test_eq10_the_filters_compiled_global_map_is_the_reference_bit_for_bit():
+    """``ParticleFilter.global_map`` (one compiled pass over eq. 9's counts, what the model
+    uses) equals :func:`global_map` of the NodeMaps exactly, for several explorers."""
+    pf = make(n_e=3, n=12)
+    rng = np.random.default_rng(11)
+    prev = np.zeros(3)
+    for k in range(40):
+        prev = step(pf, rng, np.array([CARDINAL[(k + e) % 3] for e in range(3)]), prev)
+    reference = global_map(pf.node_maps())
+    assert np.any((reference > 0) & (reference < 1))  # the explorers' beliefs overlap somewhere
+    np.testing.assert_array_equal(pf.global_map(), reference)
+
+
 # --- eq. 8 ---------------------------------------------------------------------------------
 
 
