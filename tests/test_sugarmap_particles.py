@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from abm.errors import ConfigError
+from models.sugarmap.filterkernels import nearest_signature
 from models.sugarmap.particles import (
     MapGrid,
     ParticleFilter,
@@ -326,6 +327,34 @@ def test_match_needs_a_distance_below_sig_th():
         match = pf.correct(rng, 0, np.array([2.0, 0.0]), 1.0)  # f = 2 / 2 anchors
         assert (match.matched, match.distance) == (matched, 1.0)
         assert pf.n_stored[0] == (1 if matched else 2)
+
+
+#: RToF readings of a few anchors, some missing (NaN: the anchor was out of range).
+READINGS = st.one_of(st.just(np.nan), st.floats(0.0, 30.0))
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    arrays(float, st.integers(1, 6), elements=READINGS),
+    st.integers(0, 8),
+    st.sampled_from(["count", "rms"]),
+    st.data(),
+)
+def test_the_filters_compiled_eq11_search_is_signature_distances_argmin(
+    signature, n_stored, norm, data
+):
+    """The filter's nearest-signature search (compiled, what the model runs) picks the index
+    and distance of ``argmin`` over :func:`signature_distance` (the reference) among the
+    signatures old enough to match, bit for bit, with anchors missing on either side."""
+    n_a = len(signature)
+    stored = data.draw(arrays(float, (n_stored, n_a), elements=READINGS))
+    stored_at = data.draw(arrays(float, n_stored, elements=st.floats(0.0, 100.0)))
+    now, min_age = 100.0, data.draw(st.floats(0.0, 60.0))
+    reference = signature_distance(signature, stored, norm)
+    reference[now - stored_at < min_age] = np.inf
+    j, distance = nearest_signature(signature, stored, stored_at, now, min_age, norm == "rms")
+    expected = int(np.argmin(reference)) if n_stored else 0
+    assert (j, distance) == (expected, reference[expected] if n_stored else np.inf)
 
 
 def test_nearest_stored_signature_wins():
