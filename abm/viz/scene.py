@@ -57,8 +57,13 @@ class SceneView:
 
     Args:
         ax: where to draw.
-        free, resolution, styles, pixel, arrows_label: the backdrop, as the fields of
-            :class:`abm.scene.Backdrop` (:func:`view_on` passes one).
+        free: :attr:`abm.scene.Backdrop.free`.
+        resolution: :attr:`abm.scene.Backdrop.resolution`.
+        styles: :attr:`abm.scene.Backdrop.styles`.
+        pixel: :attr:`abm.scene.Backdrop.pixel`.
+        arrows_label: :attr:`abm.scene.Backdrop.arrows_label`.
+
+    :func:`view_on` passes a whole backdrop.
 
     """
 
