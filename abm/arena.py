@@ -232,6 +232,30 @@ class Arena:
 
         return gridkernels.segments_cross(self.padded, self.walls_sat, self.resolution, start, end)
 
+    def within_reach(
+        self,
+        origin: np.ndarray,
+        points: np.ndarray,
+        max_range: float,
+        *,
+        shortest: float = 0.0,
+        walls_block: bool = True,
+    ) -> np.ndarray:
+        """True for each point within ``max_range`` of ``origin`` and, if ``walls_block``, in
+        its line of sight: a radio's links from one node, in one compiled pass.
+
+        The same verdicts as ``np.hypot`` of ``points - origin`` (raised to ``shortest``)
+        compared with ``max_range``, then :meth:`line_of_sight` for the points in range.
+        """
+        from abm import gridkernels
+
+        x, y = np.asarray(origin, dtype=float).tolist()
+        return gridkernels.within_reach(
+            self.padded, self.walls_sat, self.resolution, x, y,
+            _points(np.asarray(points, dtype=float).reshape(-1, 2)), float(max_range),
+            float(shortest), bool(walls_block),
+        )  # fmt: skip
+
     def nearest_visible(
         self, points: np.ndarray, targets: np.ndarray, max_range: float
     ) -> np.ndarray:

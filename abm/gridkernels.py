@@ -33,6 +33,7 @@ __all__ = [
     "segments_cross",
     "sweep",
     "wall_lengths",
+    "within_reach",
 ]
 
 
@@ -201,6 +202,25 @@ def segments_cross(padded, sat, res, starts, ends):
         out[k] = segment_crosses(
             padded, sat, res, starts[k, 0], starts[k, 1], ends[k, 0], ends[k, 1]
         )
+    return out
+
+
+@njit(cache=True)
+def within_reach(padded, sat, res, x, y, points, max_range, shortest, walls_block):
+    """``(n,)`` True where ``points[k]`` is within ``max_range`` of ``(x, y)`` (a distance below
+    ``shortest`` counts as ``shortest``) and, if ``walls_block``, the segment ``(x, y) ->
+    points[k]`` enters no wall cell.
+
+    The distance is ``np.hypot`` of the point minus the origin, as numpy computes it.
+    """
+    n = points.shape[0]
+    out = np.empty(n, dtype=np.bool_)
+    for k in range(n):
+        px, py = points[k, 0], points[k, 1]
+        up = max(np.hypot(px - x, py - y), shortest) <= max_range
+        if up and walls_block:
+            up = not segment_crosses(padded, sat, res, x, y, px, py)
+        out[k] = up
     return out
 
 

@@ -105,6 +105,41 @@ def test_nearest_visible_is_the_nearest_target_in_range_and_sight(seed, m, max_r
         assert found[k] == (seen[0] if seen else -1)
 
 
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 10_000),
+    st.integers(0, 30),
+    st.sampled_from([5e-10, 1.5, 4.0, 9.0]),
+    st.sampled_from([0.0, 1e-9]),
+    st.booleans(),
+)
+def test_within_reach_is_numpys_distance_test_then_line_of_sight(
+    seed, m, max_range, shortest, walls_block
+):
+    """A radio's links in one compiled pass give numpy's verdicts: ``np.hypot`` of the point
+    minus the origin, raised to ``shortest``, at most ``max_range``, then the line of sight;
+    points exactly at the range (along an axis) and at the origin itself included.
+    """
+    arena = random_arena(seed)
+    rng = np.random.default_rng(seed)
+    origin = rng.random(2) * [arena.width, arena.height]
+    points = np.concatenate(
+        [
+            rng.random((m, 2)) * [arena.width, arena.height],
+            origin + [[max_range, 0.0], [0.0, -max_range], [0.0, 0.0]],
+        ]
+    )
+    distance = np.maximum(np.hypot(*(points - origin).T), shortest)
+    expected = distance <= max_range
+    if walls_block:
+        expected &= arena.line_of_sight(np.broadcast_to(origin, points.shape), points)
+    found = arena.within_reach(
+        origin, points, max_range, shortest=shortest, walls_block=walls_block
+    )
+    np.testing.assert_array_equal(found, expected)
+    assert arena.within_reach(origin, np.empty((0, 2)), max_range).shape == (0,)
+
+
 @njit
 def _numba_argsort(values):
     return np.argsort(values)

@@ -26,7 +26,7 @@ from abm.arena import Arena
 from abm.clock import scheduler
 from abm.comms.messages import MessageLog
 from abm.comms.policies import LinkPolicy, Node
-from abm.comms.radio import Shadowing
+from abm.comms.radio import SHORTEST_LINK, Shadowing
 from abm.errors import LinkError, check_range
 from abm.neighbours import NeighbourIndex
 
@@ -95,6 +95,9 @@ class CommNetwork:
             self._index = NeighbourIndex(self.comm_range * (1.0 + 1e-9))
         self._seq: dict[Node, int] = {}
         self._added = 0
+        # Each node's position (None: off the arena), as the graph's "pos" attribute holds it;
+        # a plain dict is read several times per link drawn, networkx's node view is slower.
+        self._where: dict[Node, np.ndarray | None] = {}
         self._unplaced: dict[Node, None] = {}
         self._call_later = scheduler(env)
 
@@ -109,6 +112,7 @@ class CommNetwork:
         position = None if position is None else np.asarray(position, dtype=float)
         others = self._candidates(position, node)
         self.graph.add_node(node, pos=position)
+        self._where[node] = position
         self._seq[node] = self._added
         self._added += 1
         self._place(node, position)
@@ -125,11 +129,13 @@ class CommNetwork:
         """
         position = np.asarray(position, dtype=float)
         self.graph.nodes[node]["pos"] = position
+        self._where[node] = position
         self._place(node, position)
         others = self._candidates(position, node)
         now = self._reachable(position, others, node)
         before = set(self.graph.neighbors(node))
-        gone = [o for o in before if o not in set(now)]
+        linked = set(now)
+        gone = [o for o in before if o not in linked]
         new = [o for o in now if o not in before]
         for other in gone:
             self.graph.remove_edge(node, other)
@@ -182,32 +188,44 @@ class CommNetwork:
             others = [o for o in others if self.policy.allows(node, o)]
         if self._blocked:
             others = [o for o in others if frozenset((node, o)) not in self._blocked]
-        unplaced = [o for o in others if self.graph.nodes[o]["pos"] is None]
+        where = self._where
+        unplaced = [o for o in others if where[o] is None]
         if position is None or len(unplaced) == len(others):
             return others if position is None else unplaced
-        placed = [o for o in others if self.graph.nodes[o]["pos"] is not None]
+        placed = [o for o in others if where[o] is not None]
         return unplaced + self._in_range(position, placed)
 
     def _in_range(self, position: np.ndarray, others: list[Node]) -> list[Node]:
-        """The placed nodes among ``others`` the radio of a node at ``position`` reaches."""
-        pts = np.array([self.graph.nodes[o]["pos"] for o in others])
-        distance = np.hypot(*(pts - position).T)
-        if self.shadowing is None:
-            up = distance <= self.comm_range
-            walls_block = True
+        """The placed nodes among ``others`` the radio of a node at ``position`` reaches.
+
+        A disc (no shadowing, or shadowing without spread) is one compiled pass over the
+        nodes; a shadowing radio with spread draws one number per node, in their order.
+        """
+        pts = np.array([self._where[o] for o in others])
+        shadowing = self.shadowing
+        if shadowing is None or shadowing.sd == 0:
+            up = self.arena.within_reach(
+                position,
+                pts,
+                self.comm_range,
+                shortest=0.0 if shadowing is None else SHORTEST_LINK,
+                walls_block=shadowing is None or not shadowing.through_walls,
+            )
         else:
-            p = self.shadowing.probability(distance, self.comm_range)
-            up = self.rng.random(len(others)) < p if self.shadowing.sd > 0 else p > 0
-            walls_block = not self.shadowing.through_walls
-        if walls_block and up.any():
-            visible = self.arena.line_of_sight(np.broadcast_to(position, pts[up].shape), pts[up])
-            up[np.nonzero(up)[0][~visible]] = False
-        return [o for o, ok in zip(others, up, strict=True) if ok]
+            p = shadowing.probability(np.hypot(*(pts - position).T), self.comm_range)
+            up = self.rng.random(len(others)) < p
+            if not shadowing.through_walls and up.any():
+                visible = self.arena.line_of_sight(
+                    np.broadcast_to(position, pts[up].shape), pts[up]
+                )
+                up[np.nonzero(up)[0][~visible]] = False
+        return [o for o, ok in zip(others, up.tolist(), strict=True) if ok]
 
     def remove(self, node: Node) -> list[Node]:
         """Remove a node and all its links."""
         neighbours = list(self.graph.neighbors(node))
         self.graph.remove_node(node)
+        self._where.pop(node, None)
         self._seq.pop(node, None)
         self._unplaced.pop(node, None)
         if self._index is not None:
@@ -239,7 +257,7 @@ class CommNetwork:
         self._blocked.discard(frozenset((a, b)))
         if a not in self.graph or b not in self.graph or self.graph.has_edge(a, b):
             return False
-        if not self._reachable(self.graph.nodes[a]["pos"], [b], a):
+        if not self._reachable(self._where[a], [b], a):
             return False
         self.graph.add_edge(a, b)
         self._notify("up", a, b)
@@ -274,7 +292,7 @@ class CommNetwork:
 
     def position(self, node: Node) -> np.ndarray:
         """Where a node is (m)."""
-        return self.graph.nodes[node]["pos"]
+        return self._where[node]
 
     def delivery_delay(self) -> float:
         """Time until a message arrives: latency times the number of attempts it needs."""

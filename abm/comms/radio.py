@@ -10,7 +10,10 @@ from scipy.special import ndtr
 from abm import portable
 from abm.errors import check_range
 
-__all__ = ["Shadowing"]
+__all__ = ["SHORTEST_LINK", "Shadowing"]
+
+#: A link shorter than this (m) counts as this long: the path loss's log10 needs a distance > 0.
+SHORTEST_LINK = 1e-9
 
 
 @dataclass(frozen=True)
@@ -37,7 +40,7 @@ class Shadowing:
 
     def probability(self, distance: np.ndarray, comm_range: float) -> np.ndarray:
         """Probability that a link of each length (m) is up."""
-        d = np.maximum(np.asarray(distance, dtype=float), 1e-9)
+        d = np.maximum(np.asarray(distance, dtype=float), SHORTEST_LINK)
         if self.sd == 0:
             return (d <= comm_range).astype(float)
         return ndtr(10.0 * self.exponent * portable.log10(comm_range / d) / self.sd)
