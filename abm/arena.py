@@ -250,9 +250,9 @@ class Arena:
         from abm import gridkernels
 
         x, y = np.asarray(origin, dtype=float).tolist()
+        points = np.ascontiguousarray(np.asarray(points, dtype=float).reshape(-1, 2))
         return gridkernels.within_reach(
-            self.padded, self.walls_sat, self.resolution, x, y,
-            _points(np.asarray(points, dtype=float).reshape(-1, 2)), float(max_range),
+            self.padded, self.walls_sat, self.resolution, x, y, points, float(max_range),
             float(shortest), bool(walls_block),
         )  # fmt: skip
 

@@ -18,7 +18,7 @@ uniform grid of cells at least ``r`` wide needs only the 3 x 3 cells around a po
 """
 
 import math
-from collections.abc import Hashable, Iterator
+from collections.abc import Hashable
 
 import numpy as np
 from numba import njit
@@ -422,14 +422,17 @@ class NeighbourIndex:
         if not members:
             del self._cells[cell]
 
-    def near(self, point: np.ndarray, radius: float | None = None) -> Iterator[Hashable]:
+    def near(self, point: np.ndarray, radius: float | None = None) -> list[Hashable]:
         """The keys in the cells around ``point`` that can lie within ``radius`` (default: one
-        cell) of it.
+        cell) of it, cell row by cell row.
         """
         reach = 1 if radius is None else max(1, math.ceil(radius / self.cell))
         cx, cy = self._cell_of(point)
+        cells = self._cells
+        found: list[Hashable] = []
         for y in range(cy - reach, cy + reach + 1):
             for x in range(cx - reach, cx + reach + 1):
-                members = self._cells.get((x, y))
+                members = cells.get((x, y))
                 if members:
-                    yield from members
+                    found.extend(members)
+        return found
