@@ -149,7 +149,7 @@ def run_one(spec: RunSpec) -> dict:
     settle_worker_heap()
     start = time.perf_counter()
     try:
-        result = run_model(spec.target, spec.params, spec.seed, counts=spec.time_series)
+        result = run_model(spec.target, _untraced(spec.params), spec.seed, counts=spec.time_series)
         summary = dict(result.summary)
         summary.pop("seed", None)
         row.update({k: _cell(v) for k, v in summary.items() if k not in spec.params})
@@ -171,6 +171,18 @@ def run_one(spec: RunSpec) -> dict:
     row["wall_time"] = time.perf_counter() - start
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return {"row": row, "series": series, "samples": samples, "changes": changes}
+
+
+def _untraced(params: Mapping[str, object]) -> dict:
+    """A sweep run's constructor keywords: ``params`` with the position trace off unless they
+    set ``trace_interval`` themselves.
+
+    A sweep keeps each run's row, counts, samples and lifecycle events, never its positions
+    (the trace is what ``abm render`` draws); sampling them cost 15 % of a beacon/explorer
+    corridor run. No model's summary, events or counts read them (``tests/test_runner.py``
+    runs every model both ways).
+    """
+    return dict(params) if "trace_interval" in params else {**params, "trace_interval": None}
 
 
 def _interrupted(exc: BaseException) -> bool:

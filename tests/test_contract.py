@@ -93,6 +93,19 @@ def test_each_model_runs_with_defaults_and_has_the_common_summary(name):
     pd.testing.assert_frame_equal(model.events(), again.events())
 
 
+def test_each_model_decides_the_same_without_its_position_trace(name):
+    """A sweep runs models without the position trace (``analysis.runner.run_one``): it must
+    change no event, count or summary value, only what ``abm render`` would draw.
+    """
+    cls = registry.model_class(name)
+    traced = cls(seed=5, **{**_quick(name), "trace_interval": 0.5}).run()
+    plain = cls(seed=5, **{**_quick(name), "trace_interval": None}).run()
+    assert not traced.positions().empty and plain.positions().empty
+    pd.testing.assert_frame_equal(traced.events(), plain.events())
+    pd.testing.assert_frame_equal(traced.state_counts(), plain.state_counts())
+    assert repr(traced.summary()) == repr(plain.summary())
+
+
 def test_each_model_runs_under_mesa_batch_run(name):
     cls = registry.model_class(name)
     rows = pd.DataFrame(
