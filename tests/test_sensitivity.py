@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from ishigami_model import S1, ST
 from SALib.sample import latin, morris, sobol
@@ -326,6 +326,8 @@ NUMERIC = ["launch_period", "n_robots", "interspace", "sensor_range", "message_l
         max_size=3,
     ),
 )
+# SALib's low + u * (high - low) landed one rounding step above high here (CI, 2026-12-02)
+@example(kind="morris", n=2, ranges={"launch_period": (1.1761949057048113, 66.08795242969536)})
 def test_fuzzed_designs_load_with_every_point_accepted_or_are_refused_in_one_line(
     tmp_path_factory, kind, n, ranges
 ):

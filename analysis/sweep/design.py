@@ -84,9 +84,12 @@ class DesignParameter:
         return [self.low, self.high]
 
     def value(self, x: float) -> object:
-        """The parameter value of the sampled number ``x`` (rounded for whole numbers)."""
+        """The parameter value of the sampled number ``x`` (rounded for whole numbers), inside
+        ``[low, high]``: SALib scales its unit samples as ``low + u * (high - low)``, which can
+        land one rounding step above ``high``.
+        """
         if not self.integer:
-            return float(x)
+            return float(min(max(x, self.low), self.high))
         k = int(min(max(math.floor(x + 0.5), self.low), self.high))
         return self.choices[k] if self.choices is not None else k
 
