@@ -178,9 +178,9 @@ def _untraced(params: Mapping[str, object]) -> dict:
     set ``trace_interval`` themselves.
 
     A sweep keeps each run's row, counts, samples and lifecycle events, never its positions
-    (the trace is what ``abm render`` draws); sampling them cost 15 % of a beacon/explorer
-    corridor run. No model's summary, events or counts read them (``tests/test_contract.py``
-    runs every model both ways).
+    (the trace is what ``abm render`` draws); sampling them made a beacon/explorer corridor
+    run take 1.15x the CPU. No model's summary, events or counts read them
+    (``tests/test_contract.py`` runs every model both ways).
     """
     return dict(params) if "trace_interval" in params else {**params, "trace_interval": None}
 
