@@ -95,9 +95,9 @@ class CommNetwork:
             self._index = NeighbourIndex(self.comm_range * (1.0 + 1e-9))
         self._seq: dict[Node, int] = {}
         self._added = 0
-        # Each node's position (None: off the arena), as the graph's "pos" attribute holds it;
-        # a plain dict is read several times per link drawn, networkx's node view is slower.
-        self._where: dict[Node, np.ndarray | None] = {}
+        # Each node's attributes ("pos": where it is, None off the arena): networkx's own dict,
+        # read directly, as the node view's lookup costs more than the links drawn from it.
+        self._attrs = self.graph._node
         self._unplaced: dict[Node, None] = {}
         self._call_later = scheduler(env)
 
@@ -112,7 +112,6 @@ class CommNetwork:
         position = None if position is None else np.asarray(position, dtype=float)
         others = self._candidates(position, node)
         self.graph.add_node(node, pos=position)
-        self._where[node] = position
         self._seq[node] = self._added
         self._added += 1
         self._place(node, position)
@@ -128,8 +127,7 @@ class CommNetwork:
         reported to the listeners); returns its neighbours now.
         """
         position = np.asarray(position, dtype=float)
-        self.graph.nodes[node]["pos"] = position
-        self._where[node] = position
+        self._attrs[node]["pos"] = position
         self._place(node, position)
         others = self._candidates(position, node)
         now = self._reachable(position, others, node)
@@ -188,11 +186,11 @@ class CommNetwork:
             others = [o for o in others if self.policy.allows(node, o)]
         if self._blocked:
             others = [o for o in others if frozenset((node, o)) not in self._blocked]
-        where = self._where
-        unplaced = [o for o in others if where[o] is None]
+        attrs = self._attrs
+        unplaced = [o for o in others if attrs[o]["pos"] is None]
         if position is None or len(unplaced) == len(others):
             return others if position is None else unplaced
-        placed = [o for o in others if where[o] is not None]
+        placed = [o for o in others if attrs[o]["pos"] is not None]
         return unplaced + self._in_range(position, placed)
 
     def _in_range(self, position: np.ndarray, others: list[Node]) -> list[Node]:
@@ -201,7 +199,7 @@ class CommNetwork:
         A disc (no shadowing, or shadowing without spread) is one compiled pass over the
         nodes; a shadowing radio with spread draws one number per node, in their order.
         """
-        pts = np.array([self._where[o] for o in others])
+        pts = np.array([self._attrs[o]["pos"] for o in others])
         shadowing = self.shadowing
         if shadowing is None or shadowing.sd == 0:
             up = self.arena.within_reach(
@@ -225,7 +223,6 @@ class CommNetwork:
         """Remove a node and all its links."""
         neighbours = list(self.graph.neighbors(node))
         self.graph.remove_node(node)
-        self._where.pop(node, None)
         self._seq.pop(node, None)
         self._unplaced.pop(node, None)
         if self._index is not None:
@@ -257,7 +254,7 @@ class CommNetwork:
         self._blocked.discard(frozenset((a, b)))
         if a not in self.graph or b not in self.graph or self.graph.has_edge(a, b):
             return False
-        if not self._reachable(self._where[a], [b], a):
+        if not self._reachable(self._attrs[a]["pos"], [b], a):
             return False
         self.graph.add_edge(a, b)
         self._notify("up", a, b)
@@ -292,7 +289,7 @@ class CommNetwork:
 
     def position(self, node: Node) -> np.ndarray:
         """Where a node is (m)."""
-        return self._where[node]
+        return self._attrs[node]["pos"]
 
     def delivery_delay(self) -> float:
         """Time until a message arrives: latency times the number of attempts it needs."""
