@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import pyarrow as pa
 import pyarrow.parquet as pq
 
 if TYPE_CHECKING:
@@ -36,7 +37,10 @@ __all__ = [
     "SET_ASIDE",
     "CorruptResultError",
     "SetAside",
+    "first_row",
+    "read_table_verified",
     "read_verified",
+    "run_ids",
     "scan",
     "set_aside",
 ]
@@ -78,8 +82,8 @@ class SetAside:
         return f"set aside {self.source} -> {self.target} ({self.reason}: {self.detail})"
 
 
-def read_verified(path: Path):
-    """Read a result file as a pandas DataFrame, checking its Parquet page checksums.
+def read_table_verified(path: Path) -> pa.Table:
+    """Read a result file as an Arrow table, checking its Parquet page checksums.
 
     Raises:
         CorruptResultError: the file is not a whole, intact Parquet file (reason ``unreadable``).
@@ -89,9 +93,34 @@ def read_verified(path: Path):
         # one file through ParquetFile, single-threaded: the same table as pq.read_table's,
         # in under half its time for a one-row file (a report reads every run's file)
         with pq.ParquetFile(path, page_checksum_verification=True) as file:
-            return file.read(use_threads=False).to_pandas(use_threads=False)
+            return file.read(use_threads=False)
     except Exception as exc:  # pyarrow raises ArrowInvalid, OSError, ... for damaged files
         raise CorruptResultError("unreadable", f"{type(exc).__name__}: {exc}") from exc
+
+
+def read_verified(path: Path):
+    """Read a result file as a pandas DataFrame, checking its Parquet page checksums.
+
+    Raises:
+        CorruptResultError: the file is not a whole, intact Parquet file (reason ``unreadable``).
+
+    """
+    return read_table_verified(path).to_pandas(use_threads=False)
+
+
+def first_row(table: pa.Table) -> dict:
+    """A table's first row as plain Python values (None where a value is missing): what a
+    run's row file holds, read without converting the file to pandas (a few milliseconds a
+    file, which a report or a restart pays for every run).
+    """
+    return table.slice(0, 1).to_pylist()[0]
+
+
+def run_ids(table: pa.Table) -> set[str]:
+    """The run ids a result file's rows carry (as text; empty without a ``run_id`` column)."""
+    if "run_id" not in table.column_names:
+        return set()
+    return {str(v) for v in table.column("run_id").to_pylist()}
 
 
 def _check(path: Path, folder: str, index: "PlanIndex") -> tuple[dict, int] | None:
@@ -99,23 +128,23 @@ def _check(path: Path, folder: str, index: "PlanIndex") -> tuple[dict, int] | No
     run's row must also be the plan's (its parameters, replication and seed). Returns the
     run's plan parameters and replication (None for a series or samples file).
     """
-    frame = read_verified(path)
+    table = read_table_verified(path)
     run_id = path.stem
-    if "run_id" not in frame:
+    if "run_id" not in table.column_names:
         raise CorruptResultError("wrong-run-id", "no run_id column")
-    ids = set(frame["run_id"].astype(str))
+    ids = run_ids(table)
     if ids != {run_id}:
         shown = ", ".join(sorted(ids)[:3]) or "no rows"
         raise CorruptResultError("wrong-run-id", f"the file is named {run_id} but holds {shown}")
     if folder not in ("runs", "failed"):
         return None
-    if len(frame) != 1:
-        raise CorruptResultError("not-one-row", f"{len(frame)} rows, a run has one")
-    row = frame.iloc[0]
+    if table.num_rows != 1:
+        raise CorruptResultError("not-one-row", f"{table.num_rows} rows, a run has one")
+    row = first_row(table)
     status = "ok" if folder == "runs" else "failed"
     if row.get("status") != status:
         raise CorruptResultError("wrong-status", f"status {row.get('status')!r} in {folder}/")
-    return index.match(row.to_dict(), run_id)
+    return index.match(row, run_id)
 
 
 def _problem(

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import pandas as pd
 import pyarrow as pa
+import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from abm.errors import ABMError, ConfigError
@@ -37,7 +38,9 @@ from analysis.sweep.integrity import (
     RESULT_FOLDERS,
     CorruptResultError,
     SetAside,
-    read_verified,
+    first_row,
+    read_table_verified,
+    run_ids,
     set_aside,
 )
 from analysis.sweep.membership import PlanIndex
@@ -121,25 +124,26 @@ def done_ids(folder: Path) -> set[str]:
     return {p.stem for p in folder.glob("*.parquet")} if folder.is_dir() else set()
 
 
-def _read_one(path: Path) -> pd.DataFrame:
+def _read_one(path: Path) -> pa.Table:
+    """A run's result file, verified and holding that run's rows only (SweepError if not)."""
     try:
-        frame = read_verified(path)
+        table = read_table_verified(path)
     except CorruptResultError as exc:
         raise SweepError(
             f"{path} is damaged ({exc}); run the sweep again: it sets the file aside and "
             "runs that run again"
         ) from exc
-    if "run_id" not in frame or set(frame["run_id"].astype(str)) != {path.stem}:
+    if run_ids(table) != {path.stem}:
         raise SweepError(
             f"{path} does not hold run {path.stem}; run the sweep again: it sets the file "
             "aside and runs that run again"
         )
-    return frame
+    return table
 
 
-def _read_folder(folder: Path) -> list[pd.DataFrame]:
+def _read_folder(folder: Path) -> list[pa.Table]:
     files = sorted(folder.glob("*.parquet")) if folder.is_dir() else []
-    with cf.ThreadPoolExecutor(max_workers=4) as pool:
+    with cf.ThreadPoolExecutor(max_workers=4) as pool:  # pyarrow reads without the GIL
         return list(pool.map(_read_one, files))
 
 
@@ -167,32 +171,71 @@ def load_results(
     done = done_ids(out / "runs")
     if series or samples or changes:
         kind = "series" if series else "samples" if samples else "changes"
-        frames = [f for f in _read_folder(out / kind) if f["run_id"].iloc[0] in done]
+        frames = [
+            t.to_pandas(use_threads=False)
+            for t in _read_folder(out / kind)
+            if first_row(t)["run_id"] in done
+        ]
         return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
-    frames = _read_folder(out / "runs")
+    tables = _read_folder(out / "runs")
     if failed:
-        frames += [f for f in _read_folder(out / "failed") if f["run_id"].iloc[0] not in done]
-    _refuse_foreign(out, frames, PlanIndex(read_manifest(out)))
-    frames = [_without_empty_columns(f) for f in frames]
-    if not frames:
+        tables += [t for t in _read_folder(out / "failed") if first_row(t)["run_id"] not in done]
+    _refuse_foreign(out, [first_row(t) for t in tables], PlanIndex(read_manifest(out)))
+    if not tables:
         return pd.DataFrame(columns=["run_id", "seed", "status"])
-    return pd.concat(frames, ignore_index=True).sort_values(["status", "run_id"], ignore_index=True)
+    frame = pd.concat(_frames_by_shape(tables), ignore_index=True)
+    return frame.sort_values(["status", "run_id"], ignore_index=True)
 
 
-def _without_empty_columns(frame: pd.DataFrame) -> pd.DataFrame:
-    """``frame.dropna(axis=1, how="all")`` (a run's row without the values it does not have,
-    so that rows of other shapes concatenate as before) in under half its time.
+def _frames_by_shape(rows: list[pa.Table]) -> list[pd.DataFrame]:
+    """The runs' one-row tables as frames that ``pd.concat`` joins into the frame it makes of
+    one frame per run without its empty columns (``frame.dropna(axis=1, how="all")``, so that
+    rows of other shapes concatenate as they always did): the rows of one shape (the same
+    columns and types) are joined in Arrow and converted to pandas once, not once a run (a
+    few milliseconds each). Files written through pandas carry its metadata, which may shape
+    the conversion: they are converted one by one, as before.
     """
-    return frame.loc[:, frame.notna().to_numpy().any(axis=0)]
+    shapes: dict[tuple, list[pa.Table]] = {}
+    for table in rows:
+        table = _without_empty_columns(table)
+        key = (table.schema, tuple(sorted((table.schema.metadata or {}).items())))
+        shapes.setdefault(key, []).append(table)
+    frames = []
+    for (_schema, metadata), tables in shapes.items():
+        if metadata:
+            frames += [t.to_pandas(use_threads=False) for t in tables]
+        else:
+            frames.append(pa.concat_tables(tables).to_pandas(use_threads=False))
+    return frames
 
 
-def _refuse_foreign(out: Path, frames: list[pd.DataFrame], index: PlanIndex) -> None:
+def _without_empty_columns(table: pa.Table) -> pa.Table:
+    """``table`` without the columns that hold no value."""
+    empty = [
+        name
+        for name, column in zip(table.column_names, table.columns, strict=True)
+        if _holds_nothing(column)
+    ]
+    return table.drop_columns(empty) if empty else table
+
+
+def _holds_nothing(column: pa.ChunkedArray) -> bool:
+    """Every entry missing or NaN (what pandas' ``notna`` calls missing); only a float column
+    can hold NaN, so only its values are looked at (the null count is known).
+    """
+    if column.null_count == len(column):
+        return True
+    if not pa.types.is_floating(column.type):
+        return False
+    return pc.all(pc.is_null(column, nan_is_null=True), min_count=0).as_py()
+
+
+def _refuse_foreign(out: Path, rows: list[dict], index: PlanIndex) -> None:
     """Raise SweepError naming the run files that are not runs of the folder's plan."""
     foreign = []
-    for frame in frames:
-        row = frame.iloc[0]
+    for row in rows:
         try:
-            index.match(row.to_dict(), str(row["run_id"]))
+            index.match(row, str(row["run_id"]))
         except CorruptResultError as exc:
             folder = "runs" if row.get("status") == "ok" else "failed"
             foreign.append(f"{folder}/{row['run_id']}.parquet ({exc.reason}: {exc})")
