@@ -11,6 +11,8 @@ import time
 from pathlib import Path
 
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 
 from analysis.sweep import Sweep, SweepError, execute, load_results, plan
@@ -89,13 +91,15 @@ def test_sweep_killed_at_seeded_random_moments_completes_each_run_once(tmp_path,
 
 
 def _damage(out: Path, ids: list[str]) -> dict[str, str]:
-    """Damage result files in six ways and the manifest; returns file -> the reason it must be
+    """Damage result files in seven ways and the manifest; returns file -> the reason it must be
     set aside."""
     runs = out / "runs"
     truncated = runs / f"{ids[0]}.parquet"
     truncated.write_bytes(truncated.read_bytes()[: truncated.stat().st_size // 2])
     (runs / f"{ids[1]}.parquet").write_bytes(b"PAR1 this is not a parquet file PAR1")
     (runs / f"{ids[2]}.parquet").write_bytes((runs / f"{ids[3]}.parquet").read_bytes())
+    twice = pq.read_table(runs / f"{ids[3]}.parquet")
+    pq.write_table(pa.concat_tables([twice, twice]), runs / f"{ids[3]}.parquet")
     reseeded = pd.read_parquet(runs / f"{ids[4]}.parquet").assign(seed=12345)
     reseeded.to_parquet(runs / f"{ids[4]}.parquet", index=False)
     flipped = out / "series" / f"{ids[5]}.parquet"
@@ -109,6 +113,7 @@ def _damage(out: Path, ids: list[str]) -> dict[str, str]:
         f"runs/{ids[0]}.parquet": "unreadable",
         f"runs/{ids[1]}.parquet": "unreadable",
         f"runs/{ids[2]}.parquet": "wrong-run-id",
+        f"runs/{ids[3]}.parquet": "not-one-row",
         f"runs/{ids[4]}.parquet": "wrong-seed",
         f"series/{ids[5]}.parquet": "unreadable",
         f"runs/.{ids[6]}.parquet.999.tmp": "half-written",
@@ -152,6 +157,16 @@ def test_damaged_files_are_set_aside_named_and_run_again(tmp_path, reference, ca
     assert all(p.stat().st_mtime_ns < damaged_at for p in untouched)  # not run again
     pd.testing.assert_frame_equal(_rows(load_results(out)), reference)
     assert set(load_results(out, series=True)["run_id"]) == set(ids)
+
+
+def test_a_run_file_of_two_rows_is_never_read_as_two_runs(tmp_path):
+    sweep = Sweep("beacon-explorer", GRID, replications=1, seed=13)
+    execute(sweep, tmp_path, executor="serial", progress=False)
+    path = sorted((tmp_path / "runs").glob("*.parquet"))[1]
+    row = pq.read_table(path)
+    pq.write_table(pa.concat_tables([row, row]), path)
+    with pytest.raises(SweepError, match=f"{path.name} holds 2 rows, a run has one; run the"):
+        load_results(tmp_path)
 
 
 @pytest.mark.slow

@@ -9,7 +9,7 @@ import pandas as pd
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from analysis.sweep.integrity import read_table_verified, read_verified
+from analysis.sweep.integrity import first_row, read_table_verified, read_verified
 from analysis.sweep.storage import _frames_by_shape, _row_table, _write_atomic
 
 # the kinds of value a row holds: parameters and summaries (ints, floats with NaN and
@@ -95,8 +95,9 @@ def test_run_files_join_as_pandas_joins_their_frames(tmp_path_factory, rows):
     expected = pd.concat(
         [read_verified(p).dropna(axis=1, how="all") for p in paths], ignore_index=True
     ).sort_values("run_id", ignore_index=True)
+    tables = [read_table_verified(p) for p in paths]
     joined = pd.concat(
-        _frames_by_shape([read_table_verified(p) for p in paths]), ignore_index=True
+        _frames_by_shape(tables, [first_row(t) for t in tables]), ignore_index=True
     ).sort_values("run_id", ignore_index=True)
     assert list(joined.columns) == list(expected.columns)
     assert joined.dtypes.equals(expected.dtypes), (joined.dtypes, expected.dtypes)

@@ -23,13 +23,13 @@ on restart every file is verified before its run counts as done, and reading
 import concurrent.futures as cf
 import datetime
 import json
+import math
 import os
 import re
 from pathlib import Path
 
 import pandas as pd
 import pyarrow as pa
-import pyarrow.compute as pc
 import pyarrow.parquet as pq
 
 from abm.errors import ABMError, ConfigError
@@ -124,8 +124,10 @@ def done_ids(folder: Path) -> set[str]:
     return {p.stem for p in folder.glob("*.parquet")} if folder.is_dir() else set()
 
 
-def _read_one(path: Path) -> pa.Table:
-    """A run's result file, verified and holding that run's rows only (SweepError if not)."""
+def _read_one(path: Path, one_row: bool = False) -> pa.Table:
+    """A run's result file, verified and holding that run's rows only, and exactly one row
+    when ``one_row`` (a run's row file); SweepError if not.
+    """
     try:
         table = read_table_verified(path)
     except CorruptResultError as exc:
@@ -138,13 +140,18 @@ def _read_one(path: Path) -> pa.Table:
             f"{path} does not hold run {path.stem}; run the sweep again: it sets the file "
             "aside and runs that run again"
         )
+    if one_row and table.num_rows != 1:
+        raise SweepError(
+            f"{path} holds {table.num_rows} rows, a run has one; run the sweep again: it sets "
+            "the file aside and runs that run again"
+        )
     return table
 
 
-def _read_folder(folder: Path) -> list[pa.Table]:
+def _read_folder(folder: Path, one_row: bool = False) -> list[pa.Table]:
     files = sorted(folder.glob("*.parquet")) if folder.is_dir() else []
     with cf.ThreadPoolExecutor(max_workers=4) as pool:  # pyarrow reads without the GIL
-        return list(pool.map(_read_one, files))
+        return list(pool.map(lambda path: _read_one(path, one_row), files))
 
 
 def load_results(
@@ -177,57 +184,55 @@ def load_results(
             if first_row(t)["run_id"] in done
         ]
         return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
-    tables = _read_folder(out / "runs")
+    tables = _read_folder(out / "runs", one_row=True)
     if failed:
-        tables += [t for t in _read_folder(out / "failed") if first_row(t)["run_id"] not in done]
-    _refuse_foreign(out, [first_row(t) for t in tables], PlanIndex(read_manifest(out)))
+        tables += [
+            t
+            for t in _read_folder(out / "failed", one_row=True)
+            if first_row(t)["run_id"] not in done
+        ]
+    rows = [first_row(t) for t in tables]
+    _refuse_foreign(out, rows, PlanIndex(read_manifest(out)))
     if not tables:
         return pd.DataFrame(columns=["run_id", "seed", "status"])
-    frame = pd.concat(_frames_by_shape(tables), ignore_index=True)
+    frame = pd.concat(_frames_by_shape(tables, rows), ignore_index=True)
     return frame.sort_values(["status", "run_id"], ignore_index=True)
 
 
-def _frames_by_shape(rows: list[pa.Table]) -> list[pd.DataFrame]:
+def _frames_by_shape(tables: list[pa.Table], rows: list[dict]) -> list[pd.DataFrame]:
     """The runs' one-row tables as frames that ``pd.concat`` joins into the frame it makes of
     one frame per run without its empty columns (``frame.dropna(axis=1, how="all")``, so that
     rows of other shapes concatenate as they always did): the rows of one shape (the same
     columns and types) are joined in Arrow and converted to pandas once, not once a run (a
     few milliseconds each). Files written through pandas carry its metadata, which may shape
-    the conversion: they are converted one by one, as before.
+    the conversion: they are converted one by one, as before. ``rows`` holds each table's
+    one row as plain values (:func:`first_row`).
     """
     shapes: dict[tuple, list[pa.Table]] = {}
-    for table in rows:
-        table = _without_empty_columns(table)
+    for table, first in zip(tables, rows, strict=True):
+        table = _without_empty_columns(table, first)
         key = (table.schema, tuple(sorted((table.schema.metadata or {}).items())))
         shapes.setdefault(key, []).append(table)
     frames = []
-    for (_schema, metadata), tables in shapes.items():
+    for (_schema, metadata), shape in shapes.items():
         if metadata:
-            frames += [t.to_pandas(use_threads=False) for t in tables]
+            frames += [t.to_pandas(use_threads=False) for t in shape]
         else:
-            frames.append(pa.concat_tables(tables).to_pandas(use_threads=False))
+            frames.append(pa.concat_tables(shape).to_pandas(use_threads=False))
     return frames
 
 
-def _without_empty_columns(table: pa.Table) -> pa.Table:
-    """``table`` without the columns that hold no value."""
-    empty = [
-        name
-        for name, column in zip(table.column_names, table.columns, strict=True)
-        if _holds_nothing(column)
-    ]
+def _without_empty_columns(table: pa.Table, row: dict) -> pa.Table:
+    """The one-row ``table`` without the columns that hold no value in its ``row`` (read off
+    the plain values: a compute call per column cost more than the rest of the join).
+    """
+    empty = [name for name, value in row.items() if _missing(value)]
     return table.drop_columns(empty) if empty else table
 
 
-def _holds_nothing(column: pa.ChunkedArray) -> bool:
-    """Every entry missing or NaN (what pandas' ``notna`` calls missing); only a float column
-    can hold NaN, so only its values are looked at (the null count is known).
-    """
-    if column.null_count == len(column):
-        return True
-    if not pa.types.is_floating(column.type):
-        return False
-    return pc.all(pc.is_null(column, nan_is_null=True), min_count=0).as_py()
+def _missing(value: object) -> bool:
+    """None or NaN: what pandas' ``notna`` calls missing, of a plain value."""
+    return value is None or (isinstance(value, float) and math.isnan(value))
 
 
 def _refuse_foreign(out: Path, rows: list[dict], index: PlanIndex) -> None:
