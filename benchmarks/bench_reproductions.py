@@ -11,8 +11,9 @@ A model's sweeps share one process pool and are fed to it at once (no idle core 
 sweep waits for its last run); runs go through the common sweep runner with the files' own
 seeds and replications, so the output is the figure set's data. The runner resumes, so the
 folder must be fresh to time the whole set: an ``--out`` that already holds runs is refused.
-Prints the machine and its load before and after each model, each sweep's runs and when it
-finished, the reports' time, and each model's total against the 5-minute target.
+Prints the machine, its load and its speed (:func:`machine.speed_probe`) before and after each
+model, each sweep's runs and when it finished, the reports' time, and each model's total
+against the 5-minute target.
 """
 
 import argparse
@@ -29,7 +30,7 @@ from analysis.sweep.execute import execute
 from analysis.sweep.spec import load_sweep
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import load_average, machine  # noqa: E402
+from machine import load_average, machine, speed_probe  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_SECONDS = 300.0
@@ -86,7 +87,7 @@ def figure_set(model: str, out: Path, workers: int, replications: int | None) ->
     names = [name for group in FIGURE_SETS[model] for name in group]
     sweeps = [load_sweep(ROOT / "experiments" / f"{name}.toml", replications) for name in names]
     folders = {sweep.name: out / model / sweep.name for sweep in sweeps}
-    print(f"\n{model}: {load_average()}", flush=True)
+    print(f"\n{model}: {load_average()}; {speed_probe()}", flush=True)
     start = time.perf_counter()
     _, run_seconds = run_together(sweeps, list(folders.values()), workers)
     sweeps_seconds = time.perf_counter() - start
@@ -108,7 +109,7 @@ def figure_set(model: str, out: Path, workers: int, replications: int | None) ->
         f"  {model}: sweeps {sweeps_seconds:.1f} s ({run_seconds:.0f} s of run time on "
         f"{workers} workers), {after} {total - sweeps_seconds:.1f} s, total {total:.1f} s "
         f"({total / 60:.1f} min): {verdict} the {TARGET_SECONDS / 60:.0f}-minute target; "
-        f"{load_average()}",
+        f"{load_average()}; {speed_probe()}",
         flush=True,
     )
     return total
