@@ -32,16 +32,39 @@ def _fingerprints_after_settling(cases: tuple[str, ...]) -> list[tuple[dict, dic
     return out
 
 
-def _frozen_after_each_run(runs: int) -> list[int]:
+#: Models a run kept alive on purpose (the leak the frozen heap must show).
+_KEPT: list = []
+
+
+def _frozen_after_each_run(runs: int, keep_models: bool = False) -> list[int]:
     """In a pool worker: how many objects are frozen after settling before each of ``runs``
-    small hierarchy runs.
+    small hierarchy runs; with ``keep_models`` each run's model is kept alive (a leak).
     """
+    from models.hierarchy.model import HierarchyModel
+
     frozen = []
     for seed in range(runs):
         settle_worker_heap()
         frozen.append(gc.get_freeze_count())
-        run_model("hierarchy", {"workers": 2, "scouts_per_worker": 2}, seed)
+        if keep_models:
+            _KEPT.append(HierarchyModel(seed=seed, workers=2, scouts_per_worker=2).run())
+        else:
+            run_model("hierarchy", {"workers": 2, "scouts_per_worker": 2}, seed)
     return frozen
+
+
+#: A few objects come and go from run to run (a cache filled in one run and emptied in a
+#: later one: [61441, 206543, 206540, 206540, 206545, 206540] in a fresh clone, 2026-12-02);
+#: a run whose model stays alive adds about 280 (``test_a_kept_model_shows_in_the_frozen_heap``).
+FROZEN_SLACK = 32
+
+
+def _stops_growing(frozen: list[int]) -> bool:
+    """After the imports and the compiled functions (the first two runs), the frozen heap
+    gains at most :data:`FROZEN_SLACK` objects over the later runs.
+    """
+    later = frozen[2:]
+    return max(later) - later[0] <= FROZEN_SLACK
 
 
 def test_runs_in_a_settled_worker_give_the_digests_on_file():
@@ -60,11 +83,14 @@ def test_the_frozen_heap_stops_growing_from_run_to_run():
     with process_pool(1) as pool:
         frozen = pool.submit(_frozen_after_each_run, 6).result()
     assert frozen[0] > 10_000
-    # After the imports and the compiled functions (the first two runs), no run adds to it. It
-    # may shrink: in a fresh clone, where numba compiled the kernels instead of loading them,
-    # the counts were [61434, 206314, 206314, 206304, 206304, 206304].
-    later = frozen[2:]
-    assert all(after <= before for before, after in zip(later, later[1:], strict=False)), frozen
+    assert _stops_growing(frozen), frozen
+
+
+def test_a_kept_model_shows_in_the_frozen_heap():
+    """The check above fails for runs that leak: each run's model kept alive."""
+    with process_pool(1) as pool:
+        frozen = pool.submit(_frozen_after_each_run, 6, True).result()
+    assert not _stops_growing(frozen), frozen
 
 
 def test_outside_a_pool_worker_the_heap_is_left_alone():
