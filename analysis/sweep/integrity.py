@@ -39,7 +39,6 @@ __all__ = [
     "SetAside",
     "first_row",
     "read_table_verified",
-    "read_verified",
     "run_ids",
     "scan",
     "set_aside",
@@ -96,16 +95,6 @@ def read_table_verified(path: Path) -> pa.Table:
             return file.read(use_threads=False)
     except Exception as exc:  # pyarrow raises ArrowInvalid, OSError, ... for damaged files
         raise CorruptResultError("unreadable", f"{type(exc).__name__}: {exc}") from exc
-
-
-def read_verified(path: Path):
-    """Read a result file as a pandas DataFrame, checking its Parquet page checksums.
-
-    Raises:
-        CorruptResultError: the file is not a whole, intact Parquet file (reason ``unreadable``).
-
-    """
-    return read_table_verified(path).to_pandas(use_threads=False)
 
 
 def first_row(table: pa.Table) -> dict:
