@@ -124,6 +124,10 @@ def done_ids(folder: Path) -> set[str]:
     return {p.stem for p in folder.glob("*.parquet")} if folder.is_dir() else set()
 
 
+#: What to do about a result file that cannot be read as its run's.
+_RUN_AGAIN = "run the sweep again: it sets the file aside and runs that run again"
+
+
 def _read_one(path: Path, one_row: bool = False) -> pa.Table:
     """A run's result file, verified and holding that run's rows only, and exactly one row
     when ``one_row`` (a run's row file); SweepError if not.
@@ -131,20 +135,11 @@ def _read_one(path: Path, one_row: bool = False) -> pa.Table:
     try:
         table = read_table_verified(path)
     except CorruptResultError as exc:
-        raise SweepError(
-            f"{path} is damaged ({exc}); run the sweep again: it sets the file aside and "
-            "runs that run again"
-        ) from exc
+        raise SweepError(f"{path} is damaged ({exc}); {_RUN_AGAIN}") from exc
     if run_ids(table) != {path.stem}:
-        raise SweepError(
-            f"{path} does not hold run {path.stem}; run the sweep again: it sets the file "
-            "aside and runs that run again"
-        )
+        raise SweepError(f"{path} does not hold run {path.stem}; {_RUN_AGAIN}")
     if one_row and table.num_rows != 1:
-        raise SweepError(
-            f"{path} holds {table.num_rows} rows, a run has one; run the sweep again: it sets "
-            "the file aside and runs that run again"
-        )
+        raise SweepError(f"{path} holds {table.num_rows} rows, a run has one; {_RUN_AGAIN}")
     return table
 
 
