@@ -31,21 +31,20 @@ def _read_as_pandas(path) -> pd.DataFrame:
     return read_table_verified(path).to_pandas(use_threads=False)
 
 
+def _same_cells(x: object, y: object) -> bool:
+    """One cell of two frames: NaN equal to NaN, sequences element by element."""
+    if isinstance(x, float) and math.isnan(x):
+        return isinstance(y, float) and math.isnan(y)
+    if hasattr(x, "__len__") and not isinstance(x, str):
+        return hasattr(y, "__len__") and list(x) == list(y)
+    return type(x) is type(y) and x == y
+
+
 def _same(a: pd.DataFrame, b: pd.DataFrame) -> bool:
-    """The same columns, dtypes and values (NaN equal to NaN, sequences element by element)."""
+    """The same columns, dtypes and values of two one-row frames (:func:`_same_cells`)."""
     if list(a.columns) != list(b.columns) or not a.dtypes.equals(b.dtypes) or len(a) != len(b):
         return False
-    for name in a.columns:
-        x, y = a[name].iloc[0], b[name].iloc[0]
-        if isinstance(x, float) and math.isnan(x):
-            same = isinstance(y, float) and math.isnan(y)
-        elif hasattr(x, "__len__") and not isinstance(x, str):
-            same = list(x) == list(y)
-        else:
-            same = x == y
-        if not same:
-            return False
-    return True
+    return all(_same_cells(a[name].iloc[0], b[name].iloc[0]) for name in a.columns)
 
 
 @settings(max_examples=150, deadline=None)
@@ -59,15 +58,6 @@ def test_a_row_reads_back_as_the_pandas_write_of_it(tmp_path_factory, row):
     by_arrow = _read_as_pandas(folder / "arrow.parquet")
     assert _same(by_arrow, by_pandas), (by_arrow.dtypes, by_pandas.dtypes)
     assert len(pd.concat([by_pandas, by_arrow])) == 2
-
-
-def _same_cells(x: object, y: object) -> bool:
-    """One cell of two frames: NaN equal to NaN, sequences element by element."""
-    if isinstance(x, float) and math.isnan(x):
-        return isinstance(y, float) and math.isnan(y)
-    if hasattr(x, "__len__") and not isinstance(x, str):
-        return hasattr(y, "__len__") and list(x) == list(y)
-    return type(x) is type(y) and x == y
 
 
 # rows of a few shapes over a few column names, so that some rows share a shape and others not
