@@ -32,10 +32,10 @@ def load_average() -> str:
 def speed_probe() -> str:
     """CPU seconds of a fixed pure-Python loop, ``sum(range(30_000_000))``: interpreter work,
     as much of a run's is. These machines' speed drifts from one hour to the next (shared
-    hosts: 1.24 s, then 0.72-0.93 s 90 minutes later on the 2.0 GHz Intel Xeon on 2026-12-02),
-    so a benchmark that states minutes prints this beside them. It is a rough guide: the
-    figure sets' runs took 0.48-0.87x the time the second time, not all the probe's
-    0.6-0.75x.
+    hosts: 1.24 s, then 0.72-0.93 s 90 minutes later on the 2.0 GHz Intel Xeon on 2026-12-02;
+    0.38-0.58 s on a Zen 5 EPYC the same day), so a benchmark that states minutes prints this
+    beside them. It is a rough guide: the figure sets' runs took 0.48-0.87x the time the
+    second time, not all the probe's 0.6-0.75x.
     """
     start = time.process_time()
     sum(range(30_000_000))
