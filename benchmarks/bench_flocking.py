@@ -19,7 +19,7 @@ update), in this process, in two modes:
 What is timed, as the comparison's current harnesses do (``Flocking/Agents/
 benchmark_flocking.jl`` and ``Flocking/Mesa/benchmark_flocking.py``): one run is the model's
 construction plus exactly 100 steps, from a seed drawn for the run; the median over the runs
-is reported. Both wall time (what the comparison reports) and CPU time of the process that ran
+is reported, with the quartiles of the CPU times beside it. Both wall time (what the comparison reports) and CPU time of the process that ran
 it (fairer on a machine shared with other work) are measured. All runs are interleaved: each
 round is one run of every Mesa, then a few of ours in each mode, so all see the same load.
 
@@ -145,14 +145,19 @@ def our_run(seed: int, case: dict, mode: dict, steps: int = STEPS) -> tuple[floa
 
 
 def summarise(rows: dict[str, Sequence[tuple[float, ...]]], mesa_names: Sequence[str]) -> dict:
-    """Medians of every framework's rows, and Mesa's medians over ours (times faster than each
-    Mesa) for each of our modes: ``{"median": {name: array}, "ratio": {(mesa, mode): array of
-    wall, cpu, wall of the steps, cpu of the steps}}``.
+    """Medians of every framework's rows, the quartiles of its CPU times, and Mesa's medians
+    over ours (times faster than each Mesa) for each of our modes: ``{"median": {name:
+    array}, "cpu_quartiles": {name: (25th, 75th percentile)}, "ratio": {(mesa, mode): array
+    of wall, cpu, wall of the steps, cpu of the steps}}``. The quartiles show how far a median
+    can be trusted on a shared machine: work on the other core moves short runs by up to 1.5x.
     """
-    median = {name: np.median(np.asarray(r, dtype=float), axis=0) for name, r in rows.items()}
+    table = {name: np.asarray(r, dtype=float) for name, r in rows.items()}
+    median = {name: np.median(t, axis=0) for name, t in table.items()}
+    cpu = FIELDS.index("cpu")
+    quartiles = {name: tuple(np.percentile(t[:, cpu], [25, 75])) for name, t in table.items()}
     ours = [name for name in rows if name not in mesa_names]
     ratio = {(m, o): median[m][:4] / median[o][:4] for m in mesa_names for o in ours}
-    return {"median": median, "ratio": ratio}
+    return {"median": median, "cpu_quartiles": quartiles, "ratio": ratio}
 
 
 def _bench(case: dict, workers: dict, mesa_runs: int, our_runs: int, bar: tqdm) -> dict:
@@ -192,6 +197,13 @@ def _report(results: dict, workers: dict, args: argparse.Namespace, load: tuple)
                     f"{o[0] * 1e3:7.2f}ms {o[1] * 1e3:7.2f}ms {x[0]:6.0f}x {x[1]:6.0f}x  "
                     f"{'yes' if x[1] >= TARGET else 'no'}"
                 )
+    print("\nSpread: CPU time of a run, 25th / 50th / 75th percentile")
+    for case, res in results.items():
+        for name in res["median"]:
+            low, high = res["cpu_quartiles"][name]
+            middle = res["median"][name][FIELDS.index("cpu")]
+            said = " / ".join(f"{t * 1e3:8.2f}" for t in (low, middle, high))
+            print(f"{case:6} {name:9} {said} ms")
     print(f"\nThe {STEPS} steps alone (construction excluded), ratios wall / CPU")
     for case, res in results.items():
         for name in workers:

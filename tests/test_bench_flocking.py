@@ -47,6 +47,10 @@ def test_ratios_are_each_mesa_over_each_of_our_modes_medians():
     assert set(out["ratio"]) == {(m, o) for m in ("3.5.1", "3.2.0") for o in ("DC off", "defaults")}
     assert np.allclose(out["ratio"][("3.5.1", "DC off")], [100.0, 10.0 / 0.035, 200.0, 360.0])
     assert np.allclose(out["ratio"][("3.2.0", "defaults")], [80.0, 80.0, 80.0, 90.0])
+    # quartiles of the CPU column (the second), linear between the sorted values
+    assert np.allclose(out["cpu_quartiles"]["3.5.1"], [9.0, 11.0])
+    assert np.allclose(out["cpu_quartiles"]["DC off"], [0.0275, 0.0425])
+    assert np.allclose(out["cpu_quartiles"]["defaults"], [0.25, 0.25])
 
 
 def test_the_mesa_worker_names_its_versions_and_times_a_run():
