@@ -230,12 +230,11 @@ def main() -> None:
         row["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
         print(json.dumps(row))
         return
+    rows = []
     for name in args.models:
-        if args.compare:
-            print_compared(name, sizes, args)
-        else:
-            print_rows(name, sizes, args)
-    print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
+        rows += print_compared(name, sizes, args) if args.compare else print_rows(name, sizes, args)
+    if any(row["truncated"] for row in rows):
+        print("  (* stopped at the wall budget: cost measured over the cheaper early part)")
 
 
 def cut(row: dict) -> str:
@@ -243,8 +242,10 @@ def cut(row: dict) -> str:
     return "*" if row["truncated"] else " "
 
 
-def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> None:
-    """Time each size of one model, one process after the other, and print the table."""
+def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> list[dict]:
+    """Time each size of one model, one process after the other, print the table and return
+    its rows.
+    """
     print(f"{name} (seed {args.seed}):")
     print(
         f"  {'robots':>7} {'sim s':>8} {'wall s':>8} {'CPU s':>8} {'us/robot/sim-s':>15} "
@@ -264,10 +265,13 @@ def print_rows(name: str, sizes: list[int], args: argparse.Namespace) -> None:
         )
     if len(rows) > 1:
         print(f"  growth exponent b = {growth_exponent(rows):.2f} (wall per sim-s ~ robots^b)")
+    return rows
 
 
-def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> None:
-    """Time each size of one model on this code and on ``args.compare`` side by side."""
+def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> list[dict]:
+    """Time each size of one model on this code and on ``args.compare`` side by side, print
+    the table and return every row of both.
+    """
     print(f"{name} (seed {args.seed}), this code vs {args.compare}, run side by side:")
     print(
         f"  {'robots':>7} {'sim s':>8} {'us/robot/sim-s':>15} {'vs smallest':>11} "
@@ -295,6 +299,7 @@ def print_compared(name: str, sizes: list[int], args: argparse.Namespace) -> Non
                 f"  {label}: per-robot cost {rows[-1]['robots']} vs {rows[0]['robots']} "
                 f"robots {ratio:.2f}x, growth exponent b = {growth_exponent(rows):.2f}"
             )
+    return [row for pair in pairs for row in pair]
 
 
 if __name__ == "__main__":
