@@ -19,9 +19,10 @@ update), in this process, in two modes:
 What is timed, as the comparison's current harnesses do (``Flocking/Agents/
 benchmark_flocking.jl`` and ``Flocking/Mesa/benchmark_flocking.py``): one run is the model's
 construction plus exactly 100 steps, from a seed drawn for the run; the median over the runs
-is reported, with the quartiles of the CPU times beside it. Both wall time (what the comparison reports) and CPU time of the process that ran
-it (fairer on a machine shared with other work) are measured. All runs are interleaved: each
-round is one run of every Mesa, then a few of ours in each mode, so all see the same load.
+is reported, with the quartiles of the CPU times beside it. Both wall time (what the
+comparison reports) and CPU time of the process that ran it (fairer on a machine shared with
+other work) are measured. All runs are interleaved: each round is one run of every Mesa, then
+a few of ours in each mode, so all see the same load.
 
 Run: ``.venv/bin/python benchmarks/bench_flocking.py`` (``--mesa-runs``, ``--our-runs``,
 ``--mesa``, ``--venvs``).
