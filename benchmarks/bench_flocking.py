@@ -58,6 +58,8 @@ WORKER = Path(__file__).resolve().parent / "flocking_mesa.py"
 ROOT = Path(__file__).resolve().parent.parent
 #: The columns of one run's row (s, s, s, s, -).
 FIELDS = ("wall", "cpu", "wall_steps", "cpu_steps", "polarisation")
+#: The column of a run's CPU time in :data:`FIELDS`.
+CPU = FIELDS.index("cpu")
 
 
 class MesaUnavailableError(RuntimeError):
@@ -154,8 +156,7 @@ def summarise(rows: dict[str, Sequence[tuple[float, ...]]], mesa_names: Sequence
     """
     table = {name: np.asarray(r, dtype=float) for name, r in rows.items()}
     median = {name: np.median(t, axis=0) for name, t in table.items()}
-    cpu = FIELDS.index("cpu")
-    quartiles = {name: tuple(np.percentile(t[:, cpu], [25, 75])) for name, t in table.items()}
+    quartiles = {name: tuple(np.percentile(t[:, CPU], [25, 75])) for name, t in table.items()}
     ours = [name for name in rows if name not in mesa_names]
     ratio = {(m, o): median[m][:4] / median[o][:4] for m in mesa_names for o in ours}
     return {"median": median, "cpu_quartiles": quartiles, "ratio": ratio}
@@ -202,7 +203,7 @@ def _report(results: dict, workers: dict, args: argparse.Namespace, load: tuple)
     for case, res in results.items():
         for name in res["median"]:
             low, high = res["cpu_quartiles"][name]
-            middle = res["median"][name][FIELDS.index("cpu")]
+            middle = res["median"][name][CPU]
             said = " / ".join(f"{t * 1e3:8.2f}" for t in (low, middle, high))
             print(f"{case:6} {name:9} {said} ms")
     print(f"\nThe {STEPS} steps alone (construction excluded), ratios wall / CPU")

@@ -4,29 +4,19 @@ Installing Mesa 3.2.0 is not tested here (it needs the network); its failure pat
 pip that fails as an offline one does.
 """
 
-import importlib.util
 import io
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import mesa
 import numpy as np
 import pytest
 
-_BENCH = Path(__file__).resolve().parent.parent / "benchmarks"
+from tests.scripts import load_benchmark
 
-
-def _load(name: str):
-    spec = importlib.util.spec_from_file_location(name, _BENCH / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-bench = _load("bench_flocking")
-flocking_mesa = _load("flocking_mesa")
+bench = load_benchmark("bench_flocking")
+flocking_mesa = load_benchmark("flocking_mesa")
 TINY = {"birds": 12, "extent": 20.0, "visual_distance": 5.0}
 
 
