@@ -68,6 +68,10 @@ class SwarmModel(mesa.Model):
       a time to a target, or anything a run accumulates, that a time limit censors); reports
       show them as censored (share, Kaplan-Meier median), judge no published number from
       censored values and run no statistic on them.
+    - ``CUT_ENDS``: prefixes of ``end_reason`` that end a run before the run the paper
+      describes is complete (a time limit before the last iteration); a published number or
+      claim whose runs include such a run is not judged ("not comparable", saying how many).
+      Empty for a model whose papers' runs themselves end at a time limit.
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
@@ -121,6 +125,7 @@ class SwarmModel(mesa.Model):
     PUBLISHED: ClassVar[Sequence[Published]] = ()
     CLAIMS: ClassVar[Sequence[Claim]] = ()
     CENSORED: ClassVar[Sequence[Censored]] = ()
+    CUT_ENDS: ClassVar[tuple[str, ...]] = ()
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}

@@ -120,9 +120,15 @@ def matching_runs(
     condition: Mapping[str, object],
     defaults: Mapping[str, object],
     varied: Sequence[str] = (),
+    cut_ends: Sequence[str] = (),
 ) -> tuple[pd.DataFrame, str]:
     """The finished, fault-free runs of ``df`` that match every setting of ``condition``, and
     (when none does) why: "<setting> is X here, Y in the paper".
+
+    When any of the matching runs ended in one of ``cut_ends`` (the model's ``CUT_ENDS``:
+    ended before the run the paper describes was complete), none is returned, with how many
+    were cut: dropping only those would keep the runs that happened to finish in time, a
+    biased sample of the condition.
 
     A setting a run does not record (the sweep did not vary it) takes its value from
     ``defaults`` (the model's parameter defaults). A setting in ``varied`` (the parameters a
@@ -155,7 +161,22 @@ def matching_runs(
             here = ", ".join(sorted({_shown(v) for v in column}))
             return runs.iloc[0:0], f"{_name(key)} is {here} here, {_shown(want)} in the paper"
         runs = runs[match]
-    return runs, ""
+    return _uncut(runs, cut_ends)
+
+
+def _uncut(runs: pd.DataFrame, cut_ends: Sequence[str]) -> tuple[pd.DataFrame, str]:
+    """``runs`` and "" when none ended in ``cut_ends``; else no run, and how many were cut."""
+    if not cut_ends or "end_reason" not in runs:
+        return runs, ""
+    reasons = runs["end_reason"].fillna("").astype(str)
+    cut = reasons.str.startswith(tuple(cut_ends))
+    if not cut.any():
+        return runs, ""
+    ends = " or ".join(sorted(set(reasons[cut])))
+    return runs.iloc[0:0], (
+        f"{int(cut.sum())} of {len(runs)} runs ended by {ends} before the run the paper "
+        "describes was complete"
+    )
 
 
 def _recorded(runs: pd.DataFrame, key: str, defaults: Mapping[str, object]) -> pd.Series:
@@ -237,6 +258,7 @@ def compare_published(
     defaults: Mapping[str, object] | None = None,
     censored: Sequence[Censored] = (),
     varied: Sequence[str] = (),
+    cut_ends: Sequence[str] = (),
 ) -> pd.DataFrame:
     """Every published record beside ours for the same condition, with its verdict.
 
@@ -249,6 +271,8 @@ def compare_published(
         varied: parameters a sensitivity design varies; a run counts for a record only at
             their defaults (unless the record's condition or factor names them), see
             :func:`matching_runs`.
+        cut_ends: ends of a run cut short (the model's ``CUT_ENDS``): a record whose runs
+            include one is "not comparable" (:func:`matching_runs`).
 
     Returns:
         Columns section, quantity, condition, published, ours, runs, rule, verdict ("holds",
@@ -263,7 +287,7 @@ def compare_published(
     rows = []
     for item in records:
         free = [k for k in varied if k != item.factor]  # a change's factor is compared
-        runs, why = matching_runs(df, item.condition, defaults, free)
+        runs, why = matching_runs(df, item.condition, defaults, free, cut_ends)
         key, before = (item.section, item.quantity), None
         if item.kind == "ordering" and item.measure == "mean":
             before = previous.get(key)
@@ -406,12 +430,14 @@ def judge_claims(
     claims: Sequence[Claim],
     defaults: Mapping[str, object] | None = None,
     varied: Sequence[str] = (),
+    cut_ends: Sequence[str] = (),
 ) -> list[dict]:
     """Every claim with ours and its verdict on the finished, fault-free runs.
 
     A claim whose ``condition`` no run matches is "not comparable" (which setting differs;
     ``varied``: parameters a sensitivity design varies, which must be at their defaults, see
-    :func:`matching_runs`);
+    :func:`matching_runs`), as is one whose runs include a run cut short (``cut_ends``, the
+    model's ``CUT_ENDS``);
     a claim whose test finds no set-up in the runs is "not in this sweep"; a claim that holds
     by construction is labelled so whatever its test says, and is never counted as reproduced.
 
@@ -423,7 +449,7 @@ def judge_claims(
     defaults = defaults or {}
     rows = []
     for claim in claims:
-        selected, differs = matching_runs(runs, claim.condition, defaults, varied)
+        selected, differs = matching_runs(runs, claim.condition, defaults, varied, cut_ends)
         verdict: Verdict | None = None
         if claim.test is not None and not selected.empty:
             kept = samples

@@ -189,9 +189,11 @@ def write_report(
         {name for s in sweeps for name in s.manifest.get("design", {}).get("parameters", {})}
     )
     comparison = (
-        compare_published(every, published, defaults, cls.CENSORED, varied) if published else None
+        compare_published(every, published, defaults, cls.CENSORED, varied, cls.CUT_ENDS)
+        if published
+        else None
     )
-    judged = _claims(sweeps, claims, defaults, varied)
+    judged = _claims(sweeps, claims, defaults, varied, () if cls is None else cls.CUT_ENDS)
     names = ", ".join(s.name for s in sweeps)
     blocks = [_block(s, cls, published, len(sweeps) > 1) for s in sweeps]
     statistics = _statistics(blocks, out)
@@ -333,10 +335,15 @@ def _curve_caption(layout: ReportLayout, conditions: list[str]) -> str:
 
 
 def _claims(
-    sweeps: list[_Sweep], claims: list[Claim], defaults: dict, varied: Sequence[str] = ()
+    sweeps: list[_Sweep],
+    claims: list[Claim],
+    defaults: dict,
+    varied: Sequence[str] = (),
+    cut_ends: Sequence[str] = (),
 ) -> list[dict] | None:
     """Every claim with ours and its verdict on all the sweeps' fault-free runs (at the
-    defaults of the parameters a design varies, ``varied``).
+    defaults of the parameters a design varies, ``varied``; none judged on runs cut short,
+    ``cut_ends``).
     """
     if not claims:
         return None
@@ -348,7 +355,7 @@ def _claims(
         samples = pd.concat(frames, ignore_index=True)
         params = runs.drop(columns=[c for c in samples.columns if c != "run_id" and c in runs])
         samples = samples.merge(params, on="run_id")
-    return judge_claims(runs, samples, claims, defaults, varied)
+    return judge_claims(runs, samples, claims, defaults, varied, cut_ends)
 
 
 def _model(manifest: dict) -> tuple[type | None, str | None]:

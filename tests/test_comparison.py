@@ -143,6 +143,30 @@ def test_a_tangible_pso_sweep_of_10_particles_by_10_iterations_is_not_comparable
     assert apart["section"].str.contains("second-order follower").all()
 
 
+@pytest.mark.parametrize("every", [False, True])
+def test_tangible_pso_runs_cut_by_the_time_limit_judge_no_record_and_no_claim(every):
+    # the paper's 40 x 70 set-up, but one run of each condition (or every run) stopped by a
+    # time limit before its 70th iteration: nothing of Table 1 may be judged on them
+    defaults, ends = parameter_defaults(TangiblePSOModel), TangiblePSOModel.CUT_ENDS
+    runs = pso_runs(40, 70).assign(end_reason="iterations")
+    cut = runs["run_id"].str.endswith("-0") | every
+    runs.loc[cut, "end_reason"] = "time limit"
+    table1 = PSO[:12]
+    assert all(r.condition.get("iterations") == 70 for r in table1)
+    rows = compare_published(runs, table1, defaults, cut_ends=ends)
+    assert set(rows["verdict"]) == {NOT_COMPARABLE}
+    assert rows["reason"].str.contains(r"of \d+ runs ended by time limit before").all()
+    claims = {c["id"]: c for c in judge_claims(runs, None, PSO_CLAIMS, defaults, cut_ends=ends)}
+    for claim in ("C1", "C1b", "C4"):
+        assert claims[claim]["verdict"] == NOT_COMPARABLE, claim
+    # the same runs, every one at its 70 iterations, are judged
+    whole = runs.assign(end_reason="iterations")
+    rows = compare_published(whole, table1, defaults, cut_ends=ends)
+    assert set(rows["verdict"]) & JUDGED
+    claims = {c["id"]: c for c in judge_claims(whole, None, PSO_CLAIMS, defaults, cut_ends=ends)}
+    assert claims["C4"]["verdict"] in JUDGED
+
+
 def test_a_sweep_at_another_time_limit_is_not_compared_with_table_1():
     from models.stigmergy.published import PUBLISHED as TABLE1
 
