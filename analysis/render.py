@@ -43,6 +43,7 @@ __all__ = [
     "RunFigure",
     "RunReplay",
     "animation_frames",
+    "check_animation",
     "render_animation",
     "render_snapshots",
     "snapshot_times",
@@ -351,6 +352,16 @@ def animation_frames(run: SavedRun, frames: int, dpi: int = 80) -> Iterator[np.n
         yield figure.rgb()
 
 
+def check_animation(frames: int, fps: float) -> None:
+    """Refuse an animation of fewer than two frames or a frame rate that is not positive
+    (ConfigError), before anything is drawn.
+    """
+    if frames < 2:
+        raise ConfigError(f"frames must be at least 2, got {frames}")
+    if not fps > 0:
+        raise ConfigError(f"fps must be positive, got {fps}")
+
+
 def render_animation(
     run: SavedRun,
     path: str | Path,
@@ -374,10 +385,7 @@ def render_animation(
     kind = path.suffix.lower()
     if kind not in (".gif", ".mp4"):
         raise ConfigError(f"animation file must end in .gif or .mp4, got {str(path)!r}")
-    if frames < 2:
-        raise ConfigError(f"frames must be at least 2, got {frames}")
-    if fps <= 0:
-        raise ConfigError(f"fps must be positive, got {fps}")
+    check_animation(frames, fps)
     ffmpeg = shutil.which("ffmpeg")
     if kind == ".mp4" and ffmpeg is None:
         raise ABMError("MP4 needs ffmpeg on PATH (apt-get install -y ffmpeg); write a .gif instead")

@@ -69,6 +69,16 @@ def test_render_writes_snapshots_and_a_gif(run_dir, tmp_path, capsys):
     assert all(p.is_file() and p.stat().st_size > 1000 for p in written)
 
 
+@pytest.mark.parametrize(("flag", "said"), [("--frames=0", "frames"), ("--fps=0", "fps")])
+def test_a_bad_animation_option_is_refused_before_any_snapshot_is_drawn(
+    run_dir, tmp_path, capsys, flag, said
+):
+    out = tmp_path / "render"
+    assert main(["render", str(run_dir), flag, "--out", str(out)]) == 2
+    assert f"{said} must be" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_render_defaults_to_four_snapshots(run_dir, capsys):
     assert main(["render", str(run_dir), "--no-gif"]) == 0
     written = _wrote(capsys.readouterr().out)

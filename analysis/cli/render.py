@@ -50,11 +50,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     """Load the run folder, draw, print every path written."""
-    from analysis.render import render_animation, render_snapshots, snapshot_times
+    from analysis.render import (
+        check_animation,
+        render_animation,
+        render_snapshots,
+        snapshot_times,
+    )
     from analysis.run_folder import load_run
 
     if args.mp4 and shutil.which("ffmpeg") is None:
         raise ABMError("--mp4 needs ffmpeg on PATH (apt-get install -y ffmpeg); use the GIF")
+    if args.gif or args.mp4:  # before any snapshot is drawn
+        check_animation(args.frames, args.fps)
     folder = args.run if args.run is not None else _newest_run()
     run = load_run(folder)
     out = args.out if args.out is not None else folder / "render"
