@@ -59,6 +59,9 @@ def test_abm_run_prints_each_models_units():
         ["0.676", "m/s"],
         ["1,715.4", "s"],
     ]
+    # a value the run could not measure is "none", with no unit ("nan %" read as a number)
+    text = format_summary({"swap_resolved_pct": float("nan"), "flight_time": float("inf")})
+    assert [line.split()[1:] for line in text.splitlines()] == [["none"], ["inf", "s"]]
 
 
 #: Every unit a summary may use: SI (s, m, m^2, J, W, 1/s, m/s) and the unit-free kinds.

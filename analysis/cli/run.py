@@ -304,11 +304,19 @@ def unit_of(key: str) -> str:
 
 
 def format_summary(summary: dict) -> str:
-    """A two-column table of a run's summary, with units."""
+    """A two-column table of a run's summary, with units; a value the run could not measure
+    (NaN: no swap to resolve, no failure to time) reads "none", without a unit.
+    """
     lines = []
     for key, value in summary.items():
-        lines.append(f"  {key:<18} {_shown(value):>14} {unit_of(key)}".rstrip())
+        unit = "" if _missing(value) else unit_of(key)
+        lines.append(f"  {key:<18} {_shown(value):>14} {unit}".rstrip())
     return "\n".join(lines)
+
+
+def _missing(value: object) -> bool:
+    """Whether a summary value is NaN: nothing measured."""
+    return isinstance(value, float) and math.isnan(value)
 
 
 def _shown(value: object) -> str:
@@ -317,4 +325,6 @@ def _shown(value: object) -> str:
     """
     if not isinstance(value, float):
         return str(value)
+    if _missing(value):
+        return "none"
     return f"{value:,.1f}" if abs(value) >= 10 or not math.isfinite(value) else f"{value:.3g}"
