@@ -89,6 +89,9 @@ class Published:
         by: the parameters whose combinations are the conditions of an "r" record.
         source: where in the source (table, figure, section).
         note: why a "shown" level has no verdict, or where a spread comes from.
+        by_construction: why ours agrees by the model's own definitions (e.g. an energy that
+            is a power times the time it correlates with); the report then labels the row
+            "by construction (not a test)", never counted as reproduced. "": a test.
 
     """
 
@@ -108,6 +111,7 @@ class Published:
     by: tuple[str, ...] = ()
     source: str = ""
     note: str = ""
+    by_construction: str = ""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:

@@ -299,7 +299,10 @@ def compare_published(
         if item.metric not in runs or (item.other is not None and item.other not in runs):
             rows.append(_row(item, NOT_IN_SWEEP, f"these runs do not record {item.metric}"))
             continue
-        rows.append(_judge(item, runs, before, specs))
+        row = _judge(item, runs, before, specs)
+        if item.by_construction and row["verdict"] in VERDICTS.values():
+            row.update({"verdict": BY_CONSTRUCTION, "reason": item.by_construction})
+        rows.append(row)
     return pd.DataFrame(rows)
 
 
