@@ -240,3 +240,30 @@ def test_unknown_names_and_targets_are_clear_errors():
         registry.model_class("nowhere:Model")
     with pytest.raises(ConfigError, match="package.module:Class"):
         registry.register("x", "not-a-target")
+
+
+@pytest.mark.parametrize(
+    "model", [n for n in registry.model_names() if registry.model_class(n).CUT_ENDS]
+)
+def test_a_run_the_time_limit_stops_ends_as_the_models_cut_ends_say(model):
+    # the report refuses runs whose end_reason starts with one of CUT_ENDS; a model whose
+    # time limit wrote another reason would have its cut runs judged as finished
+    cls = registry.model_class(model)
+    run = cls(seed=1, **{**cls.QUICK, "time_limit": 1.0})
+    run.run()
+    assert run.summary()["end_reason"].startswith(cls.CUT_ENDS)
+    assert not "complete".startswith(cls.CUT_ENDS) and not "horizon".startswith(cls.CUT_ENDS)
+
+
+def test_cut_ends_must_be_a_tuple_of_end_reasons():
+    class Cut(SwarmModel):
+        """A model whose CUT_ENDS is a bare string."""
+
+        STATES = ("idle",)
+        CUT_ENDS = "time limit"
+
+        def __init__(self, *, seed=None, **params):
+            super().__init__(self.make_params(**params), None, seed=seed)
+
+    with pytest.raises(ContractError, match="CUT_ENDS must be a tuple"):
+        check_model(Cut)

@@ -85,6 +85,9 @@ class HierarchyModel(SwarmModel):
     }  # fmt: skip
     PUBLISHED = published.PUBLISHED
     CENSORED = published.CENSORED
+    # the report's runs end by the queen's coverage call (complete, or it gives up); a run our
+    # time limit stops first is cut short: its claims are not judged on it
+    CUT_ENDS = ("time limit",)
     CLAIMS = published.CLAIMS
     REPORT = published.REPORT
     APP = "models.hierarchy.app"

@@ -166,8 +166,9 @@ CLAIMS = sorted([
       for i, src, text, kind, setup, why in _BY_CONSTRUCTION),
 ], key=lambda claim: (int(claim.id[1:].rstrip("b")), claim.id))  # fmt: skip
 
-#: A run that does not complete (time limit, or the coverage call gives up) has no
-#: completion time: only a lower bound, its end.
+#: The queen's coverage call ends a run of the report, COMPLETE or CANNOT_COMPLETE (it gives
+#: up), and its time is the run's completion time either way (the runtime C9 is about); a run
+#: the time limit stops before the call returns has none: only a lower bound, its end.
 CENSORED = (Censored("completion_time", bound="time"),)
 
 #: Worker failure (issue 13, not the report's): completion, rounds and messages against each

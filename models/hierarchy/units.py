@@ -19,7 +19,9 @@ SUMMARY_UNITS = {
     "S": Quantity("count", "scouts per worker S"),
     "scouts": Quantity("count", "scouts in all"),
     "complete": Quantity("flag", "the queen called the coverage complete (1.0) or not (0.0)"),
-    "completion_time": Quantity("s", "simulated time of the queen's call (NaN: none)"),
+    "completion_time": Quantity(
+        "s", "simulated time of the queen's call, COMPLETE or CANNOT_COMPLETE (NaN: none)"
+    ),
     "scout_scan_area": Quantity("m^2", "sum of pi r^2 over a scout's SCANs, mean per scout"),
     "worker_scan_area": Quantity("m^2", "sum of pi r^2 of a worker's bubbles, mean per worker"),
     "queen_scan_area": Quantity("m^2", "the world's area, the queen's bubble"),
