@@ -55,11 +55,18 @@ def test_c02_omstc_ahead_of_sugarmap_by_the_welch_interval(effect, jitter, holds
     assert verdict.holds is holds and "Welch 95 % interval" in verdict.rule
 
 
-@pytest.mark.parametrize(("effect", "jitter", "holds"), CASES)
-def test_c03_the_walk_still_rising_after_1500_s_needs_its_interval(effect, jitter, holds):
-    rw = _arm(RW, jitter, coverage_1500=50, coverage_3000=50 + effect)
+def test_c03_shows_each_runs_rise_and_is_labelled_by_construction():
+    # coverage only accumulates: a run's 3000 s coverage is never below its 1500 s one, so
+    # the rise cannot refute "the walk eventually covers everything" and is not a verdict
+    from models.sugarmap.published import CLAIMS
+
+    rw = _arm(RW, 1.0, coverage_1500=50.0)
+    rw["coverage_3000"] = rw["coverage_1500"] + np.arange(len(rw))  # rises 0 .. 7 points
     verdict = _judge("C03", rw)
-    assert verdict.holds is holds and verdict.low is not None
+    assert verdict.runs == len(rw) and verdict.mean == pytest.approx(3.5)  # paired, per run
+    assert "rise per run +3.5 points" in verdict.ours and "smallest +0.0" in verdict.ours
+    claim = next(c for c in CLAIMS if c.id == "C03")
+    assert "only accumulates" in claim.by_construction
 
 
 @pytest.mark.parametrize(("jitter_walk", "holds"), [(10.0, True), (0.1, False), (1.2, None)])
