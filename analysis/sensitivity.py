@@ -74,8 +74,8 @@ class DesignData:
         outputs: metric -> array of one value per sample row (mean over replications).
         notes: why a metric (or the whole design) has no indices.
         censored: metric -> share of runs whose value is only a lower bound.
-        set_by: metric -> the parameter that alone sets it (:func:`_echoed`): its indices
-            hold by construction, so it is left out of the ranking.
+        set_by: metric -> the parameter that alone sets it in these runs (:func:`_echoed`):
+            its indices would restate that, so it is left out of the ranking.
 
     """
 
@@ -148,9 +148,10 @@ def design_data(
     if data.set_by:
         echoes = ", ".join(f"{m} ({p})" for m, p in data.set_by.items())
         data.notes.append(
-            "left out of the ranking, set by one parameter alone (the same value wherever "
-            f"that parameter has the same value, so their indices hold by construction): "
-            f"{echoes}; their indices are in sensitivity.csv"
+            "left out of the ranking, set by one parameter alone in these runs (the same "
+            "value wherever that parameter had the same value, which fewer than 1 % of "
+            "shuffles of the values give: their indices would restate it; more rows may show "
+            f"other parameters acting): {echoes}; their indices are in sensitivity.csv"
         )
     for spec in censored:
         if spec.metric in data.outputs:
@@ -182,12 +183,35 @@ def _echoed(y: np.ndarray, groups: dict[str, np.ndarray]) -> str | None:
     for the others whatever the model does: counted in the ranking's mean over metrics, it
     would pull that parameter up (on the beacon/explorer Sobol' design two such outputs put
     n_robots first; without them body_radius is first).
+
+    An output with few distinct values on a small design (a beacon count of 13 or 14 over 9
+    Morris rows) can be constant within one parameter's groups by chance: it is named only
+    when fewer than 1 % of :data:`ECHO_SHUFFLES` seeded shuffles of its values over the rows
+    are also constant within those groups.
     """
     for name, codes in groups.items():
-        by_value = pd.Series(y).groupby(codes)
-        if ((by_value.max() - by_value.min()) == 0).all():
+        if _constant_within(y, codes) and _chance_of_echo(y, codes) < 0.01:
             return name
     return None
+
+
+#: Shuffles of an output's values by which :func:`_echoed` tells an echo from chance.
+ECHO_SHUFFLES = 999
+
+
+def _constant_within(y: np.ndarray, codes: np.ndarray) -> bool:
+    """Whether ``y`` takes one value within each group of ``codes``."""
+    by_value = pd.Series(y).groupby(codes)
+    return bool(((by_value.max() - by_value.min()) == 0).all())
+
+
+def _chance_of_echo(y: np.ndarray, codes: np.ndarray) -> float:
+    """The share of seeded shuffles of ``y`` over the rows that are constant within ``codes``'
+    groups (0 when its values are too varied for any shuffle to be).
+    """
+    rng = np.random.default_rng(len(y))
+    hits = sum(_constant_within(rng.permutation(y), codes) for _ in range(ECHO_SHUFFLES))
+    return hits / ECHO_SHUFFLES
 
 
 def _key(params: dict, names: Sequence[str]) -> str:

@@ -364,3 +364,16 @@ def test_a_few_censored_runs_never_read_as_zero_percent():
 
     assert share_text(2 / 764) == "0.3%"  # was "0%" beside "report a lower bound"
     assert share_text(0.15) == "15%" and share_text(0.0) == "0%"
+
+
+def test_an_output_constant_within_a_parameters_groups_by_chance_is_not_named_an_echo():
+    from analysis.sensitivity import _echoed
+
+    codes = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2])  # 9 Morris-like rows, 3 levels of one parameter
+    by_chance = np.array([13.0, 13, 13, 14, 14, 14, 14, 14, 14])  # two values only
+    assert _echoed(by_chance, {"launch_rate": codes}) is None
+    # a real echo: many rows, a distinct value per level
+    levels = np.repeat(np.arange(8), 6)
+    assert _echoed(10.0 * levels, {"n_robots": levels}) == "n_robots"
+    # and not when the output varies within a level
+    assert _echoed(10.0 * levels + (np.arange(48) % 2), {"n_robots": levels}) is None
