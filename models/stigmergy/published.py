@@ -134,7 +134,7 @@ FAULT_REPORT = ReportLayout(
     curves=("ca",),
     labels={
         "fault_rate": "Beacon failure rate lambda (1/s)",
-        "time": "Time (s); a run ends when ca reaches 95 %",
+        "time": "Time (s); a run ends when ca reaches the coverage target",
         "failed": "Beacons failed per run",
         "beacon": "Live beacons at the end",
         "robots": "Robots launched",
@@ -150,7 +150,7 @@ REPORT = ReportLayout(
     alternatives=(FAULT_REPORT,),
     labels={
         "pheromone_radius": "Pheromone radius C_rb (m)",
-        "time": "Time to cover 95 % (s)",
+        "time": "Time to the coverage target (s; 95 % in the paper)",
         "beacon": "Final beacons b",
         "wander": "Final wanders w",
         "ca": "Area seen ca (%)",
