@@ -9,7 +9,8 @@ as a note of the result, never printed.
 
 Beside each p-value the effect size eta_sq (the share of the sum of squares) comes with a
 95 % percentile bootstrap interval: runs resampled with replacement within each condition,
-the type-II sums of squares recomputed by least squares (the same sums statsmodels gives).
+the type-II sums of squares recomputed by least squares (the same sums statsmodels gives);
+none from conditions of fewer than :data:`MIN_BOOTSTRAP_RUNS` runs, whose resamples collapse.
 """
 
 import warnings
@@ -25,6 +26,10 @@ __all__ = ["Anova", "anova", "type2_sums"]
 
 #: Bootstrap resamples of the effect sizes' intervals.
 RESAMPLES = 1000
+#: The fewest runs of a condition from which the bootstrap draws an interval: from two runs a
+#: resample repeats one run in half the draws, leaving no spread within the condition, and the
+#: interval collapses onto [eta_sq, 1].
+MIN_BOOTSTRAP_RUNS = 5
 
 #: A sum of squares this small beside the total is rounding, not variation.
 _RELATIVE_ZERO = 1e-10
@@ -124,6 +129,13 @@ def anova(
         notes.append(f"statsmodels warned: {message}")
     table.index = [_source(i, used) for i in table.index]
     table["eta_sq"] = table["sum_sq"] / table["sum_sq"].sum()
+    fewest = int(pd.Series(list(zip(*codes, strict=True))).value_counts().min())
+    if resamples > 0 and fewest < MIN_BOOTSTRAP_RUNS:
+        notes.append(
+            f"no bootstrap interval of eta_sq: a condition has {fewest} run(s), at least "
+            f"{MIN_BOOTSTRAP_RUNS} needed (resamples of fewer collapse onto [eta_sq, 1])"
+        )
+        resamples = 0
     low, high = _bootstrap(y, codes, terms, used, seed, resamples)
     table["eta_sq_low"] = table.index.map(low)
     table["eta_sq_high"] = table.index.map(high)

@@ -216,3 +216,16 @@ def test_holm_is_statsmodels_holm(p):
     assert holm(p) == pytest.approx(expected)
     with_gap = holm([*p, float("nan")])
     assert np.isnan(with_gap[-1]) and with_gap[:-1] == pytest.approx(expected)
+
+
+@pytest.mark.parametrize(("runs", "interval"), [(2, False), (4, False), (5, True)])
+def test_eta_sq_gets_a_bootstrap_interval_only_from_five_runs_a_condition(runs, interval):
+    rng = np.random.default_rng(7)
+    df = pd.DataFrame(
+        [{"a": a, "b": b, "y": 10.0 * a + b + rng.normal()} for a in range(3) for b in range(2)
+         for _ in range(runs)]
+    )  # fmt: skip
+    result = stats.anova(df, "y", ["a", "b"], resamples=200)
+    low, high = result.table.loc["a", "eta_sq_low"], result.table.loc["a", "eta_sq_high"]
+    assert bool(np.isfinite(low) and low < result.table.loc["a", "eta_sq"] < high) is interval
+    assert any("no bootstrap interval" in note for note in result.notes) is not interval
