@@ -172,8 +172,8 @@ def _page(result: RateFit, path: Path, title: str, curves: Path) -> Path:
         checks=table(checks.table, 3, ("state",)),
         verdict=(
             f"Worst state: RMSD {100 * checks.rmsd_max:.1f} % of N; band coverage "
-            f"{100 * checks.band_coverage:.1f} %; the ODE ran {checks.speed_ratio:.0f}x and the "
-            f"band {checks.band_speed_ratio:.1f}x faster than the held-out agent runs."
+            f"{100 * checks.band_coverage:.1f} %; the ODE ran {_faster(checks.speed_ratio)} and "
+            f"the band {_faster(checks.band_speed_ratio)} than the held-out agent runs."
         ),
         mixing_text=mixing_text,
         mixing=table(mixing.table, 3, ("source", "target", "k")) if mixing.computable else "",
@@ -225,7 +225,8 @@ def plot_curves(
                     label="mean-field ODE")  # fmt: skip
             rmsd = float(check.table.loc[check.table["state"] == state, "rmsd"].iloc[0])
             head = f"{label}\n" if label else ""
-            ax.set_title(f"{head}{state} (RMSD {100 * rmsd:.1f} % of N)", fontsize=9)
+            said = "never occupied" if np.isnan(rmsd) else f"RMSD {100 * rmsd:.1f} % of N"
+            ax.set_title(f"{head}{state} ({said})", fontsize=9)
             ax.set_xlabel("time (s)")
             ax.grid(alpha=0.3)
         axes[r][0].set_ylabel("robots")
@@ -244,7 +245,12 @@ def summary_lines(result: RateFit) -> list[str]:
     shown = [c for c in ("source", "target", "family", "coefficient", "estimate", "se")
              if c in rates]  # fmt: skip
     lines = [rates[shown].to_string(index=False, float_format=lambda v: f"{v:.4g}"), ""]
-    lines.append(checks.table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
+    lines.append(
+        checks.table.to_string(index=False, float_format=lambda v: f"{v:.3f}", na_rep="-")
+    )
+    empty = checks.table.loc[~checks.table["occupied"], "state"].tolist()
+    if empty:
+        lines.append(f"never occupied, held out or predicted (not checked): {', '.join(empty)}")
     lines.append(
         f"held-out seeds {result.held_seeds[0]}-{result.held_seeds[-1]}: worst RMSD "
         f"{100 * checks.rmsd_max:.1f} % of N = {checks.swarm_size}; band coverage "
@@ -257,7 +263,14 @@ def summary_lines(result: RateFit) -> list[str]:
     else:
         lines.append(f"well mixed: cannot be computed ({mixing.reason})")
     lines.append(
-        f"speed: the ODE {checks.speed_ratio:.0f}x, the band {checks.band_speed_ratio:.1f}x "
-        "faster than the held-out agent runs"
+        f"speed: the ODE {_faster(checks.speed_ratio)}, the band "
+        f"{_faster(checks.band_speed_ratio)} than the held-out agent runs"
     )
     return lines
+
+
+def _faster(ratio: float) -> str:
+    """A speed ratio in words: "46x faster", or "1.7x slower" below 1 (not "0.6x faster")."""
+    if ratio >= 1:
+        return f"{ratio:.0f}x faster" if ratio >= 10 else f"{ratio:.1f}x faster"
+    return f"{1 / ratio:.1f}x slower"

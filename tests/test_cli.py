@@ -261,3 +261,20 @@ def test_a_bad_seed_is_one_line_before_any_folder(verb, tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "seed must be an integer in [0, 2**63 - 1], got -3" in err[0]
     assert not out.exists()
+
+
+def test_fit_leaves_states_no_run_occupies_unchecked_and_says_slower_not_0x_faster(
+    tmp_path, capsys
+):
+    # tangible PSO without a deployment never enters blocked/deploying/deployed: an RMSD of 0
+    # there would be a statistic of zeros, printed as a perfect fit
+    quick = ["--set", "particles=10", "--set", "iterations=6"]
+    rc = main(["fit", "tangible-pso", "--runs", "2", "--held", "1", *quick,
+               "--out", str(tmp_path / "fit")])  # fmt: skip
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert (
+        "never occupied, held out or predicted (not checked): blocked, deploying, deployed" in out
+    )
+    speed = next(line for line in out.splitlines() if line.startswith("speed:"))
+    assert " 0." not in speed and ("faster" in speed or "slower" in speed)

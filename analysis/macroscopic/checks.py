@@ -42,10 +42,12 @@ class Checks:
     """The held-out checks of one fitted model.
 
     Attributes:
-        table: one row per state: ``rmsd`` (share of the swarm), ``rmsd_robots``,
-            ``noise`` (share of the swarm: the root mean square standard error of the
-            held-out mean itself, the RMSD a perfect model would still show with this few
-            runs), ``band_coverage`` (share of points inside the 90 % band).
+        table: one row per state: ``occupied`` (a held-out run or the ODE ever puts a robot
+            in it; the other columns are NaN when not: checks of zeros), ``rmsd`` (share of
+            the swarm), ``rmsd_robots``, ``noise`` (share of the swarm: the root mean square
+            standard error of the held-out mean itself, the RMSD a perfect model would still
+            show with this few runs; NaN from one held-out run), ``band_coverage`` (share of
+            points inside the 90 % band).
         rmsd_max: the worst state's ``rmsd``.
         band_coverage: share of all (run, time, state) points inside the band, over the
             states that ever hold a robot (held out or predicted): a state no robot enters
@@ -117,16 +119,19 @@ def check_heldout(
     )
     low, high = band.low[states].to_numpy(), band.high[states].to_numpy()
     inside = (observed >= low - 1e-9) & (observed <= high + 1e-9)
+    # a state no held-out run and not the ODE ever occupies fits "perfectly" whatever the
+    # rates: its checks would be statistics of zeros, so they are left empty
+    visited = (observed.max(axis=(0, 1)) > 0) | (expected[states].to_numpy().max(axis=0) > 0)
     table = pd.DataFrame(
         {
             "state": states,
-            "rmsd": rmsd / size,
-            "rmsd_robots": rmsd,
-            "noise": noise / size,
-            "band_coverage": inside.mean(axis=(0, 1)),
+            "occupied": visited,
+            "rmsd": np.where(visited, rmsd / size, np.nan),
+            "rmsd_robots": np.where(visited, rmsd, np.nan),
+            "noise": np.where(visited, noise / size, np.nan),
+            "band_coverage": np.where(visited, inside.mean(axis=(0, 1)), np.nan),
         }
     )
-    visited = (observed.max(axis=(0, 1)) > 0) | (expected[states].to_numpy().max(axis=0) > 0)
     return Checks(
         table=table,
         rmsd_max=float(table["rmsd"].max()),
