@@ -14,7 +14,11 @@ SUMMARY_UNITS = {
     "beacon": Quantity("count", "robots that became beacons by the end (b)"),
     "robots": Quantity("count", "robots launched by the end (w + b plus any failed)"),
     "ca": Quantity("%", "area covered (ca), share of the free area"),
-    "cb": Quantity("%", "area within a beacon's pheromone radius (cb), share of the free area"),
+    "cb": Quantity(
+        "%",
+        "free area seen (detection range, walls block the view) from the live robots' final "
+        "positions (cb), share of the free area",
+    ),
     "entropy": Quantity("bit", "the map's entropy sum P log2 P (the a0 regression's covariate)"),
     "envsize": Quantity("m^2", "the map's area (width x height)"),
     "launch_period": Quantity("s", "time between two launches"),
