@@ -278,3 +278,17 @@ def test_fit_leaves_states_no_run_occupies_unchecked_and_says_slower_not_0x_fast
     )
     speed = next(line for line in out.splitlines() if line.startswith("speed:"))
     assert " 0." not in speed and ("faster" in speed or "slower" in speed)
+
+
+@pytest.mark.parametrize(
+    ("argv", "hint"),
+    [
+        (["run", "hierarchy", "--scouts", "3"], "--scouts-per-worker for --scouts"),
+        (["run", "sugarmap", "--n-anchor", "3"], "--n-anchors for --n-anchor"),
+        (["sweep", "experiments/smoke.toml", "--rep", "2"], "--replications for --rep"),
+    ],
+)
+def test_an_abbreviated_option_is_refused_naming_the_option_it_begins(argv, hint, capsys):
+    # argparse would take "--scouts 3" for "--scouts-per-worker 3" without a word
+    assert main(argv) == 2
+    assert hint in capsys.readouterr().err

@@ -48,10 +48,12 @@ class UsageError(ConfigError):
 
 class OneLineParser(argparse.ArgumentParser):
     """An argument parser whose errors are ConfigErrors (one line, naming the option and
-    pointing to ``--help``) instead of a usage block and an exit.
+    pointing to ``--help``) instead of a usage block and an exit. An option must be given in
+    full: argparse would take ``--scouts 3`` for ``--scouts-per-worker 3`` without a word.
     """
 
     def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
         #: The verbs' own parsers by verb (``abm``'s parser only), for options a verb lacks.
         self.verb_parsers: dict[str, argparse.ArgumentParser] = {}
@@ -64,8 +66,9 @@ class OneLineParser(argparse.ArgumentParser):
         raise UsageError(f"{message}{hints} (see {self.prog} --help)", self.prog)
 
     def _close_matches(self, message: str) -> str:
-        """For unrecognised options, the parser's own options they are most likely misspelt
-        from ("--birdz" -> "--birds"), or nothing.
+        """For unrecognised options, the parser's own options they most likely stand for: the
+        ones they begin (an abbreviation: "--scouts" -> "--scouts-per-worker"), else the one
+        they are most likely misspelt from ("--birdz" -> "--birds"); or nothing.
         """
         prefix = "unrecognized arguments: "
         if not message.startswith(prefix):
@@ -74,8 +77,12 @@ class OneLineParser(argparse.ArgumentParser):
         hints = []
         for word in message[len(prefix) :].split():
             given = word.split("=", 1)[0]
-            if given.startswith("--") and (close := difflib.get_close_matches(given, known, 1)):
-                hints.append(f"{close[0]} for {given}")
+            if not given.startswith("--"):
+                continue
+            longer = sorted(option for option in known if option.startswith(given))
+            close = longer or difflib.get_close_matches(given, known, 1)
+            if close:
+                hints.append(f"{' or '.join(close)} for {given}")
         return f"; did you mean {', '.join(hints)}?" if hints else ""
 
 
