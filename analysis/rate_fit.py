@@ -245,9 +245,7 @@ def summary_lines(result: RateFit) -> list[str]:
     shown = [c for c in ("source", "target", "family", "coefficient", "estimate", "se")
              if c in rates]  # fmt: skip
     lines = [rates[shown].to_string(index=False, float_format=lambda v: f"{v:.4g}"), ""]
-    lines.append(
-        checks.table.to_string(index=False, float_format=lambda v: f"{v:.3f}", na_rep="-")
-    )
+    lines.append(checks.table.to_string(index=False, float_format=lambda v: f"{v:.3f}", na_rep="-"))
     empty = checks.table.loc[~checks.table["occupied"], "state"].tolist()
     if empty:
         lines.append(f"never occupied, held out or predicted (not checked): {', '.join(empty)}")
