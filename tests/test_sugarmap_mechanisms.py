@@ -187,3 +187,18 @@ def test_frontier_step_shortens_the_way_to_the_nearest_uncovered_cell(rows, cols
     step = (cell[0] + dx, cell[1] + dy)
     assert coverage[step[1], step[0]] >= 0.95
     assert _distance_to_uncovered(coverage, step, 0.95) == far - 1
+
+
+@pytest.mark.parametrize(
+    ("keywords", "rule"),
+    [
+        ({"sigma_m": 0.3}, "sigma_m .* applies to weights='gauss' only, got weights='eq8'"),
+        ({"sigma_m": 0.3, "weights": "eq8"}, "applies to weights='gauss' only"),
+        ({"horizon": 100.0, "dt": 1000.0}, r"dt \(1000 s\) must not exceed the horizon"),
+    ],
+)
+def test_a_keyword_that_would_change_nothing_or_overrun_the_run_is_refused(keywords, rule):
+    # sigma_m without Gaussian weights ran the same run; dt past the horizon ran 2000 s
+    with pytest.raises(ConfigError, match=rule):
+        SugarMapModel(seed=1, **keywords)
+    SugarMapModel(seed=1, weights="gauss", sigma_m=0.3)  # where it applies, it is taken

@@ -191,6 +191,16 @@ class SugarMapParams(SwarmParams):
                 f"random_walk applies to algorithm='random_walk' only, got algorithm="
                 f"{self.algorithm!r}"
             )
+        if self.sigma_m is not None and self.resolved("weights") != "gauss":
+            raise ConfigError(
+                f"sigma_m is the length of the Gaussian weights: it applies to weights='gauss' "
+                f"only, got weights={self.resolved('weights')!r}"
+            )
+        if self.dt > self.horizon:
+            raise ConfigError(
+                f"dt ({self.dt:g} s) must not exceed the horizon ({self.horizon:g} s): one step "
+                "would overrun the whole coverage phase"
+            )
 
     # the defaults of the algorithm-specific parameters, resolved
     @property
