@@ -175,6 +175,11 @@ class HierarchyParams(SwarmParams):
                         f"{name} shapes the built-in room only; with the bitmap world "
                         f"{self.world!r} leave it at {default}, got {getattr(self, name)}"
                     )
+        elif self.boxes == 0 and self.box_size != 1.0:
+            raise ConfigError(
+                f"box_size is the side of the room's boxes, and boxes=0 places none; give "
+                f"boxes > 0 or leave box_size at 1.0, got box_size={self.box_size}"
+            )
         if self.scout_r_min >= self.scout_r_max:
             raise ConfigError(
                 f"scout_r_min must be below scout_r_max ({self.scout_r_max}), "
