@@ -143,6 +143,7 @@ def test_worker_relay_forwards_points_and_batch_does_not():
         ({"stamp": "peak"}, "sigma_sensor"),
         ({"world": "x.npy", "boxes": 2}, "boxes"),
         ({"box_size": 3.0}, "box_size is the side of the room's boxes, and boxes=0"),
+        ({"radius_decay": 1.0}, r"radius_decay must be in \(0, 1\)"),
     ],
 )
 def test_bad_input_is_a_config_error_naming_the_parameter(kwargs, name):

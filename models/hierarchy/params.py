@@ -180,6 +180,11 @@ class HierarchyParams(SwarmParams):
                 f"box_size is the side of the room's boxes, and boxes=0 places none; give "
                 f"boxes > 0 or leave box_size at 1.0, got box_size={self.box_size}"
             )
+        if self.radius_decay == 1.0:
+            raise ConfigError(
+                "radius_decay must be in (0, 1): at 1 the radius schedule r_{k+1} = decay r_k "
+                "never shrinks, got 1.0"
+            )
         if self.scout_r_min >= self.scout_r_max:
             raise ConfigError(
                 f"scout_r_min must be below scout_r_max ({self.scout_r_max}), "
