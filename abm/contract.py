@@ -29,7 +29,7 @@ def check_model(cls: type) -> None:
     described in the docstring's ``Attributes:`` section, and whose defaults are valid; a
     constructor taking only ``seed`` and the params' fields as keywords; ``STATES`` a
     non-empty tuple of names; ``STATE_STYLES``, ``MACRO``, ``PUBLISHED``, ``CLAIMS``,
-    ``CENSORED``, ``CUT_ENDS``, ``REPORT``, ``APP``, ``QUICK``, ``FAULTS`` and
+    ``CENSORED``, ``CUT_ENDS``, ``CONTACTS``, ``REPORT``, ``APP``, ``QUICK``, ``FAULTS`` and
     ``SUMMARY_UNITS`` of the documented types; every setting a published number's or a
     claim's condition names is a parameter; a docstring of the class's own (see
     :func:`description`).
@@ -106,6 +106,8 @@ def _check(cls: type) -> None:
         raise ContractError(f"{name}.CENSORED must hold abm.published.Censored records")
     if not (isinstance(cls.CUT_ENDS, tuple) and all(isinstance(e, str) for e in cls.CUT_ENDS)):
         raise ContractError(f"{name}.CUT_ENDS must be a tuple of end_reason prefixes (str)")
+    if not isinstance(cls.CONTACTS, bool):
+        raise ContractError(f"{name}.CONTACTS must be True or False")
     fields = {f.name for f in dataclasses.fields(cls.Params)}
     for record in (*cls.PUBLISHED, *cls.CLAIMS):
         unknown = sorted(set(record.condition) - fields)

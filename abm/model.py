@@ -34,7 +34,7 @@ from abm.energy import EnergyLedger, PowerModes
 from abm.errors import ConfigError, check_seed
 from abm.faults import FAILED, FaultInjector
 from abm.lifecycle import Lifecycle
-from abm.params import SwarmParams, bind_params, make_params, param_fields
+from abm.params import COLLISION_ROWS, SwarmParams, bind_params, make_params, param_fields
 from abm.physics import Controller, FlightParams, Physics
 from abm.published import Censored, Claim, MacroSpec, Published, ReportLayout
 from abm.record import Recorder
@@ -68,10 +68,14 @@ class SwarmModel(mesa.Model):
       a time to a target, or anything a run accumulates, that a time limit censors); reports
       show them as censored (share, Kaplan-Meier median), judge no published number from
       censored values and run no statistic on them.
-    - ``CUT_ENDS``: prefixes of ``end_reason`` that end a run before the run the paper
+    - ``CUT_ENDS``: prefixes of ``end_reason`` that end a run before the run its source
       describes is complete (a time limit before the last iteration); a published number or
       claim whose runs include such a run is not judged ("not comparable", saying how many).
-      Empty for a model whose papers' runs themselves end at a time limit.
+      Empty for a model whose source's runs themselves end at a time limit.
+    - ``CONTACTS``: False for a model whose robots cannot touch a wall or one another (no
+      physics and no :meth:`collision` calls: flocking's birds pass through each other); its
+      summary then has no collision counts, which would read 0 whatever happened, and
+      ``collision_rows`` is refused.
     - ``APP``: module of the model's SolaraViz page (``page`` attribute); None = a default page
       with sliders for its numeric parameters.
     - ``QUICK``: keywords of a small set-up on which a run of a couple of simulated minutes
@@ -126,6 +130,7 @@ class SwarmModel(mesa.Model):
     CLAIMS: ClassVar[Sequence[Claim]] = ()
     CENSORED: ClassVar[Sequence[Censored]] = ()
     CUT_ENDS: ClassVar[tuple[str, ...]] = ()
+    CONTACTS: ClassVar[bool] = True
     REPORT: ClassVar[ReportLayout | None] = None
     APP: ClassVar[str | None] = None
     QUICK: ClassVar[Mapping[str, object]] = {}
@@ -166,6 +171,11 @@ class SwarmModel(mesa.Model):
             raise ConfigError(
                 "torus=True needs physics=False: the flight physics bounces off the arena's "
                 "edges instead of wrapping"
+            )
+        if not self.CONTACTS and params.collision_rows != COLLISION_ROWS:
+            raise ConfigError(
+                f"collision_rows: {type(self).__name__}'s robots never touch a wall or one "
+                "another, so there are no collisions to log; leave it out"
             )
         super().__init__(rng=seed)
         _hand_time_to_simpy(self)
@@ -383,17 +393,16 @@ class SwarmModel(mesa.Model):
         """The keys every model's summary has.
 
         ``time`` (s) and ``end_reason`` always; ``collisions`` (wall contacts plus two per
-        robot-robot contact), ``wall_collisions`` and ``robot_collisions``; ``coverage_area``
+        robot-robot contact), ``wall_collisions`` and ``robot_collisions`` unless the model's
+        robots make no contacts (``CONTACTS`` False); ``coverage_area``
         (% of the free area) when the model covers; ``energy_total`` (J) when it has an energy
         model; ``failed`` (robots failed so far) when its robots can fail (:mod:`abm.faults`).
         """
-        out = {
-            "time": float(self.env.now),
-            "end_reason": self.end_reason or "running",
-            "collisions": self.collisions,
-            "wall_collisions": self.wall_collisions,
-            "robot_collisions": self.robot_collisions,
-        }
+        out = {"time": float(self.env.now), "end_reason": self.end_reason or "running"}
+        if self.CONTACTS:
+            out["collisions"] = self.collisions
+            out["wall_collisions"] = self.wall_collisions
+            out["robot_collisions"] = self.robot_collisions
         if self.coverage is not None:
             out["coverage_area"] = 100.0 * self.coverage.fraction
         if self.ledger.has_powers:

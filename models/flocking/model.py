@@ -34,6 +34,8 @@ class FlockingModel(SwarmModel):
     STATE_STYLES = {"flying": StateStyle("#0072B2", marker="o", size=18.0, label="bird")}
     ARROWS_LABEL = "heading (half the visual distance long)"
     PUBLISHED = PUBLISHED
+    # boids pass through one another and the square has no walls: no collision to count
+    CONTACTS = False
     REPORT = REPORT
     APP = "models.flocking.app"
 

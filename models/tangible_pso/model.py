@@ -95,6 +95,9 @@ class TangiblePSOModel(SwarmModel):
     # the paper's runs end after their iterations (Table 1: 70) or their deployment; a run
     # our time limit stops earlier is a shorter optimisation, not a run of its condition
     CUT_ENDS = ("time limit",)
+    # the MAVs are points that fly exactly (a run's "collision" is a stop at a no-fly zone,
+    # counted by the model itself): no physical contact to count
+    CONTACTS = False
     REPORT = published.REPORT
     APP = "models.tangible_pso.app"
     QUICK = {"particles": 10, "iterations": 12}
