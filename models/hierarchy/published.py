@@ -198,7 +198,7 @@ REPORT = ReportLayout(
     metrics=("scout_scan_area", "worker_scan_area", "scout_drive", "worker_drive"),
     alternatives=(FAULT_REPORT,),
     labels={
-        "N": "Number of robots N = 1 + W + W S",
+        "N": "Robots N, queen included (1 + W + W S in the hierarchy)",
         "W": "Workers W",
         "scout_scan_area": "Scout scan area (m²)",
         "worker_scan_area": "Worker scan area (m²)",

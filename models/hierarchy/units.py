@@ -13,7 +13,7 @@ __all__ = ["SUMMARY_UNITS"]
 
 SUMMARY_UNITS = {
     "topology": Quantity("text", "the swarm's topology: hst (the tree), star, fc or ring"),
-    "N": Quantity("count", "robots N = 1 + W + W S (queen, workers, scouts)"),
+    "N": Quantity("count", "robots in the run, queen included (1 + W + W S in the hierarchy)"),
     "links": Quantity("count", "links of the comm graph"),
     "W": Quantity("count", "workers W"),
     "S": Quantity("count", "scouts per worker S"),
