@@ -658,3 +658,14 @@ def test_no_beacon_is_left_waiting_once_the_waves_have_reached_every_beacon(worl
             assert not network._waiting, f"beacons {sorted(network._waiting)} left waiting"
             checked += 1
     assert checked > 100
+
+
+def test_a_run_stuck_after_robots_failed_says_they_failed_not_that_all_are_beacons():
+    # 100 J batteries: 20 of 21 robots run flat; the one beacon left cannot redeploy
+    model = BeaconExplorerModel(battery_capacity=100.0, seed=1)
+    model.run()
+    summary = model.summary()
+    assert summary["failed"] == 20 and summary["n_beacons_final"] == 1
+    assert summary["end_reason"] == (
+        "stuck: every robot left is a beacon (20 failed, 1 beacon left) and none can redeploy"
+    )

@@ -190,8 +190,9 @@ class BeaconExplorerModel(SwarmModel):
         Complete: the free area is covered. Searched: no beacon signals an empty direction and
         every beacon is redeploying (the swarm believes the reachable environment is searched;
         the paper's robots would now return to the base). Stuck: every robot is a beacon and none
-        may redeploy. Both are judged only once the network is quiescent (hop counts settled, no
-        decision pending), or a robot that has just attached would look unable to redeploy.
+        may redeploy (the reason names the failed robots, which are no beacons, when any did).
+        Both are judged only once the network is quiescent (hop counts settled, no decision
+        pending), or a robot that has just attached would look unable to redeploy.
         """
         while True:
             yield self.env.timeout(self.params.monitor_period)
@@ -207,7 +208,13 @@ class BeaconExplorerModel(SwarmModel):
             counts = self.recorder.counts
             pending = any(b.may_detach for b in beacons)
             if counts["ground"] == 0 and counts["explorer"] == 0 and not pending:
-                self.finish("stuck: every robot is a beacon and none can redeploy")
+                failed = len(self.faults.failures)
+                if failed:  # the failed are no beacons: say how many robots are left
+                    left = f"{len(beacons)} beacon{'' if len(beacons) == 1 else 's'} left"
+                    self.finish(f"stuck: every robot left is a beacon ({failed} failed, {left}) "
+                                "and none can redeploy")  # fmt: skip
+                else:
+                    self.finish("stuck: every robot is a beacon and none can redeploy")
                 return
 
     def _stall_watch(self):
