@@ -316,6 +316,8 @@ def _linear_fit(y: np.ndarray, columns: dict[str, np.ndarray], names: list[str])
         params[name].value = float(v) if v != 0 else 1e-9
     res = lmfit.minimize(residual, params, method="leastsq")
     values = {n: float(res.params[n].value) for n in names}
+    if len(y) <= len(names):  # an exact fit (no residual): no standard error to speak of
+        return values, dict.fromkeys(names, float("nan"))
     errors = {
         n: float(res.params[n].stderr) if res.params[n].stderr is not None else float("nan")
         for n in names
@@ -332,7 +334,9 @@ def fit_lambdas(fits: pd.DataFrame) -> tuple[dict, dict]:
 
     Returns:
         ``(lambdas, stderr)`` dicts keyed l0..l5. With a single map size the size term is not
-        identifiable: l5 is then fixed at 0 (stderr NaN).
+        identifiable: l5 is then fixed at 0 (stderr NaN); likewise l4 with a single entropy.
+        A regression with no more rows than terms (the quadratic on 3 radii) interpolates:
+        its standard errors are NaN.
 
     """
     for col in ("radius", "alpha6", "a0", "entropy", "envsize"):
@@ -345,16 +349,19 @@ def fit_lambdas(fits: pd.DataFrame) -> tuple[dict, dict]:
     lam, err = _linear_fit(
         fits["alpha6"].to_numpy(float), {"1": one, "r": r, "r2": r**2}, ["l0", "l1", "l2"]
     )
-    cols = {"1": one, "plogp": -fits["entropy"].to_numpy(float)}
-    names = ["l3", "l4"]
+    cols, names = {"1": one}, ["l3"]
+    if fits["entropy"].nunique() > 1:
+        cols["plogp"] = -fits["entropy"].to_numpy(float)
+        names.append("l4")
     if fits["envsize"].nunique() > 1:
         cols["size"] = fits["envsize"].to_numpy(float)
         names.append("l5")
     lam2, err2 = _linear_fit(fits["a0"].to_numpy(float), cols, names)
     lam.update(lam2)
     err.update(err2)
-    lam.setdefault("l5", 0.0)
-    err.setdefault("l5", float("nan"))
+    for fixed in ("l4", "l5"):
+        lam.setdefault(fixed, 0.0)
+        err.setdefault(fixed, float("nan"))
     return lam, err
 
 

@@ -102,6 +102,19 @@ def test_fit_lambdas_recovers_known():
         assert got[k] == pytest.approx(v, rel=1e-4, abs=1e-12)
 
 
+def test_fit_lambdas_of_one_map_fixes_what_it_cannot_identify_and_gives_no_false_errors():
+    # one map: entropy and size the same in every row, so l4 and l5 cannot be told from l3;
+    # three radii: the quadratic in C_rb interpolates them, with no residual to give errors
+    rows = [{"radius": r, "entropy": 0.2405, "envsize": 1e4, "a0": 0.016 + 0.001 * k,
+             "alpha6": 1.0 - 1e-4 * r - 1e-6 * r * r}
+            for k, r in enumerate((20.0, 30.0, 40.0))]  # fmt: skip
+    got, se = fit_lambdas(pd.DataFrame(rows))
+    assert got["l4"] == 0.0 and got["l5"] == 0.0 and np.isnan(se["l4"]) and np.isnan(se["l5"])
+    assert got["l3"] == pytest.approx(0.017)  # the mean a0: all the map term can say
+    assert all(np.isnan(se[k]) for k in ("l0", "l1", "l2"))
+    assert se["l3"] > 0  # three a0 values, one term: a real standard error
+
+
 def test_refine_lambdas_fits_the_curves_it_is_judged_on():
     true = dict(l0=1.0, l1=-3e-5, l2=-2e-6, l3=0.05, l4=0.02, l5=1e-6)
     curves = []
