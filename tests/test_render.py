@@ -230,3 +230,17 @@ def test_a_folder_saved_before_layers_loads_without_them(run_dir, tmp_path):
     (old / "run.json").write_text(json.dumps(meta))
     with pytest.raises(RunFolderError, match="layers are not a list of objects"):
         load_run(old)
+
+
+def test_the_last_position_sample_is_the_runs_end_so_the_last_snapshot_is_its_final_picture():
+    # the run ends at 109.2 s, between two 1 s samples: without a sample at the end the last
+    # snapshot drew the swarm of 109.0 s, before the last iteration (another state count)
+    from models.tangible_pso import TangiblePSOModel
+
+    model = TangiblePSOModel(seed=1, trace_interval=1.0, particles=10, iterations=12).run()
+    positions = model.positions()
+    assert model.env.now % 1.0 > 0 and positions["time"].max() == model.env.now
+    last = positions[positions["time"] == model.env.now]
+    states = last["state"].value_counts().to_dict()
+    live = {s: n for s, n in model.recorder.counts.items() if n}
+    assert {s: states.get(s, 0) for s in live} == live
