@@ -90,6 +90,8 @@ class FaultInjector:
         robot, link, sensor = (_keywords(model.params, kind) for kind in FAULT_PARAMS)
         _check_states(model, robot)
         self.failures: dict[int, Failure] = {}
+        #: Scheduled faults (``fault_times``) that found no robot to fail.
+        self.skipped = 0
         self.rng: np.random.Generator | None = model.rng.spawn(1)[0] if self.kinds else None
         self.rate = robot.fault_rate
         self.shape = robot.fault_shape
@@ -185,6 +187,7 @@ class FaultInjector:
             and (not self.states or r.state in self.states)
         ]
         if not eligible:
+            self.skipped += 1
             self.model.recorder.log("fault_skipped", cause="scheduled")
             return
         self.fail(eligible[int(self.rng.integers(len(eligible)))], "scheduled")

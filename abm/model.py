@@ -404,7 +404,9 @@ class SwarmModel(mesa.Model):
         robot-robot contact), ``wall_collisions`` and ``robot_collisions`` unless the model's
         robots make no contacts (``CONTACTS`` False); ``coverage_area``
         (% of the free area) when the model covers; ``energy_total`` (J) when it has an energy
-        model; ``failed`` (robots failed so far) when its robots can fail (:mod:`abm.faults`).
+        model; ``failed`` (robots failed so far) when its robots can fail (:mod:`abm.faults`);
+        ``faults_skipped`` (scheduled faults that found no robot in ``fault_states``) when the
+        run has ``fault_times``.
         """
         out = {"time": float(self.env.now), "end_reason": self.end_reason or "running"}
         if self.CONTACTS:
@@ -417,6 +419,8 @@ class SwarmModel(mesa.Model):
             out["energy_total"] = self.ledger.energy()
         if FAILED in self.STATES:
             out["failed"] = len(self.faults.failures)
+        if getattr(self.params, "fault_times", ()):  # a scheduled fault may find no robot
+            out["faults_skipped"] = self.faults.skipped
         return out
 
     def summary(self) -> dict:

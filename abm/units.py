@@ -53,6 +53,9 @@ COMMON: Mapping[str, Quantity] = {
     "coverage_area": Quantity("%", "share of the free area ever covered"),
     "energy_total": Quantity("J", "energy drawn by the whole swarm"),
     "failed": Quantity("count", "robots failed (abm.faults)"),
+    "faults_skipped": Quantity(
+        "count", "scheduled faults (fault_times) that found no robot to fail (abm.faults)"
+    ),
 }
 
 

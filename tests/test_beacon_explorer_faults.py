@@ -45,7 +45,9 @@ def test_a_failed_beacon_has_no_further_events_and_hop_counts_heal_to_bfs(seed, 
     failed = model.faults.failed
     if not failed:  # no beacon but the (exempt) base at that time
         assert model.events().query("event == 'fault_skipped'").shape[0] == 1
+        assert model.summary()["faults_skipped"] == 1  # said in the summary too, not only logged
         return
+    assert model.summary()["faults_skipped"] == 0
     (rid,) = failed
     (robot,) = model.agents.select(lambda r: r.unique_id == rid)
     assert robot.failure.state == "beacon"

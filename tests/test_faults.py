@@ -251,3 +251,15 @@ def test_an_outage_storm_is_refused_before_it_starts_naming_the_keyword():
     with pytest.raises(ConfigError, match=r"link_outage_rate=1000000000000.0 .* <= 33333.3 here"):
         BeaconExplorerModel(seed=1, link_outage_rate=1e12, time_limit=30.0)
     assert FaultyTiny(seed=1, fault_rate=1e12, time_limit=30.0).run().time <= 30.0
+
+
+def test_a_scheduled_fault_that_finds_no_robot_is_counted_in_the_summary():
+    # a fault time with no robot in fault_states left nothing in the summary but a log row
+    from models.hierarchy import HierarchyModel
+
+    quick = {**HierarchyModel.QUICK, "time_limit": 400.0, "trace_interval": None}
+    model = HierarchyModel(seed=1, fault_times=(100.0,), fault_states=("worker_idle",), **quick)
+    summary = model.run().summary()
+    skipped = model.events().query("event == 'fault_skipped'").shape[0]
+    assert summary["faults_skipped"] == skipped == 1  # no worker idle at 100 s (seed 1)
+    assert "faults_skipped" not in HierarchyModel(seed=1, **quick).run().summary()
