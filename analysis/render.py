@@ -207,10 +207,11 @@ class RunFigure:
             cursor.set_xdata([time, time])
         if self._legend is not None:
             self._legend.remove()
+        handles = self.view.legend_handles()
         self._legend = self.fig.legend(
-            handles=self.view.legend_handles(),
+            handles=handles,
             loc="outside lower center",
-            ncols=6,
+            ncols=_legend_columns([h.get_label() for h in handles]),
             frameon=False,
             fontsize=9,
         )
@@ -317,6 +318,20 @@ class _SnapshotFigures:
         figure = RunFigure(self.run)
         figure.fig.set_dpi(self.dpi)
         return figure
+
+
+#: Characters of 9-point legend text one row of the 12-inch-wide figure holds, each entry's
+#: marker and padding counted as 6 more.
+_LEGEND_ROW = 170
+
+
+def _legend_columns(labels: list[str]) -> int:
+    """Legend columns (at most 6) whose widest entries still fit the figure's width: six
+    columns of tangible PSO's "virtual MAV: stopped by a swarm constraint (61)" ran off both
+    edges of the picture.
+    """
+    widest = max((len(label) for label in labels), default=1) + 6
+    return max(1, min(6, _LEGEND_ROW // widest))
 
 
 def render_snapshots(

@@ -244,3 +244,13 @@ def test_the_last_position_sample_is_the_runs_end_so_the_last_snapshot_is_its_fi
     states = last["state"].value_counts().to_dict()
     live = {s: n for s, n in model.recorder.counts.items() if n}
     assert {s: states.get(s, 0) for s in live} == live
+
+
+def test_a_legend_of_long_labels_takes_fewer_columns_so_it_stays_inside_the_picture():
+    from analysis.render import _legend_columns
+
+    short = ["ground (3)", "explorer (12)", "beacon (21)", "comm link", "wall"]
+    long = ["virtual MAV: stopped by a swarm constraint (61)", "virtual MAV: free (59)"]
+    assert _legend_columns(short) == 6
+    assert _legend_columns(long) == 3  # six columns of these ran off both edges
+    assert _legend_columns(["x" * 400]) == 1
