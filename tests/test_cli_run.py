@@ -367,3 +367,13 @@ def test_seed_text_and_none():
 def test_run_json_is_json_with_the_seed_as_given(here, capsys):
     assert main([*TINY, "--seed", "12", "--out", "r"]) == 0
     assert json.loads(Path("r/run.json").read_text())["seed"] == 12
+
+
+def test_run_help_gives_the_trace_interval_the_run_uses_not_the_models_none(capsys):
+    # sugarmap samples no positions by default (sweeps); abm run samples every 1 s anyway
+    from analysis.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["run", "sugarmap", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "[1 here; none in sweeps and from Python]" in text

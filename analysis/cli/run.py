@@ -8,6 +8,7 @@ finished run is never lost to a failure while saving (see :func:`save_or_rescue`
 """
 
 import argparse
+import dataclasses
 import math
 import re
 import shlex
@@ -27,6 +28,9 @@ EXAMPLE = "abm run beacon-explorer --world corridor --complexity high --launch-p
 
 #: Where a run's folder goes unless ``--out`` names one.
 RUNS = Path("out/runs")
+#: Position sampling (s) of a run whose model samples none by default (fast sweeps): `abm
+#: render` draws from the samples.
+RUN_TRACE_INTERVAL = 1.0
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -75,6 +79,12 @@ def model_parser(name: str, params_cls: type, description: str) -> argparse.Argu
         help="a progress line on stderr once the run takes more than a few seconds [yes]",
     )
     add_param_flags(parser, params_cls)
+    trace = parser._option_string_actions.get("--trace-interval")
+    default = {f.name: f.default for f in dataclasses.fields(params_cls)}.get("trace_interval")
+    if trace is not None and default is None:  # main() samples anyway, for abm render
+        trace.help = trace.help.replace(
+            "[none]", f"[{RUN_TRACE_INTERVAL:g} here; none in sweeps and from Python]"
+        )
     return parser
 
 
@@ -106,7 +116,7 @@ def main(args: argparse.Namespace) -> int:
     params = given_params(options)
     # `abm render` draws from the sampled positions: sample them even where the model's
     # default (fast sweeps) is not to.
-    params.setdefault("trace_interval", model.params().trace_interval or 1.0)
+    params.setdefault("trace_interval", model.params().trace_interval or RUN_TRACE_INTERVAL)
     planned = make_params(model.params, params)  # every parameter checked before the run
     from abm.png_process import PngProcess
 
