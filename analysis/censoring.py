@@ -16,7 +16,7 @@ import pandas as pd
 
 from abm.published import Censored
 
-__all__ = ["Survival", "censored_mask", "km_median", "survival"]
+__all__ = ["Survival", "censored_mask", "censoring_causes", "km_median", "survival"]
 
 
 def censored_mask(runs: pd.DataFrame, spec: Censored) -> pd.Series:
@@ -31,6 +31,27 @@ def censored_mask(runs: pd.DataFrame, spec: Censored) -> pd.Series:
     if spec.bound is not None and spec.metric in runs:
         mask |= runs[spec.metric].isna()
     return mask
+
+
+def censoring_causes(runs: pd.DataFrame, spec: Censored) -> str:
+    """Why ``runs``' censored values of ``spec.metric`` are censored, in words: "2 ended by
+    time limit; 3 never reached it" (a run that reached its own end without the target is
+    censored by its end, not by a time limit).
+    """
+    by_end = pd.Series(False, index=runs.index)
+    if "end_reason" in runs:
+        reasons = runs["end_reason"].fillna("").astype(str)
+        for end in spec.ends:
+            by_end |= reasons.str.startswith(end)
+    unreached = pd.Series(False, index=runs.index)
+    if spec.bound is not None and spec.metric in runs:
+        unreached = runs[spec.metric].isna() & ~by_end
+    parts = []
+    if by_end.any():
+        parts.append(f"{int(by_end.sum())} ended by {' or '.join(spec.ends)}")
+    if unreached.any():
+        parts.append(f"{int(unreached.sum())} never reached it before their end")
+    return "; ".join(parts)
 
 
 def _values(runs: pd.DataFrame, spec: Censored) -> np.ndarray:

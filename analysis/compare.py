@@ -20,7 +20,7 @@ import pandas as pd
 from abm import verdicts
 from abm.published import Censored, Claim, Published, Verdict
 from analysis import stats
-from analysis.censoring import survival
+from analysis.censoring import censoring_causes, survival
 
 __all__ = [
     "BY_CONSTRUCTION",
@@ -331,8 +331,8 @@ def _judge(item: Published, runs: pd.DataFrame, before: pd.DataFrame | None, spe
         if hit:
             share = hit / max(1, sum(p.runs for p in parts))
             ours = " -> ".join(p.text() for p in parts)
-            reason = (f"{hit} of {n} runs censored ({', '.join(spec.ends)}): not judged from "
-                      "censored values")  # fmt: skip
+            causes = censoring_causes(pd.concat(groups), spec)
+            reason = f"{hit} of {n} runs censored ({causes}): not judged from censored values"
             return _row(item, CENSORED, reason, ours, n, censored=share)
     share_of_censored = 0.0 if spec is not None else None
     if item.measure == "mean" and item.kind == "level":

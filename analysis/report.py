@@ -27,7 +27,7 @@ from abm.registry import model_class
 from abm.units import unit_of
 from analysis import stats
 from analysis.anova import RESAMPLES, Anova
-from analysis.censoring import censored_mask
+from analysis.censoring import censored_mask, censoring_causes
 from analysis.compare import (
     BY_CONSTRUCTION,
     NOT_IN_SWEEP,
@@ -425,10 +425,9 @@ def _censored_here(runs: pd.DataFrame, cls: type | None) -> dict[str, str]:
         if spec.metric in runs:
             hit = int(censored_mask(runs, spec).sum())
             if hit:
-                ends = " or ".join(spec.ends)
                 cut[spec.metric] = (
-                    f"{hit} of {len(runs)} runs censored ({ends}): their {spec.metric} is only "
-                    "a lower bound"
+                    f"{hit} of {len(runs)} runs censored ({censoring_causes(runs, spec)}): "
+                    f"their {spec.metric} is only a lower bound"
                 )
     return cut
 

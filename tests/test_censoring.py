@@ -56,3 +56,19 @@ def test_runs_ended_by_the_time_limit_or_missing_a_bound_metric_are_censored():
     # the two censored runs count from their coverage clock's end: 60 and 80 s
     assert (result.runs, result.censored, result.bound) == (4, 2, 80.0)
     assert result.median == 25.0 and "2 of 4 runs censored" in result.text()
+
+
+def test_the_causes_of_censoring_tell_a_time_limit_from_a_target_never_reached():
+    # SugarMap's T80: a run that ends at its horizon without 80 % is censored by its own end,
+    # and the report said "(time limit)" for it
+    from abm.published import Censored
+    from analysis.censoring import censoring_causes
+
+    spec = Censored("t80", bound="time")
+    ends = ["horizon", "horizon", "horizon", "time limit"]
+    runs = pd.DataFrame({"t80": [900.0, np.nan, np.nan, np.nan],
+                         "time": [3000.0, 3000.0, 3000.0, 1800.0], "end_reason": ends})  # fmt: skip
+    assert (
+        censoring_causes(runs, spec) == "1 ended by time limit; 2 never reached it before their end"
+    )
+    assert censoring_causes(runs.iloc[:3], spec) == "2 never reached it before their end"
