@@ -495,13 +495,17 @@ def _anova(
 ) -> list[stats.Anova]:
     """The ANOVA of each metric over the layout's factors (x, hue), or why it was refused;
     then, when the grid swept other keys (at most two, e.g. the hierarchy's W and S beside
-    its drawn N = 1 + W + W S), over those.
+    its drawn N = 1 + W + W S), over those; only over those when they split the runs into the
+    same conditions (a star arm against the hierarchy: N follows the topology), one test.
     """
     factors = _factors(runs, layout)
     swept = [k for k in conditions if k in runs and _groupable(runs, [k])[k].nunique() > 1]
     sets = [factors] if factors else []
     if swept and len(swept) <= 2 and set(swept) != set(factors):
-        sets.append(swept)
+        if factors and _same_partition(runs, factors, swept):  # one test, named by the sweep
+            sets = [swept]
+        else:
+            sets.append(swept)
     grouped = _groupable(runs, swept)
     cut = cut or {}
     return [
@@ -511,6 +515,17 @@ def _anova(
         for chosen in sets
         for metric in _metrics(runs, layout)
     ]
+
+
+def _same_partition(runs: pd.DataFrame, first: list[str], second: list[str]) -> bool:
+    """Whether two sets of factors split the runs into the same conditions (a star arm's N
+    against its topology): an ANOVA over each would be one test counted twice by Holm.
+    """
+    grouped = _groupable(runs, list(dict.fromkeys([*first, *second])))
+    a = grouped.groupby(first, dropna=False).ngroup()
+    b = grouped.groupby(second, dropna=False).ngroup()
+    pairs = pd.DataFrame({"a": a, "b": b}).drop_duplicates()
+    return len(pairs) == a.nunique() == b.nunique()
 
 
 def _correlation(

@@ -263,3 +263,22 @@ def test_a_warning_while_drawing_or_testing_becomes_a_note_of_the_page(
     assert "UserWarning: covariance of constraints does not have full rank" in page
     assert page.count("covariance of constraints") == 1  # each once
     assert "RuntimeWarning: divide by zero encountered in log" in page
+
+
+def test_an_anova_over_factors_that_split_the_runs_alike_is_one_test_named_by_the_sweep():
+    # a star arm against the hierarchy at W = S = 2: N (5 or 7) follows the topology, so
+    # "over N" and "over topology" were the same F test, and Holm counted it twice
+    from abm.published import ReportLayout
+    from analysis.report import _anova
+
+    rng = np.random.default_rng(3)
+    runs = pd.DataFrame(
+        {"topology": ["star"] * 6 + ["hst"] * 6, "N": [5] * 6 + [7] * 6,
+         "scout_drive": np.r_[rng.normal(80, 2, 6), rng.normal(60, 2, 6)]}
+    )  # fmt: skip
+    layout = ReportLayout(x="N", metrics=("scout_drive",))
+    tests = _anova(runs, layout, seed=1, conditions=["topology"])
+    assert [t.factors for t in tests] == [("topology",)]
+    # where the sweep's factors split the runs otherwise, both tests stay
+    runs["topology"] = ["star", "hst"] * 6
+    assert [t.factors for t in _anova(runs, layout, 1, ["topology"])] == [("N",), ("topology",)]
