@@ -84,3 +84,10 @@ def test_the_p_is_seeded_and_blind_to_the_scale_and_the_sign_of_the_values(x, da
     assert stretched[0] == pytest.approx(rho) and stretched[1] == pytest.approx(p)
     flipped = verdicts.spearman(x, [-v for v in y])
     assert flipped[0] == pytest.approx(-rho) and flipped[1] == pytest.approx(p)
+
+
+def test_a_variable_of_one_value_has_no_rho():
+    from abm.errors import ConfigError
+
+    with pytest.raises(ConfigError, match="two values or more"):
+        verdicts.spearman([1, 2, 3], [5, 5, 5])
