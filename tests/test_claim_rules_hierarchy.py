@@ -39,8 +39,12 @@ def _runs(column: str, level, jitter: float, **fixed) -> pd.DataFrame:
                                   (0.999, 0.002, None)]
 )  # fmt: skip
 def test_c1_judges_the_mean_share_known_against_a_band_not_the_minimum(mean, jitter, holds):
-    verdict = TESTS["C1"](_runs("known_free_fraction", lambda n: mean, jitter), None)
+    runs = _runs("known_free_fraction", lambda n: mean, jitter)
+    verdict = TESTS["C1"](runs, None)
     assert verdict.holds is holds and "two-sided band 100 +- 0.1" in verdict.rule
+    # "for every configuration": the value says over how many of the report's 42
+    configs = len(runs.groupby(["W", "S"]))
+    assert f"over {configs} configurations (W, S) of the report's 42" in verdict.ours
 
 
 @pytest.mark.parametrize("claim", ["C2", "C6", "C9"])

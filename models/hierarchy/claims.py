@@ -102,8 +102,10 @@ def c1(runs, samples) -> Verdict | None:
     known = runs["known_free_fraction"].astype(float)
     ended = runs["end_reason"].isin(["complete", "cannot_complete"])
     level = band(known, 100.0, 100.0 * (1 - KNOWN_MIN), scale=100.0)
+    configs = len(runs.groupby(["W", "S"])) if {"W", "S"} <= set(runs) else 1
     ours = (
-        f"free cells known: {level.ours.replace(' (', ' % (', 1)}, min {100 * known.min():.2f} %;"
+        f"free cells known: {level.ours.replace(' (', ' % (', 1)}, min {100 * known.min():.2f} %"
+        f" over {configs} configuration{'s' if configs != 1 else ''} (W, S) of the report's 42;"
         f" {ended.mean():.0%} of {len(runs)} runs end by the queen's coverage call "
         f"({done.mean():.0%} COMPLETE, the rest CANNOT_COMPLETE once the no-progress guard "
         f"has exhausted wall-ring pockets)"
