@@ -164,9 +164,15 @@ def _calibrate(args: argparse.Namespace, calib, holdout, resume: bool) -> int:
     )  # fmt: skip
     pops = history.get_all_populations()
     pops = pops[pops["t"] >= 0]
+    last = float(pops["epsilon"].iloc[-1])
+    reached = (
+        f"the target {args.epsilon:g} reached"
+        if last <= args.epsilon
+        else f"NOT the target {args.epsilon:g}: the posterior is wider than asked for"
+    )
     print(
         f"{history.n_populations} populations, {int(pops['samples'].sum())} model evaluations, "
-        f"last epsilon {pops['epsilon'].iloc[-1]:.3g} (target sds), "
+        f"last epsilon {last:.3g} (target sds; {reached}), "
         f"{time.perf_counter() - start:.0f} s with {args.workers} worker(s)"
     )
     table = posterior_table(history, calib.priors)
