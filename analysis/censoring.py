@@ -16,18 +16,23 @@ import pandas as pd
 
 from abm.published import Censored
 
-__all__ = ["Survival", "censored_mask", "censoring_causes", "km_median", "survival"]
+__all__ = ["Survival", "censored_mask", "censoring_causes", "ended_by", "km_median", "survival"]
+
+
+def ended_by(runs: pd.DataFrame, ends: Sequence[str]) -> pd.Series:
+    """True for the runs whose ``end_reason`` starts with one of ``ends`` (all False without
+    an ``end_reason`` column or without ends).
+    """
+    if not ends or "end_reason" not in runs:
+        return pd.Series(False, index=runs.index)
+    return runs["end_reason"].fillna("").astype(str).str.startswith(tuple(ends))
 
 
 def censored_mask(runs: pd.DataFrame, spec: Censored) -> pd.Series:
     """True for the runs whose ``spec.metric`` is censored: ended by one of ``spec.ends``,
     or (with ``spec.bound``) missing the metric.
     """
-    mask = pd.Series(False, index=runs.index)
-    if "end_reason" in runs:
-        reasons = runs["end_reason"].fillna("").astype(str)
-        for end in spec.ends:
-            mask |= reasons.str.startswith(end)
+    mask = ended_by(runs, spec.ends)
     if spec.bound is not None and spec.metric in runs:
         mask |= runs[spec.metric].isna()
     return mask
@@ -38,11 +43,7 @@ def censoring_causes(runs: pd.DataFrame, spec: Censored) -> str:
     time limit; 3 never reached it" (a run that reached its own end without the target is
     censored by its end, not by a time limit).
     """
-    by_end = pd.Series(False, index=runs.index)
-    if "end_reason" in runs:
-        reasons = runs["end_reason"].fillna("").astype(str)
-        for end in spec.ends:
-            by_end |= reasons.str.startswith(end)
+    by_end = ended_by(runs, spec.ends)
     unreached = pd.Series(False, index=runs.index)
     if spec.bound is not None and spec.metric in runs:
         unreached = runs[spec.metric].isna() & ~by_end

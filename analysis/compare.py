@@ -20,7 +20,7 @@ import pandas as pd
 from abm import verdicts
 from abm.published import Censored, Claim, Published, Verdict
 from analysis import stats
-from analysis.censoring import censoring_causes, survival
+from analysis.censoring import censoring_causes, ended_by, survival
 
 __all__ = [
     "BY_CONSTRUCTION",
@@ -166,13 +166,10 @@ def matching_runs(
 
 def _uncut(runs: pd.DataFrame, cut_ends: Sequence[str]) -> tuple[pd.DataFrame, str]:
     """``runs`` and "" when none ended in ``cut_ends``; else no run, and how many were cut."""
-    if not cut_ends or "end_reason" not in runs:
-        return runs, ""
-    reasons = runs["end_reason"].fillna("").astype(str)
-    cut = reasons.str.startswith(tuple(cut_ends))
+    cut = ended_by(runs, cut_ends)
     if not cut.any():
         return runs, ""
-    ends = " or ".join(sorted(set(reasons[cut])))
+    ends = " or ".join(sorted(set(runs.loc[cut, "end_reason"].astype(str))))
     return runs.iloc[0:0], (
         f"{int(cut.sum())} of {len(runs)} runs ended by {ends} before the run the paper "
         "describes was complete"
