@@ -2,7 +2,6 @@
 reproduction commands run. These tests keep the two in step and check its refusal of a folder
 that already holds runs (the runner would skip them and the time would be too short)."""
 
-import importlib.util
 import sys
 from importlib.metadata import entry_points
 from pathlib import Path
@@ -11,16 +10,12 @@ import pytest
 
 from abm.registry import target_of
 from analysis.sweep.spec import load_sweep
+from tests.scripts import load_benchmark
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _bench():
-    path = ROOT / "benchmarks" / "bench_reproductions.py"
-    spec = importlib.util.spec_from_file_location("bench_reproductions", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+bench = load_benchmark("bench_reproductions")
 
 
 def test_every_model_with_paper_figures_has_a_figure_set():
@@ -28,12 +23,11 @@ def test_every_model_with_paper_figures_has_a_figure_set():
     # public benchmark model: speed, not a paper's figures
     entries = entry_points(group="swarm_abm.models")
     ours = {entry.name for entry in entries if entry.value.startswith("models.")}
-    assert set(_bench().FIGURE_SETS) == ours - {"flocking"}
+    assert set(bench.FIGURE_SETS) == ours - {"flocking"}
 
 
-@pytest.mark.parametrize("model", sorted(_bench().FIGURE_SETS))
+@pytest.mark.parametrize("model", sorted(bench.FIGURE_SETS))
 def test_a_figure_set_is_sweeps_of_its_model_that_its_readme_runs(model):
-    bench = _bench()
     readme = (ROOT / "models" / model.replace("-", "_") / "README.md").read_text()
     for group in bench.FIGURE_SETS[model]:
         for name in group:
@@ -49,7 +43,7 @@ def test_a_folder_that_already_holds_runs_is_refused_before_any_run(tmp_path, mo
     argv = ["bench_reproductions.py", "--models", "sugarmap", "--out", str(tmp_path)]
     monkeypatch.setattr(sys, "argv", argv)
     with pytest.raises(SystemExit) as stop:
-        _bench().main()
+        bench.main()
     assert stop.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "already holds runs of sugarmap" in err and "fresh --out" in err
@@ -63,6 +57,6 @@ def test_a_folder_that_already_holds_runs_is_refused_before_any_run(tmp_path, mo
 def test_bad_counts_are_refused_in_one_line(flags, says, tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(sys, "argv", ["bench_reproductions.py", "--out", str(tmp_path), *flags])
     with pytest.raises(SystemExit) as stop:
-        _bench().main()
+        bench.main()
     assert stop.value.code == 2 and says in capsys.readouterr().err
     assert not any(tmp_path.iterdir())  # nothing was run
